@@ -1,0 +1,234 @@
+//! Element library. One element = one file implementing [`ElementKind`].
+//!
+//! Every element k maps its nodal coordinates x_k to deformation parameters
+//! e_k = 𝒟_k(x_k) that are invariant under rigid-body motion and zero in the reference
+//! configuration (paper eq. (1), theory.md §3). The analyses talk to elements only through
+//! [`ElementKind`], via the one dispatch enum [`Element`].
+//!
+//! Local coordinate layout: the element lists the nodes it uses ([`NodeUse`]); for each, in
+//! order, its position r (3, if `pos`) then its Euler parameters λ (4, if `rot`).
+
+pub mod beam;
+pub mod hinge;
+pub mod rigid;
+pub mod truss;
+
+#[cfg(test)]
+pub(crate) mod testing;
+
+pub use beam::Beam;
+pub use hinge::Hinge;
+pub use rigid::Rigid;
+pub use truss::Truss;
+
+use crate::math::SmoothMap;
+use faer::Mat;
+
+/// Index of a node in `Model::nodes`.
+pub type NodeId = usize;
+
+/// Which coordinates of a node an element uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeUse {
+    /// The node.
+    pub node: NodeId,
+    /// Uses the position r (3 coordinates).
+    pub pos: bool,
+    /// Uses the Euler parameters λ (4 coordinates).
+    pub rot: bool,
+}
+
+impl NodeUse {
+    /// Number of local coordinates this use contributes.
+    pub fn len(&self) -> usize {
+        3 * usize::from(self.pos) + 4 * usize::from(self.rot)
+    }
+    /// True when the use contributes no coordinates.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The element contract: deformations, their first and second derivatives, stiffness.
+///
+/// Sizes: nx_k = Σ `NodeUse::len` over [`ElementKind::node_uses`], ne_k = [`ElementKind::ne`].
+pub trait ElementKind {
+    /// Nodes and coordinates used, in local-coordinate order.
+    fn node_uses(&self) -> Vec<NodeUse>;
+    /// Number of deformation parameters ne_k.
+    fn ne(&self) -> usize;
+    /// Human name of deformation mode `k` (0-based), e.g. "elongation".
+    fn mode_name(&self, k: usize, node_names: &[String]) -> String;
+    /// e_k = 𝒟_k(x_k)  (paper eq. (1)).
+    fn deformations(&self, xk: &[f64]) -> Vec<f64>;
+    /// D_k = ∂e_k/∂x_k  (ne_k × nx_k).
+    fn jacobian(&self, xk: &[f64]) -> Mat<f64>;
+    /// Σᵢ wᵢ ∂²eᵢ/∂x_k²  (nx_k × nx_k); with w = σ this is the element's geometric stiffness.
+    fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64>;
+    /// S in σ = S e  (ne_k × ne_k); zero where the model gives no stiffness.
+    fn stiffness(&self) -> Mat<f64>;
+}
+
+/// All element types; the only `match` over element types lives in this impl.
+#[derive(Clone, Debug)]
+pub enum Element {
+    /// Two-node truss, one deformation.
+    Truss(Truss),
+    /// Spatial beam, six deformations (paper eq. (2)).
+    Beam(Beam),
+    /// Hinge between the rotations of two nodes, three deformations.
+    Hinge(Hinge),
+    /// Rigid body over any number of nodes.
+    Rigid(Rigid),
+}
+
+impl Element {
+    /// Short type name as used in model files.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Element::Truss(_) => "truss",
+            Element::Beam(_) => "beam",
+            Element::Hinge(_) => "hinge",
+            Element::Rigid(_) => "rigid",
+        }
+    }
+    fn kind(&self) -> &dyn ElementKind {
+        match self {
+            Element::Truss(e) => e,
+            Element::Beam(e) => e,
+            Element::Hinge(e) => e,
+            Element::Rigid(e) => e,
+        }
+    }
+}
+
+impl ElementKind for Element {
+    fn node_uses(&self) -> Vec<NodeUse> {
+        self.kind().node_uses()
+    }
+    fn ne(&self) -> usize {
+        self.kind().ne()
+    }
+    fn mode_name(&self, k: usize, node_names: &[String]) -> String {
+        self.kind().mode_name(k, node_names)
+    }
+    fn deformations(&self, xk: &[f64]) -> Vec<f64> {
+        self.kind().deformations(xk)
+    }
+    fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
+        self.kind().jacobian(xk)
+    }
+    fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64> {
+        self.kind().hessian_weighted(xk, w)
+    }
+    fn stiffness(&self) -> Mat<f64> {
+        self.kind().stiffness()
+    }
+}
+
+/// Reference triad of a two-node element from its axis and an orientation vector (local y).
+///
+/// SPACAR 2015 rule (theory.md §3.3, [V ST getLocalframe.m]): ex along the element;
+/// ey = orientation vector made orthogonal to ex (default: the global axis along which |ex_i| is
+/// smallest); ez = ex × ey.
+pub fn local_frame(axis: [f64; 3], orient: Option<[f64; 3]>) -> Result<[[f64; 3]; 3], FrameError> {
+    use crate::math::{cross, dot, norm, normalize};
+    let l = norm(axis);
+    if !(l > 0.0) {
+        return Err(FrameError::ZeroAxis);
+    }
+    let ex = normalize(axis);
+    let ey0 = match orient {
+        Some(v) => {
+            let n = norm(v);
+            if !(n > 0.0) || !n.is_finite() {
+                return Err(FrameError::ZeroOrientation);
+            }
+            normalize(v)
+        }
+        None => {
+            let mut k = 0;
+            for i in 1..3 {
+                if ex[i].abs() < ex[k].abs() {
+                    k = i;
+                }
+            }
+            let mut v = [0.0; 3];
+            v[k] = 1.0;
+            v
+        }
+    };
+    let c = dot(ey0, ex);
+    let s = (1.0 - c * c).max(0.0).sqrt();
+    // SPACAR's threshold: orientation (nearly) parallel to the element axis
+    if s < ORIENT_PARALLEL_TOL {
+        return Err(FrameError::ParallelOrientation);
+    }
+    let ey = [
+        (ey0[0] - c * ex[0]) / s,
+        (ey0[1] - c * ex[1]) / s,
+        (ey0[2] - c * ex[2]) / s,
+    ];
+    let ez = cross(ex, ey);
+    Ok([ex, ey, ez])
+}
+
+/// sin of the angle between orientation vector and element axis below which the local frame is
+/// undefined (SPACAR 2015 uses the same 1e-5, theory.md §3.3).
+pub const ORIENT_PARALLEL_TOL: f64 = 1e-5;
+
+/// Why a local frame cannot be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum FrameError {
+    /// The element axis has zero length.
+    #[error("the element has zero length")]
+    ZeroAxis,
+    /// The orientation vector is zero or not finite.
+    #[error("the orientation vector is zero")]
+    ZeroOrientation,
+    /// The orientation vector is (nearly) parallel to the element axis.
+    #[error("the orientation vector is parallel to the element axis")]
+    ParallelOrientation,
+}
+
+// ---- helpers to implement ElementKind on top of a fixed-size SmoothMap ----
+
+/// Values of a fixed-size map from a local coordinate slice.
+pub(crate) fn fixed_values<const N: usize, const M: usize>(
+    map: &impl SmoothMap<N, M>,
+    xk: &[f64],
+) -> Vec<f64> {
+    map.value(&as_array(xk)).to_vec()
+}
+
+/// Jacobian of a fixed-size map as an M × N matrix.
+pub(crate) fn fixed_jacobian<const N: usize, const M: usize>(
+    map: &impl SmoothMap<N, M>,
+    xk: &[f64],
+) -> Mat<f64> {
+    let (_, j) = map.jacobian(&as_array(xk));
+    Mat::from_fn(M, N, |i, k| j[i][k])
+}
+
+/// Weighted Hessian of a fixed-size map as an N × N matrix.
+pub(crate) fn fixed_hessian<const N: usize, const M: usize>(
+    map: &impl SmoothMap<N, M>,
+    xk: &[f64],
+    w: &[f64],
+) -> Mat<f64> {
+    let h = map.hessian_weighted(&as_array(xk), &as_array(w));
+    Mat::from_fn(N, N, |i, k| h[i][k])
+}
+
+fn as_array<const N: usize>(x: &[f64]) -> [f64; N] {
+    assert_eq!(
+        x.len(),
+        N,
+        "local vector has length {} instead of {N}",
+        x.len()
+    );
+    std::array::from_fn(|i| x[i])
+}
+
+/// Euler parameters of the identity rotation (every node's reference orientation).
+pub const EULER_IDENTITY: [f64; 4] = [1.0, 0.0, 0.0, 0.0];

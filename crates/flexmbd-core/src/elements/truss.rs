@@ -1,0 +1,95 @@
+//! Truss: translational nodes p, q; one deformation, the elongation.
+//!
+//! x_k = [r_p; r_q]  (nx_k = 6)            e₁ = l − l₀,  l = ‖r_q − r_p‖
+//! D   = [−nᵀ  nᵀ],  n = (r_q − r_p)/l     ∂²e₁/∂x² = [P −P; −P P],  P = (I − n nᵀ)/l
+//!
+//! Source: theory.md §3.2; paper §3.3. Stiffness σ₁ = (EA/l₀) e₁ (theory.md §11.4).
+
+use super::{fixed_hessian, fixed_jacobian, fixed_values, ElementKind, NodeId, NodeUse};
+use crate::math::{dot, sub, Scalar, SmoothMap};
+use faer::Mat;
+
+/// Truss (rod) with axial stiffness only.
+#[derive(Clone, Debug)]
+pub struct Truss {
+    /// End nodes p and q.
+    pub nodes: [NodeId; 2],
+    /// l₀ [m]: length in the reference configuration.
+    pub l0: f64,
+    /// EA [N]: axial stiffness; σ₁ = (EA/l₀) e₁. Zero when not given.
+    pub ea: f64,
+}
+
+impl Truss {
+    /// A truss between nodes at reference positions `xp`, `xq`.
+    pub fn new(nodes: [NodeId; 2], xp: [f64; 3], xq: [f64; 3]) -> Self {
+        let l0 = crate::math::norm(sub(xq, xp));
+        Self { nodes, l0, ea: 0.0 }
+    }
+}
+
+impl SmoothMap<6, 1> for Truss {
+    fn eval<T: Scalar>(&self, x: &[T; 6]) -> [T; 1] {
+        // e₁ = ‖r_q − r_p‖ − l₀
+        let d = sub([x[3], x[4], x[5]], [x[0], x[1], x[2]]);
+        [dot(d, d).sqrt() - T::cst(self.l0)]
+    }
+}
+
+impl ElementKind for Truss {
+    fn node_uses(&self) -> Vec<NodeUse> {
+        self.nodes
+            .iter()
+            .map(|&node| NodeUse {
+                node,
+                pos: true,
+                rot: false,
+            })
+            .collect()
+    }
+    fn ne(&self) -> usize {
+        1
+    }
+    fn mode_name(&self, _k: usize, _node_names: &[String]) -> String {
+        "elongation".into()
+    }
+    fn deformations(&self, xk: &[f64]) -> Vec<f64> {
+        fixed_values(self, xk)
+    }
+    fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
+        fixed_jacobian(self, xk)
+    }
+    fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64> {
+        fixed_hessian(self, xk, w)
+    }
+    fn stiffness(&self) -> Mat<f64> {
+        Mat::from_fn(1, 1, |_, _| self.ea / self.l0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::testing::{check_contract, Contract};
+
+    #[test]
+    fn truss_satisfies_element_contract() {
+        let t = Truss::new([0, 1], [0.1, -0.2, 0.3], [1.0, 0.5, -0.4]);
+        check_contract(
+            &t,
+            &[[0.1, -0.2, 0.3], [1.0, 0.5, -0.4]],
+            Contract::default(),
+        );
+    }
+
+    #[test]
+    fn truss_jacobian_is_unit_direction() {
+        // closed form D = [−nᵀ nᵀ]
+        let t = Truss::new([0, 1], [0.0; 3], [3.0, 4.0, 0.0]);
+        let d = ElementKind::jacobian(&t, &[0.0, 0.0, 0.0, 3.0, 4.0, 0.0]);
+        let n = [0.6, 0.8, 0.0];
+        for i in 0..3 {
+            assert!((d[(0, i)] + n[i]).abs() < 1e-15 && (d[(0, 3 + i)] - n[i]).abs() < 1e-15);
+        }
+    }
+}

@@ -1,0 +1,410 @@
+//! Repair advice (beyond SPACAR): how to remove each self-stress state and each motion, and an
+//! automatic choice of generalised coordinates.
+//!
+//! - A self-stress state u (null column of U) involves the rows with uᵢ ≠ 0. Releasing such a
+//!   fixed deformation (e^o → e^c) deletes a row that depends on the others, so m − r drops by
+//!   one and n − r is unchanged. Input deformations in u are over-specified generalised
+//!   coordinates; making them dependent has the same effect.
+//! - A motion v (null column of V) involves the columns with vⱼ ≠ 0. Fixing such a coordinate or
+//!   taking it as generalised deletes a column that depends on the others, so n − r drops by one.
+//!   A free deformation whose rate along v is non-zero, fixed or taken as generalised, adds an
+//!   independent row with the same effect.
+//!
+//! Every suggestion is verified by repeating the analysis with the changed partition before it
+//! is reported; unverified candidates are dropped.
+
+use super::{check, columns, deformation_rates, CheckOptions, ConstraintAnalysis, KinematicsError};
+use crate::assembly::evaluate;
+use crate::elements::ElementKind;
+use crate::linalg::{numerical_rank, pivot_columns};
+use crate::model::{CoordKind, DefKind, Dof, Model, Partition};
+use faer::Mat;
+use serde::Serialize;
+
+/// A change of the model's partition.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "action", rename_all = "snake_case")]
+pub enum Action {
+    /// Release a fixed deformation (e^o → e^c): make it free.
+    Release {
+        /// Element name.
+        element: String,
+        /// Mode, 1-based.
+        mode: usize,
+        /// Mode name.
+        mode_name: String,
+    },
+    /// Make an input deformation dependent (e^m → e^c).
+    MakeDependent {
+        /// Element name.
+        element: String,
+        /// Mode, 1-based.
+        mode: usize,
+        /// Mode name.
+        mode_name: String,
+    },
+    /// Fix a nodal coordinate, or take it as a generalised coordinate (x^c → x^o or x^m).
+    FixOrInputCoordinate {
+        /// Node name.
+        node: String,
+        /// Degree of freedom.
+        dof: Dof,
+    },
+    /// Fix a free deformation, or take it as a generalised coordinate (e^c → e^o or e^m).
+    FixOrInputDeformation {
+        /// Element name.
+        element: String,
+        /// Mode, 1-based.
+        mode: usize,
+        /// Mode name.
+        mode_name: String,
+    },
+}
+
+impl Action {
+    /// The changed partition (coordinates and deformations are made inputs where the action
+    /// allows both fixing and input: Dcc is the same either way).
+    pub fn apply(&self, model: &Model, p: &Partition) -> Partition {
+        let mut p = p.clone();
+        let def_index = |element: &str, mode: usize| {
+            let e = model
+                .elements
+                .iter()
+                .find(|e| e.name == element)
+                .expect("known element");
+            e.ie + mode - 1
+        };
+        match self {
+            Action::Release { element, mode, .. } | Action::MakeDependent { element, mode, .. } => {
+                p.e[def_index(element, *mode)] = DefKind::Free;
+            }
+            Action::FixOrInputDeformation { element, mode, .. } => {
+                p.e[def_index(element, *mode)] = DefKind::Input;
+            }
+            Action::FixOrInputCoordinate { node, dof } => {
+                let n = &model.nodes[model.node_id(node).expect("known node")];
+                p.x[n.x_index(*dof).expect("existing dof")] = CoordKind::Input;
+            }
+        }
+        p
+    }
+    /// Human description.
+    pub fn describe(&self) -> String {
+        match self {
+            Action::Release {
+                element,
+                mode,
+                mode_name,
+            } => {
+                format!("release {element} mode {mode} ({mode_name})")
+            }
+            Action::MakeDependent {
+                element,
+                mode,
+                mode_name,
+            } => {
+                format!("make input {element} mode {mode} ({mode_name}) dependent")
+            }
+            Action::FixOrInputCoordinate { node, dof } => {
+                format!(
+                    "fix {node}.{}, or take it as generalised coordinate",
+                    dof.name()
+                )
+            }
+            Action::FixOrInputDeformation {
+                element,
+                mode,
+                mode_name,
+            } => format!(
+                "fix {element} mode {mode} ({mode_name}), or take it as generalised coordinate"
+            ),
+        }
+    }
+}
+
+/// A verified suggestion.
+#[derive(Clone, Debug, Serialize)]
+pub struct Suggestion {
+    /// What to change.
+    #[serde(flatten)]
+    pub action: Action,
+    /// Magnitude of the candidate's entry in the state (ranking; 0..1).
+    pub weight: f64,
+    /// Motions after the change (verified).
+    pub motions_after: usize,
+    /// Self-stress states after the change (verified).
+    pub self_stresses_after: usize,
+}
+
+/// Suggestions for one state.
+#[derive(Clone, Debug, Serialize)]
+pub struct StateAdvice {
+    /// "self_stress" or "motion".
+    pub kind: &'static str,
+    /// Index of the state (0-based) in the analysis' list.
+    pub state: usize,
+    /// Verified suggestions, most significant first.
+    pub suggestions: Vec<Suggestion>,
+}
+
+/// Counts (motions, self-stresses) of a partition: the verification of a suggestion.
+pub fn counts(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+    opts: &CheckOptions,
+) -> Result<(usize, usize), KinematicsError> {
+    let (rows, cols, dcc) = super::assemble_dcc(model, partition, x);
+    let s = if rows.is_empty() || cols.is_empty() {
+        Vec::new()
+    } else {
+        dcc.singular_values()
+            .map_err(|_| crate::linalg::LinalgError::SvdNoConvergence {
+                rows: rows.len(),
+                cols: cols.len(),
+            })?
+    };
+    let r = numerical_rank(&s, opts.rank_tol * s.first().copied().unwrap_or(0.0));
+    Ok((cols.len() - r, rows.len() - r))
+}
+
+/// Candidates below this fraction of the largest entry are not tried.
+const CANDIDATE_FLOOR: f64 = 1e-6;
+
+/// Verified suggestions for every self-stress state and every motion, at most `max_per_state`
+/// each.
+pub fn advise(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+    a: &ConstraintAnalysis,
+    opts: &CheckOptions,
+    max_per_state: usize,
+) -> Result<Vec<StateAdvice>, KinematicsError> {
+    let names = model.node_names();
+    let before = (a.n_motions(), a.n_self_stresses());
+    let mut out = Vec::new();
+    // self-stress states: release rows with large entries
+    for s in 0..a.n_self_stresses() {
+        let u: Vec<f64> = (0..a.m()).map(|i| a.null_u[(i, s)]).collect();
+        let cands = ranked(&u).into_iter().map(|(i, w)| {
+            let r = a.rows[i];
+            let entry = &model.elements[r.element];
+            let (element, mode) = (entry.name.clone(), r.mode + 1);
+            let mode_name = entry.element.mode_name(r.mode, &names);
+            let action = if r.kind == DefKind::Input {
+                Action::MakeDependent {
+                    element,
+                    mode,
+                    mode_name,
+                }
+            } else {
+                Action::Release {
+                    element,
+                    mode,
+                    mode_name,
+                }
+            };
+            (action, w)
+        });
+        let want = (before.0, before.1 - 1);
+        let suggestions = verify(model, partition, x, opts, cands, want, max_per_state)?;
+        out.push(StateAdvice {
+            kind: "self_stress",
+            state: s,
+            suggestions,
+        });
+    }
+    // motions: coordinates and free deformations that move
+    let ev = evaluate(model, x);
+    let rates = deformation_rates(model, &ev.D, &a.cols);
+    for k in 0..a.n_motions() {
+        let v: Vec<f64> = (0..a.n()).map(|j| a.null_v[(j, k)]).collect();
+        let mut cands: Vec<(Action, f64)> = ranked(&v)
+            .into_iter()
+            .map(|(j, w)| {
+                let c = &a.cols[j];
+                (
+                    Action::FixOrInputCoordinate {
+                        node: names[c.node].clone(),
+                        dof: c.dof,
+                    },
+                    w,
+                )
+            })
+            .collect();
+        cands.extend(free_deformation_candidates(
+            model, partition, &rates, &v, &names,
+        ));
+        cands.sort_by(|p, q| q.1.total_cmp(&p.1));
+        let want = (before.0 - 1, before.1);
+        let suggestions = verify(
+            model,
+            partition,
+            x,
+            opts,
+            cands.into_iter(),
+            want,
+            max_per_state,
+        )?;
+        out.push(StateAdvice {
+            kind: "motion",
+            state: k,
+            suggestions,
+        });
+    }
+    Ok(out)
+}
+
+/// Free deformations whose rate along v is significant, weighted by the cosine between their
+/// row and v.
+fn free_deformation_candidates(
+    model: &Model,
+    partition: &Partition,
+    rates: &Mat<f64>,
+    v: &[f64],
+    names: &[String],
+) -> Vec<(Action, f64)> {
+    let mut out = Vec::new();
+    for entry in &model.elements {
+        for mode in 0..entry.element.ne() {
+            let i = entry.ie + mode;
+            if partition.e[i] != DefKind::Free {
+                continue;
+            }
+            let row: Vec<f64> = (0..v.len()).map(|j| rates[(i, j)]).collect();
+            let norm = row.iter().map(|a| a * a).sum::<f64>().sqrt();
+            if norm == 0.0 {
+                continue;
+            }
+            let w = row.iter().zip(v).map(|(a, b)| a * b).sum::<f64>().abs() / norm;
+            if w > CANDIDATE_FLOOR {
+                let mode_name = entry.element.mode_name(mode, names);
+                let action = Action::FixOrInputDeformation {
+                    element: entry.name.clone(),
+                    mode: mode + 1,
+                    mode_name,
+                };
+                out.push((action, w));
+            }
+        }
+    }
+    out
+}
+
+/// Indices of significant entries with their magnitudes, largest first.
+fn ranked(v: &[f64]) -> Vec<(usize, f64)> {
+    let max = v.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    let mut idx: Vec<(usize, f64)> = v
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| a.abs() > CANDIDATE_FLOOR * max)
+        .map(|(i, a)| (i, a.abs()))
+        .collect();
+    idx.sort_by(|a, b| b.1.total_cmp(&a.1));
+    idx
+}
+
+fn verify(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+    opts: &CheckOptions,
+    cands: impl Iterator<Item = (Action, f64)>,
+    want: (usize, usize),
+    max: usize,
+) -> Result<Vec<Suggestion>, KinematicsError> {
+    let mut out = Vec::new();
+    for (action, weight) in cands {
+        if out.len() >= max {
+            break;
+        }
+        let p = action.apply(model, partition);
+        let (motions_after, self_stresses_after) = counts(model, &p, x, opts)?;
+        if (motions_after, self_stresses_after) == want {
+            out.push(Suggestion {
+                action,
+                weight,
+                motions_after,
+                self_stresses_after,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The result of an automatic choice of generalised coordinates.
+#[derive(Clone, Debug)]
+pub struct AutoChoice {
+    /// The changes made (coordinates or deformations taken as generalised).
+    pub chosen: Vec<Action>,
+    /// The changed partition.
+    pub partition: Partition,
+    /// The analysis with that partition (verification).
+    pub analysis: ConstraintAnalysis,
+}
+
+/// Choose as many generalised coordinates as there are motions, by QR with column pivoting
+/// on the null space of Dcc: nodal coordinates first (rows of the null basis V₀), then free
+/// deformations (their rates along V₀) if the coordinates cannot remove every motion. Taking
+/// the chosen set as x^m (or e^m) makes the remaining Dcc full column rank because the chosen
+/// k × k block of the null basis is non-singular. Verified by repeating the analysis.
+pub fn auto_generalised(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+    opts: &CheckOptions,
+) -> Result<AutoChoice, KinematicsError> {
+    let a = check(model, partition, x, opts)?;
+    let k = a.n_motions();
+    let names = model.node_names();
+    let mut chosen: Vec<Action> = Vec::new();
+    if k > 0 {
+        // candidate matrix: k × n, column j = row j of the null basis
+        let cand = Mat::from_fn(k, a.n(), |i, j| a.null_v[(j, i)]);
+        for j in pivot_columns(cand.as_ref(), k, 1e-8) {
+            let c = &a.cols[j];
+            chosen.push(Action::FixOrInputCoordinate {
+                node: names[c.node].clone(),
+                dof: c.dof,
+            });
+        }
+    }
+    let mut p = partition.clone();
+    for c in &chosen {
+        p = c.apply(model, &p);
+    }
+    // coordinates could not remove every motion: add free deformations
+    let mut analysis = check(model, &p, x, opts)?;
+    if analysis.n_motions() > 0 {
+        let ev = evaluate(model, x);
+        let cols = columns(model, &p, x);
+        let rates = deformation_rates(model, &ev.D, &cols);
+        let free: Vec<usize> = (0..model.ne).filter(|&i| p.e[i] == DefKind::Free).collect();
+        let kk = analysis.n_motions();
+        let cand = Mat::from_fn(kk, free.len(), |r, c| {
+            (0..cols.len())
+                .map(|j| rates[(free[c], j)] * analysis.null_v[(j, r)])
+                .sum()
+        });
+        for c in pivot_columns(cand.as_ref(), kk, 1e-8) {
+            let (el, mode) = model.deformation_owner(free[c]);
+            let entry = &model.elements[el];
+            chosen.push(Action::FixOrInputDeformation {
+                element: entry.name.clone(),
+                mode: mode + 1,
+                mode_name: entry.element.mode_name(mode, &names),
+            });
+        }
+        p = partition.clone();
+        for c in &chosen {
+            p = c.apply(model, &p);
+        }
+        analysis = check(model, &p, x, opts)?;
+    }
+    Ok(AutoChoice {
+        chosen,
+        partition: p,
+        analysis,
+    })
+}

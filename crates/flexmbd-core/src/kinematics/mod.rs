@@ -1,0 +1,502 @@
+//! Kinematic (constraint) analysis: is the mechanism exactly constrained?
+//!
+//! Dcc = [∂𝒟^o/∂x^c; ∂𝒟^m/∂x^c] (paper eq. (9)): rows are the fixed (e^o) and input (e^m)
+//! deformations, columns the dependent coordinates x^c. Its SVD Dcc = U Σ Vᵀ (paper eq. (11))
+//! gives the numerical rank r; n − r kinematically indeterminate motions are the null columns of
+//! V and m − r statically indeterminate self-stress states the null columns of U (paper §3,
+//! theory.md §6). The six cases are those of the paper's Table 1 ([`Table1`]).
+//!
+//! Rotations. x holds four Euler parameters per rotational node (SPACAR's choice, used by the
+//! nonlinear analyses). The SVD is taken of Dcc expressed in *velocity* coordinates: a column per
+//! free translation and a column per free rotation component ω (global axes), with
+//! λ̇ = ½ Λ̄ᵀ(λ) ω; the Euler normalisation rows then vanish identically and are dropped. This
+//! is the paper's counting (six coordinates per node) and gives physically meaningful singular
+//! values and motions (rad/s, m/s). The counts n − r and m − r are the same as for SPACAR's
+//! Euler-parameter Dcc (theory.md §2.4); both sizes are reported. See docs/rotations.md.
+
+pub mod advice;
+
+use crate::assembly::evaluate;
+use crate::elements::{ElementKind, NodeId};
+use crate::linalg::{numerical_rank, svd, LinalgError};
+use crate::math::{dot, lambda_bar};
+use crate::model::{CoordKind, DefKind, Dof, Model, Partition};
+use faer::Mat;
+use serde::Serialize;
+
+/// Options of the kinematic analysis.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckOptions {
+    /// Relative rank tolerance: sᵢ counts as zero when sᵢ ≤ rank_tol · s₁. Default √ε, the test
+    /// SPACAR Light uses (theory.md §6.2).
+    pub rank_tol: f64,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        Self {
+            rank_tol: f64::EPSILON.sqrt(),
+        }
+    }
+}
+
+/// A column of the velocity-form Dcc: one free velocity component of a node.
+#[derive(Clone, Debug, Serialize)]
+pub struct Column {
+    /// Node index.
+    pub node: NodeId,
+    /// Translation x/y/z, or the rotation component rx/ry/rz it stands for.
+    pub dof: Dof,
+    /// For rotations: the unit angular-velocity direction of this column (global axes); for
+    /// translations the unit axis.
+    pub dir: [f64; 3],
+    /// The Euler-parameter rate per unit velocity, λ̇ = ½ Λ̄ᵀ dir (rotations only).
+    #[serde(skip)]
+    pub lambda_rate: [f64; 4],
+}
+
+/// A row of Dcc: one fixed or input deformation.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Row {
+    /// Element index.
+    pub element: usize,
+    /// Mode, 0-based.
+    pub mode: usize,
+    /// Fixed (e^o) or input (e^m).
+    pub kind: DefKind,
+}
+
+/// The six cases of the paper's Table 1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Table1 {
+    /// m = n = r: statically and kinematically determinate (exact constraint).
+    SquareRegular,
+    /// m = n, r < m: both indeterminate.
+    SquareSingular,
+    /// m > n, r = n: statically indeterminate (over-constrained), kinematically determinate.
+    TallFullRank,
+    /// m > n, r < n: both indeterminate.
+    TallRankDeficient,
+    /// m < n, r = m: statically determinate, kinematically indeterminate (under-constrained).
+    WideFullRank,
+    /// m < n, r < m: both indeterminate.
+    WideRankDeficient,
+}
+
+impl Table1 {
+    /// Classify by the shape and rank of Dcc.
+    pub fn classify(m: usize, n: usize, r: usize) -> Self {
+        use std::cmp::Ordering::*;
+        match (m.cmp(&n), r == m.min(n)) {
+            (Equal, true) => Table1::SquareRegular,
+            (Equal, false) => Table1::SquareSingular,
+            (Greater, true) => Table1::TallFullRank,
+            (Greater, false) => Table1::TallRankDeficient,
+            (Less, true) => Table1::WideFullRank,
+            (Less, false) => Table1::WideRankDeficient,
+        }
+    }
+    /// Row number in the paper's Table 1 (1–6).
+    pub fn row(self) -> usize {
+        self as usize + 1
+    }
+    /// One-line description.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Table1::SquareRegular => {
+                "exactly constrained: statically and kinematically determinate"
+            }
+            Table1::SquareSingular => {
+                "square but singular: statically and kinematically indeterminate"
+            }
+            Table1::TallFullRank => {
+                "over-constrained: statically indeterminate, kinematically determinate"
+            }
+            Table1::TallRankDeficient => {
+                "over- and under-constrained: statically and kinematically indeterminate"
+            }
+            Table1::WideFullRank => {
+                "under-constrained: statically determinate, kinematically indeterminate"
+            }
+            Table1::WideRankDeficient => {
+                "under- and over-constrained: statically and kinematically indeterminate"
+            }
+        }
+    }
+}
+
+/// One entry of a motion: a nodal velocity component.
+#[derive(Clone, Debug, Serialize)]
+pub struct NodalVelocity {
+    /// Node name.
+    pub node: String,
+    /// Component (x, y, z translations; rx, ry, rz angular velocity about global axes).
+    pub dof: Dof,
+    /// Value (the motion vector has unit length).
+    pub value: f64,
+}
+
+/// A kinematically indeterminate motion (null column of V).
+#[derive(Clone, Debug, Serialize)]
+pub struct Motion {
+    /// Non-zero nodal velocities, unit length overall, largest-magnitude entry positive.
+    pub coordinates: Vec<NodalVelocity>,
+}
+
+/// One entry of a self-stress state.
+#[derive(Clone, Debug, Serialize)]
+pub struct DeformationValue {
+    /// Element name.
+    pub element: String,
+    /// Mode number, 1-based as in model files.
+    pub mode: usize,
+    /// Mode name, e.g. "elongation".
+    pub mode_name: String,
+    /// Value (the state has unit length).
+    pub value: f64,
+}
+
+/// A statically indeterminate self-stress state (null column of U).
+#[derive(Clone, Debug, Serialize)]
+pub struct SelfStress {
+    /// Non-zero stress resultants per deformation, unit length overall, largest entry positive.
+    pub deformations: Vec<DeformationValue>,
+}
+
+/// Result of the kinematic analysis.
+#[derive(Clone, Debug)]
+pub struct ConstraintAnalysis {
+    /// Rows of Dcc (fixed and input deformations).
+    pub rows: Vec<Row>,
+    /// Columns of Dcc (free velocity components).
+    pub cols: Vec<Column>,
+    /// Size of SPACAR's Euler-parameter Dcc (rows, columns), for comparison with SPACAR.
+    pub euler_shape: (usize, usize),
+    /// Dcc in velocity form (rows × cols).
+    pub Dcc: Mat<f64>,
+    /// Singular values, descending.
+    pub singular_values: Vec<f64>,
+    /// Absolute rank threshold used (rank_tol · s₁).
+    pub tol: f64,
+    /// Numerical rank r.
+    pub rank: usize,
+    /// Table 1 case.
+    pub case: Table1,
+    /// Null columns of V (cols × (n − r)), raw.
+    pub null_v: Mat<f64>,
+    /// Null columns of U (rows × (m − r)), raw.
+    pub null_u: Mat<f64>,
+    /// Motions, presented.
+    pub motions: Vec<Motion>,
+    /// Self-stress states, presented.
+    pub self_stresses: Vec<SelfStress>,
+}
+
+impl ConstraintAnalysis {
+    /// m, the number of rows.
+    pub fn m(&self) -> usize {
+        self.rows.len()
+    }
+    /// n, the number of columns.
+    pub fn n(&self) -> usize {
+        self.cols.len()
+    }
+    /// n − r.
+    pub fn n_motions(&self) -> usize {
+        self.n() - self.rank
+    }
+    /// m − r.
+    pub fn n_self_stresses(&self) -> usize {
+        self.m() - self.rank
+    }
+    /// The gap s_r / s_(r+1) between the last non-zero and first zero singular value, if both
+    /// exist (theory.md §6.2).
+    pub fn rank_gap(&self) -> Option<f64> {
+        let s = &self.singular_values;
+        (self.rank > 0 && self.rank < s.len()).then(|| s[self.rank - 1] / s[self.rank].max(1e-300))
+    }
+}
+
+/// Why the kinematic analysis failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum KinematicsError {
+    /// Linear algebra failure.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    /// The rank tolerance is not a finite non-negative number.
+    #[error("the rank tolerance must be a finite number ≥ 0, found {0}")]
+    BadTolerance(f64),
+}
+
+/// The velocity-form columns for a partition at configuration x.
+pub fn columns(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Column> {
+    let mut cols = Vec::new();
+    for (id, n) in model.nodes.iter().enumerate() {
+        for (k, dof) in [Dof::X, Dof::Y, Dof::Z].into_iter().enumerate() {
+            if partition.x[n.ix + k] == CoordKind::Free {
+                let mut dir = [0.0; 3];
+                dir[k] = 1.0;
+                cols.push(Column {
+                    node: id,
+                    dof,
+                    dir,
+                    lambda_rate: [0.0; 4],
+                });
+            }
+        }
+        if !n.rot {
+            continue;
+        }
+        // unit λ and Λ̄ᵀ rows: λ̇_j = ½ (Λ̄ᵀ)_j · ω
+        let l = &x[n.ix + 3..n.ix + 7];
+        let ln = l.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let lu = [l[0] / ln, l[1] / ln, l[2] / ln, l[3] / ln];
+        let lb = lambda_bar(&lu);
+        let row = |j: usize| [lb[0][j], lb[1][j], lb[2][j]];
+        // constrained directions: λ_j (j = 1..3) not free
+        let mut basis: Vec<[f64; 3]> = Vec::new();
+        let orth = |v: [f64; 3], basis: &mut Vec<[f64; 3]>| -> Option<[f64; 3]> {
+            let mut w = v;
+            for b in basis.iter() {
+                let c = dot(w, *b);
+                w = [w[0] - c * b[0], w[1] - c * b[1], w[2] - c * b[2]];
+            }
+            let nw = crate::math::norm(w);
+            (nw > 1e-8).then(|| {
+                let u = [w[0] / nw, w[1] / nw, w[2] / nw];
+                basis.push(u);
+                u
+            })
+        };
+        for j in 1..4 {
+            if partition.x[n.ix + 3 + j] != CoordKind::Free {
+                orth(row(j), &mut basis);
+            }
+        }
+        // free directions: the axis of each free component, made orthogonal to the rest
+        for j in 1..4 {
+            if partition.x[n.ix + 3 + j] != CoordKind::Free {
+                continue;
+            }
+            let mut axis = [0.0; 3];
+            axis[j - 1] = 1.0;
+            if let Some(dir) = orth(axis, &mut basis) {
+                let lambda_rate: [f64; 4] = std::array::from_fn(|c| 0.5 * dot(row(c), dir));
+                cols.push(Column {
+                    node: id,
+                    dof: Dof::ALL[2 + j],
+                    dir,
+                    lambda_rate,
+                });
+            }
+        }
+    }
+    cols
+}
+
+/// The rows of Dcc for a partition: fixed and input deformations, element by element.
+pub fn rows(model: &Model, partition: &Partition) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for (el, entry) in model.elements.iter().enumerate() {
+        for mode in 0..entry.element.ne() {
+            let kind = partition.e[entry.ie + mode];
+            if kind != DefKind::Free {
+                rows.push(Row {
+                    element: el,
+                    mode,
+                    kind,
+                });
+            }
+        }
+    }
+    rows
+}
+
+/// Map a column's unit velocity to a velocity in x (nx).
+fn column_in_x(model: &Model, col: &Column) -> Vec<(usize, f64)> {
+    let n = &model.nodes[col.node];
+    if col.dof.is_rotation() {
+        (0..4).map(|c| (n.ix + 3 + c, col.lambda_rate[c])).collect()
+    } else {
+        vec![(n.ix + col.dof.index(), 1.0)]
+    }
+}
+
+/// D (ne × nx) times the column map: ∂e/∂(velocity coordinates) for all ne deformations.
+pub fn deformation_rates(model: &Model, D: &Mat<f64>, cols: &[Column]) -> Mat<f64> {
+    let mut out = Mat::zeros(model.ne, cols.len());
+    for (j, c) in cols.iter().enumerate() {
+        for (i, v) in column_in_x(model, c) {
+            for r in 0..model.ne {
+                out[(r, j)] += D[(r, i)] * v;
+            }
+        }
+    }
+    out
+}
+
+/// Assemble Dcc (velocity form) for a partition at x.
+pub fn assemble_dcc(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+) -> (Vec<Row>, Vec<Column>, Mat<f64>) {
+    let ev = evaluate(model, x);
+    let cols = columns(model, partition, x);
+    let rows = rows(model, partition);
+    let full = deformation_rates(model, &ev.D, &cols);
+    let dcc = Mat::from_fn(rows.len(), cols.len(), |i, j| {
+        full[(model.elements[rows[i].element].ie + rows[i].mode, j)]
+    });
+    (rows, cols, dcc)
+}
+
+/// SPACAR's Euler-parameter Dcc size: rows e^o + e^m + one normalisation per rotational node;
+/// columns all x^c including λ0.
+pub fn euler_shape(model: &Model, partition: &Partition) -> (usize, usize) {
+    let m =
+        partition.e.iter().filter(|k| **k != DefKind::Free).count() + model.n_rotational_nodes();
+    let n = partition
+        .x
+        .iter()
+        .filter(|k| **k == CoordKind::Free)
+        .count();
+    (m, n)
+}
+
+/// The kinematic analysis at configuration x (paper §3).
+pub fn check(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+    opts: &CheckOptions,
+) -> Result<ConstraintAnalysis, KinematicsError> {
+    if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
+        return Err(KinematicsError::BadTolerance(opts.rank_tol));
+    }
+    let (rows, cols, dcc) = assemble_dcc(model, partition, x);
+    let (m, n) = (rows.len(), cols.len());
+    // SVD and numerical rank
+    let f = svd(dcc.as_ref(), "Dcc")?;
+    let tol = opts.rank_tol * f.s.first().copied().unwrap_or(0.0);
+    let rank = numerical_rank(&f.s, tol);
+    let null_v = Mat::from_fn(n, n - rank, |i, j| f.V[(i, rank + j)]);
+    let null_u = Mat::from_fn(m, m - rank, |i, j| f.U[(i, rank + j)]);
+    let names = model.node_names();
+    let motions = (0..n - rank)
+        .map(|j| {
+            present_motion(
+                model,
+                &cols,
+                &(0..n).map(|i| null_v[(i, j)]).collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    let self_stresses = (0..m - rank)
+        .map(|j| {
+            let u: Vec<f64> = (0..m).map(|i| null_u[(i, j)]).collect();
+            present_self_stress(model, &names, &rows, &u)
+        })
+        .collect();
+    Ok(ConstraintAnalysis {
+        case: Table1::classify(m, n, rank),
+        euler_shape: euler_shape(model, partition),
+        rows,
+        cols,
+        Dcc: dcc,
+        singular_values: f.s,
+        tol,
+        rank,
+        null_v,
+        null_u,
+        motions,
+        self_stresses,
+    })
+}
+
+/// Entries below this fraction of a unit vector are shown as zero (rounding noise of the SVD).
+pub const PRESENT_ZERO: f64 = 1e-10;
+
+/// Normalise to unit length with the largest-magnitude entry positive; zero tiny entries.
+pub fn normalize_signed(v: &mut [f64]) {
+    let n = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+    if n == 0.0 {
+        return;
+    }
+    let imax = (0..v.len()).fold(0, |b, i| {
+        if v[i].abs() > v[b].abs() + 1e-12 {
+            i
+        } else {
+            b
+        }
+    });
+    let s = if v[imax] < 0.0 { -1.0 / n } else { 1.0 / n };
+    for a in v.iter_mut() {
+        *a *= s;
+        if a.abs() < PRESENT_ZERO {
+            *a = 0.0;
+        }
+    }
+}
+
+/// A velocity vector over the columns as nodal velocities (translations, global ω).
+pub fn present_motion(model: &Model, cols: &[Column], v: &[f64]) -> Motion {
+    // accumulate per (node, component): rotations as ω = Σ v_c dir_c
+    let mut entries: Vec<(NodeId, Dof, f64)> = Vec::new();
+    let mut add = |node: NodeId, dof: Dof, val: f64| match entries
+        .iter_mut()
+        .find(|e| e.0 == node && e.1 == dof)
+    {
+        Some(e) => e.2 += val,
+        None => entries.push((node, dof, val)),
+    };
+    for (c, &val) in cols.iter().zip(v) {
+        if c.dof.is_rotation() {
+            for k in 0..3 {
+                add(c.node, Dof::ALL[3 + k], val * c.dir[k]);
+            }
+        } else {
+            add(c.node, c.dof, val);
+        }
+    }
+    entries.sort_by_key(|e| (e.0, e.1));
+    let mut vals: Vec<f64> = entries.iter().map(|e| e.2).collect();
+    normalize_signed(&mut vals);
+    Motion {
+        coordinates: entries
+            .iter()
+            .zip(vals)
+            .filter(|(_, v)| *v != 0.0)
+            .map(|(e, value)| NodalVelocity {
+                node: model.nodes[e.0].name.clone(),
+                dof: e.1,
+                value,
+            })
+            .collect(),
+    }
+}
+
+/// A vector over the rows as element stress resultants.
+pub fn present_self_stress(model: &Model, names: &[String], rows: &[Row], u: &[f64]) -> SelfStress {
+    let mut vals = u.to_vec();
+    normalize_signed(&mut vals);
+    SelfStress {
+        deformations: rows
+            .iter()
+            .zip(vals)
+            .filter(|(_, v)| *v != 0.0)
+            .map(|(r, value)| {
+                let entry = &model.elements[r.element];
+                DeformationValue {
+                    element: entry.name.clone(),
+                    mode: r.mode + 1,
+                    mode_name: entry.element.mode_name(r.mode, names),
+                    value,
+                }
+            })
+            .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,110 @@
+//! Facade over the dense solvers (faer), so the backend can change without touching the
+//! algorithms.
+
+use faer::{Mat, MatRef};
+
+/// Full singular value decomposition A = U Σ Vᵀ (paper eq. (11)).
+#[derive(Clone, Debug)]
+pub struct Svd {
+    /// Singular values, non-increasing (min(m, n) of them).
+    pub s: Vec<f64>,
+    /// Left singular vectors, m × m.
+    pub U: Mat<f64>,
+    /// Right singular vectors, n × n.
+    pub V: Mat<f64>,
+}
+
+/// Numerical failure of a dense solver.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinalgError {
+    /// The SVD iteration did not converge.
+    #[error("the singular value decomposition of the {rows} × {cols} matrix did not converge")]
+    SvdNoConvergence {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// The matrix holds NaN or infinite entries.
+    #[error("the {what} holds a non-finite entry at ({row}, {col})")]
+    NonFinite {
+        /// Which matrix.
+        what: &'static str,
+        /// Row.
+        row: usize,
+        /// Column.
+        col: usize,
+    },
+}
+
+/// Full SVD with U (m × m) and V (n × n); empty dimensions give identity factors.
+pub fn svd(a: MatRef<'_, f64>, what: &'static str) -> Result<Svd, LinalgError> {
+    let (m, n) = (a.nrows(), a.ncols());
+    for j in 0..n {
+        for i in 0..m {
+            if !a[(i, j)].is_finite() {
+                return Err(LinalgError::NonFinite {
+                    what,
+                    row: i,
+                    col: j,
+                });
+            }
+        }
+    }
+    if m == 0 || n == 0 {
+        return Ok(Svd {
+            s: Vec::new(),
+            U: Mat::identity(m, m),
+            V: Mat::identity(n, n),
+        });
+    }
+    let f = a
+        .svd()
+        .map_err(|_| LinalgError::SvdNoConvergence { rows: m, cols: n })?;
+    let d = f.S().column_vector();
+    Ok(Svd {
+        s: (0..m.min(n)).map(|i| d[i]).collect(),
+        U: f.U().to_owned(),
+        V: f.V().to_owned(),
+    })
+}
+
+/// Number of singular values above `tol`.
+pub fn numerical_rank(s: &[f64], tol: f64) -> usize {
+    s.iter().filter(|&&v| v > tol).count()
+}
+
+/// Choose `k` columns of `a` by QR with column pivoting (Businger–Golub): at each step the
+/// column with the largest norm orthogonal to the columns already chosen. Returns their indices
+/// in the order chosen; stops early when the remaining columns vanish (below `tol`).
+pub fn pivot_columns(a: MatRef<'_, f64>, k: usize, tol: f64) -> Vec<usize> {
+    let (m, n) = (a.nrows(), a.ncols());
+    let mut w = a.to_owned();
+    let mut chosen = Vec::new();
+    for _ in 0..k.min(n) {
+        // column of largest remaining norm
+        let mut best = None;
+        let mut best_norm = tol;
+        for j in 0..n {
+            if chosen.contains(&j) {
+                continue;
+            }
+            let nj = (0..m).map(|i| w[(i, j)] * w[(i, j)]).sum::<f64>().sqrt();
+            if nj > best_norm * (1.0 + 1e-12) {
+                best_norm = nj;
+                best = Some(j);
+            }
+        }
+        let Some(p) = best else { break };
+        chosen.push(p);
+        // orthogonalise the others against it (modified Gram–Schmidt)
+        let q: Vec<f64> = (0..m).map(|i| w[(i, p)] / best_norm).collect();
+        for j in 0..n {
+            let c: f64 = (0..m).map(|i| q[i] * w[(i, j)]).sum();
+            for i in 0..m {
+                w[(i, j)] -= c * q[i];
+            }
+        }
+    }
+    chosen
+}

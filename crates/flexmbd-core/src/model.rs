@@ -1,0 +1,786 @@
+//! The model: nodes, elements and the partition of x and e (paper eq. (4)).
+//!
+//! A [`Model`] is built once by [`ModelBuilder::build`], which validates everything a user can
+//! get wrong and reports it as a [`ModelError`] naming the item. It is never mutated by an
+//! analysis; analyses that try a different partition (repair advice) copy the [`Partition`].
+//!
+//! Coordinates x: every node has its position (x, y, z); a node has rotation coordinates only
+//! when an element uses them (beam, hinge, rigid-body reference node) or the model file asks for
+//! them. Rotations are four Euler parameters (λ0, λ1, λ2, λ3), λ0 the scalar part, as in SPACAR
+//! (see docs/rotations.md). Fixing or prescribing the rotation component "rx" of a node acts on
+//! λ1 ("ry" on λ2, "rz" on λ3); λ0 is always dependent, fixed by the normalisation λᵀλ = 1.
+
+use crate::elements::{Beam, Element, ElementKind, FrameError, Hinge, NodeId, Rigid, Truss};
+use crate::math::norm;
+use std::collections::HashMap;
+
+/// Partition letter of a nodal coordinate (paper eq. (4)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CoordKind {
+    /// x^o: fixed (support).
+    Fixed,
+    /// x^c: dependent (calculable). The default.
+    Free,
+    /// x^m: independent, a generalised coordinate.
+    Input,
+}
+
+/// Partition letter of a deformation parameter (paper eq. (4)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DefKind {
+    /// e^o: prescribed zero (rigid). The default.
+    Fixed,
+    /// e^c: dependent, free to follow.
+    Free,
+    /// e^m: independent, a generalised coordinate.
+    Input,
+}
+
+/// A nodal degree of freedom as named in model files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dof {
+    /// Translation along global x.
+    X,
+    /// Translation along global y.
+    Y,
+    /// Translation along global z.
+    Z,
+    /// Rotation about global x (Euler parameter λ1).
+    Rx,
+    /// Rotation about global y (Euler parameter λ2).
+    Ry,
+    /// Rotation about global z (Euler parameter λ3).
+    Rz,
+}
+
+impl Dof {
+    /// All six, in order.
+    pub const ALL: [Dof; 6] = [Dof::X, Dof::Y, Dof::Z, Dof::Rx, Dof::Ry, Dof::Rz];
+    /// Name as in model files.
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z", "rx", "ry", "rz"][self.index()]
+    }
+    /// 0..6.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+    /// Parse a model-file name.
+    pub fn parse(s: &str) -> Option<Dof> {
+        Dof::ALL.into_iter().find(|d| d.name() == s)
+    }
+    /// True for rx, ry, rz.
+    pub fn is_rotation(self) -> bool {
+        self.index() >= 3
+    }
+}
+
+/// A node of the compiled model.
+#[derive(Clone, Debug)]
+pub struct Node {
+    /// Identifier from the model file.
+    pub name: String,
+    /// Reference position [m].
+    pub x0: [f64; 3],
+    /// Whether the node carries rotation coordinates (Euler parameters).
+    pub rot: bool,
+    /// Index of its x coordinate in the global x; y, z follow, then λ0..λ3 if `rot`.
+    pub ix: usize,
+}
+
+impl Node {
+    /// Index in x of a degree of freedom (rotations: λ1..λ3), if the node has it.
+    pub fn x_index(&self, dof: Dof) -> Option<usize> {
+        match dof.index() {
+            i @ 0..3 => Some(self.ix + i),
+            i if self.rot => Some(self.ix + 1 + i),
+            _ => None,
+        }
+    }
+    /// Number of coordinates of this node in x.
+    pub fn nx(&self) -> usize {
+        3 + 4 * usize::from(self.rot)
+    }
+}
+
+/// An element of the compiled model with its place in x and e.
+#[derive(Clone, Debug)]
+pub struct ElementEntry {
+    /// Identifier from the model file.
+    pub name: String,
+    /// The element.
+    pub element: Element,
+    /// Index of its first deformation in e (SPACAR `le`).
+    pub ie: usize,
+    /// Global index in x of each local coordinate (SPACAR `lnp`).
+    pub xmap: Vec<usize>,
+}
+
+/// Partition of x and e into fixed, dependent and independent parts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Partition {
+    /// Kind of every nodal coordinate (length nx).
+    pub x: Vec<CoordKind>,
+    /// Kind of every element deformation (length ne).
+    pub e: Vec<DefKind>,
+}
+
+/// The compiled, validated model.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Model name.
+    pub name: String,
+    /// Nodes.
+    pub nodes: Vec<Node>,
+    /// Elements.
+    pub elements: Vec<ElementEntry>,
+    /// Number of nodal coordinates.
+    pub nx: usize,
+    /// Number of element deformations (without the implicit Euler normalisations).
+    pub ne: usize,
+    /// Partition of x and e.
+    pub partition: Partition,
+}
+
+impl Model {
+    /// The reference configuration x⁰: node positions and identity rotations.
+    pub fn x0(&self) -> Vec<f64> {
+        let mut x = vec![0.0; self.nx];
+        for n in &self.nodes {
+            x[n.ix..n.ix + 3].copy_from_slice(&n.x0);
+            if n.rot {
+                x[n.ix + 3] = 1.0;
+            }
+        }
+        x
+    }
+    /// Node names, indexed by NodeId.
+    pub fn node_names(&self) -> Vec<String> {
+        self.nodes.iter().map(|n| n.name.clone()).collect()
+    }
+    /// Look up a node by name.
+    pub fn node_id(&self, name: &str) -> Option<NodeId> {
+        self.nodes.iter().position(|n| n.name == name)
+    }
+    /// The element and mode (0-based) of global deformation index `k`.
+    pub fn deformation_owner(&self, k: usize) -> (usize, usize) {
+        let el = self.elements.partition_point(|e| e.ie <= k) - 1;
+        (el, k - self.elements[el].ie)
+    }
+    /// The node and coordinate label of global coordinate index `i` ("x", "y", "z",
+    /// "lambda0".."lambda3").
+    pub fn coordinate_owner(&self, i: usize) -> (NodeId, &'static str) {
+        let n = self.nodes.partition_point(|n| n.ix <= i) - 1;
+        let labels = ["x", "y", "z", "lambda0", "lambda1", "lambda2", "lambda3"];
+        (n, labels[i - self.nodes[n].ix])
+    }
+    /// Number of rotational nodes (each adds one implicit Euler normalisation constraint).
+    pub fn n_rotational_nodes(&self) -> usize {
+        self.nodes.iter().filter(|n| n.rot).count()
+    }
+}
+
+/// What a model-building error refers to, so that a file reader can point at its line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Item {
+    /// A node definition.
+    Node(String),
+    /// An element definition.
+    Element(String),
+    /// The fix entry of a node.
+    Fix(String),
+    /// The input entry of a node.
+    Input(String),
+}
+
+/// Invalid model data. Every variant names the item it concerns.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    /// Two nodes with one name.
+    #[error("node `{node}` is defined twice")]
+    DuplicateNode {
+        /// Node name.
+        node: String,
+    },
+    /// Two elements with one name.
+    #[error("element `{element}` is defined twice")]
+    DuplicateElement {
+        /// Element name.
+        element: String,
+    },
+    /// An element refers to a node that does not exist.
+    #[error("element `{element}`: node `{node}` is not defined")]
+    UnknownNode {
+        /// Element name.
+        element: String,
+        /// Node name.
+        node: String,
+    },
+    /// A fix or input entry refers to a node that does not exist.
+    #[error("{what} entry `{node}`: node `{node}` is not defined")]
+    UnknownNodeInEntry {
+        /// "fix" or "inputs".
+        what: &'static str,
+        /// Node name.
+        node: String,
+    },
+    /// Wrong number of nodes for the element type.
+    #[error("element `{element}`: a {kind} needs {expected} nodes, found {found}")]
+    NodeCount {
+        /// Element name.
+        element: String,
+        /// Element type.
+        kind: &'static str,
+        /// What is needed, e.g. "2" or "at least 2".
+        expected: &'static str,
+        /// How many were given.
+        found: usize,
+    },
+    /// The same node appears twice in one element.
+    #[error("element `{element}`: node `{node}` appears twice")]
+    RepeatedNode {
+        /// Element name.
+        element: String,
+        /// Node name.
+        node: String,
+    },
+    /// The element's end nodes coincide.
+    #[error("element `{element}` has zero length ({l0:e} m between its nodes)")]
+    ZeroLength {
+        /// Element name.
+        element: String,
+        /// Distance between the nodes.
+        l0: f64,
+    },
+    /// The local frame cannot be built.
+    #[error("element `{element}`: {source}")]
+    Frame {
+        /// Element name.
+        element: String,
+        /// Why.
+        source: FrameError,
+    },
+    /// A deformation mode number outside 1..=ne.
+    #[error("element `{element}`: deformation mode {mode} does not exist (a {kind} has modes 1 to {ne})")]
+    BadMode {
+        /// Element name.
+        element: String,
+        /// Element type.
+        kind: &'static str,
+        /// Mode as given (1-based).
+        mode: i64,
+        /// Number of modes.
+        ne: usize,
+    },
+    /// A mode is listed both as free and as input.
+    #[error("element `{element}`: deformation mode {mode} is listed both as free and as input")]
+    ModeConflict {
+        /// Element name.
+        element: String,
+        /// Mode (1-based).
+        mode: usize,
+    },
+    /// A rotation dof on a node that has no rotation coordinates.
+    #[error("{what} entry `{node}`: `{dof}` is a rotation, but no beam, hinge or rigid body uses the rotation of node `{node}` (add `rot = true` to the node to give it one)")]
+    NoRotation {
+        /// "fix" or "inputs".
+        what: &'static str,
+        /// Node name.
+        node: String,
+        /// The dof.
+        dof: &'static str,
+    },
+    /// A dof both fixed and input.
+    #[error("node `{node}`: `{dof}` is both fixed and an input")]
+    FixAndInput {
+        /// Node name.
+        node: String,
+        /// The dof.
+        dof: &'static str,
+    },
+    /// A non-finite number or non-positive parameter.
+    #[error("{item}: `{field}` must be {requirement}, found {value}")]
+    BadValue {
+        /// "node `a`" or "element `b`".
+        item: String,
+        /// Field name.
+        field: &'static str,
+        /// e.g. "finite".
+        requirement: &'static str,
+        /// The value.
+        value: f64,
+    },
+}
+
+impl ModelError {
+    /// The model item the error concerns.
+    pub fn item(&self) -> Option<Item> {
+        use ModelError::*;
+        Some(match self {
+            DuplicateNode { node } => Item::Node(node.clone()),
+            DuplicateElement { element }
+            | UnknownNode { element, .. }
+            | NodeCount { element, .. }
+            | RepeatedNode { element, .. }
+            | ZeroLength { element, .. }
+            | Frame { element, .. }
+            | BadMode { element, .. }
+            | ModeConflict { element, .. } => Item::Element(element.clone()),
+            UnknownNodeInEntry { what, node } | NoRotation { what, node, .. } => {
+                if *what == "fix" {
+                    Item::Fix(node.clone())
+                } else {
+                    Item::Input(node.clone())
+                }
+            }
+            FixAndInput { node, .. } => Item::Input(node.clone()),
+            BadValue { .. } => return None,
+        })
+    }
+}
+
+/// Length below which two nodes of an element count as coincident [m]. Flexures in precision
+/// engineering are far longer than a nanometre; anything shorter is an input error.
+pub const MIN_ELEMENT_LENGTH: f64 = 1e-9;
+
+/// Element type and data as given by the user, before compilation.
+#[derive(Clone, Debug)]
+pub enum ElementSpec {
+    /// Truss between two nodes.
+    Truss {
+        /// EA [N].
+        ea: f64,
+    },
+    /// Spatial beam.
+    Beam {
+        /// Orientation vector (local y); `None` for SPACAR's default.
+        orient: Option<[f64; 3]>,
+        /// c_t [m²].
+        ct: f64,
+    },
+    /// Hinge with an axis.
+    Hinge {
+        /// Axis (need not be unit).
+        axis: [f64; 3],
+        /// Torsion spring k [N·m/rad].
+        k: f64,
+    },
+    /// Rigid body over its nodes.
+    Rigid,
+}
+
+#[derive(Clone, Debug)]
+struct PendingElement {
+    name: String,
+    nodes: Vec<NodeId>,
+    spec: ElementSpec,
+    free: Vec<usize>,
+    input: Vec<usize>,
+}
+
+/// Builds a [`Model`] item by item; each `add_*` validates what it can at once.
+#[derive(Clone, Debug, Default)]
+pub struct ModelBuilder {
+    name: String,
+    nodes: Vec<(String, [f64; 3], bool)>,
+    node_index: HashMap<String, NodeId>,
+    elements: Vec<PendingElement>,
+    element_names: HashMap<String, usize>,
+    /// (node, dofs); `None` = all coordinates the node has.
+    fixes: Vec<(String, Option<Vec<Dof>>)>,
+    inputs: Vec<(String, Option<Vec<Dof>>)>,
+}
+
+fn check_finite(item: &str, field: &'static str, v: &[f64]) -> Result<(), ModelError> {
+    match v.iter().find(|x| !x.is_finite()) {
+        Some(&value) => Err(ModelError::BadValue {
+            item: item.to_string(),
+            field,
+            requirement: "finite",
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+impl ModelBuilder {
+    /// An empty model with a name.
+    pub fn new(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            ..Default::default()
+        }
+    }
+
+    /// Add a node at `x0` [m]; `rot` asks for rotation coordinates even if no element uses them.
+    pub fn add_node(&mut self, name: &str, x0: [f64; 3], rot: bool) -> Result<NodeId, ModelError> {
+        check_finite(&format!("node `{name}`"), "x", &x0)?;
+        if self.node_index.contains_key(name) {
+            return Err(ModelError::DuplicateNode {
+                node: name.to_string(),
+            });
+        }
+        let id = self.nodes.len();
+        self.nodes.push((name.to_string(), x0, rot));
+        self.node_index.insert(name.to_string(), id);
+        Ok(id)
+    }
+
+    /// Add an element over named nodes; `free` and `input` list 1-based deformation modes.
+    pub fn add_element(
+        &mut self,
+        name: &str,
+        nodes: &[&str],
+        spec: ElementSpec,
+        free: &[i64],
+        input: &[i64],
+    ) -> Result<(), ModelError> {
+        let el = name.to_string();
+        if self.element_names.contains_key(name) {
+            return Err(ModelError::DuplicateElement { element: el });
+        }
+        let (kind, ne, expected) = match &spec {
+            ElementSpec::Truss { .. } => ("truss", 1, "2"),
+            ElementSpec::Beam { .. } => ("beam", 6, "2"),
+            ElementSpec::Hinge { .. } => ("hinge", 3, "2"),
+            ElementSpec::Rigid => ("rigid", usize::MAX, "at least 2"),
+        };
+        let count_ok = if ne == usize::MAX {
+            nodes.len() >= 2
+        } else {
+            nodes.len() == 2
+        };
+        if !count_ok {
+            return Err(ModelError::NodeCount {
+                element: el,
+                kind,
+                expected,
+                found: nodes.len(),
+            });
+        }
+        let mut ids = Vec::with_capacity(nodes.len());
+        for &n in nodes {
+            let id = *self
+                .node_index
+                .get(n)
+                .ok_or_else(|| ModelError::UnknownNode {
+                    element: el.clone(),
+                    node: n.into(),
+                })?;
+            if ids.contains(&id) {
+                return Err(ModelError::RepeatedNode {
+                    element: el,
+                    node: n.into(),
+                });
+            }
+            ids.push(id);
+        }
+        let item = format!("element `{name}`");
+        match &spec {
+            ElementSpec::Truss { ea } => check_finite(&item, "EA", &[*ea])?,
+            ElementSpec::Beam { orient, ct } => {
+                check_finite(&item, "orient", orient.as_ref().map_or(&[][..], |o| &o[..]))?;
+                check_finite(&item, "ct", &[*ct])?;
+            }
+            ElementSpec::Hinge { axis, k } => {
+                check_finite(&item, "axis", axis)?;
+                check_finite(&item, "k", &[*k])?;
+            }
+            ElementSpec::Rigid => {}
+        }
+        // element length and frame
+        if kind != "rigid" && kind != "hinge" {
+            let l0 = norm(crate::math::sub(self.nodes[ids[1]].1, self.nodes[ids[0]].1));
+            if l0 < MIN_ELEMENT_LENGTH {
+                return Err(ModelError::ZeroLength { element: el, l0 });
+            }
+        }
+        let frame_err = |source| ModelError::Frame {
+            element: name.to_string(),
+            source,
+        };
+        match &spec {
+            ElementSpec::Beam { orient, .. } => {
+                let (p, q) = (self.nodes[ids[0]].1, self.nodes[ids[1]].1);
+                Beam::new([0, 1], p, q, *orient).map_err(frame_err)?;
+            }
+            ElementSpec::Hinge { axis, .. } => {
+                Hinge::new([0, 1], *axis).map_err(|e| match e {
+                    FrameError::ZeroAxis => ModelError::BadValue {
+                        item: item.clone(),
+                        field: "axis",
+                        requirement: "non-zero",
+                        value: 0.0,
+                    },
+                    other => frame_err(other),
+                })?;
+            }
+            _ => {}
+        }
+        // mode lists
+        let ne_real = if kind == "rigid" { usize::MAX } else { ne };
+        let check_modes = |list: &[i64]| -> Result<Vec<usize>, ModelError> {
+            list.iter()
+                .map(|&m| {
+                    if m >= 1 && (m as usize) <= ne_real {
+                        Ok(m as usize)
+                    } else {
+                        Err(ModelError::BadMode {
+                            element: el.clone(),
+                            kind,
+                            mode: m,
+                            ne: if kind == "rigid" { 0 } else { ne },
+                        })
+                    }
+                })
+                .collect()
+        };
+        let free = check_modes(free)?;
+        let input = check_modes(input)?;
+        if let Some(&m) = free.iter().find(|m| input.contains(m)) {
+            return Err(ModelError::ModeConflict {
+                element: el,
+                mode: m,
+            });
+        }
+        self.element_names.insert(el.clone(), self.elements.len());
+        self.elements.push(PendingElement {
+            name: el,
+            nodes: ids,
+            spec,
+            free,
+            input,
+        });
+        Ok(())
+    }
+
+    /// Fix the listed dofs of a node (support); `None` = all its coordinates.
+    pub fn fix(&mut self, node: &str, dofs: Option<&[Dof]>) -> Result<(), ModelError> {
+        self.entry("fix", node, dofs)
+    }
+
+    /// Make the listed dofs of a node generalised coordinates (x^m).
+    pub fn input(&mut self, node: &str, dofs: &[Dof]) -> Result<(), ModelError> {
+        self.entry("inputs", node, Some(dofs))
+    }
+
+    fn entry(
+        &mut self,
+        what: &'static str,
+        node: &str,
+        dofs: Option<&[Dof]>,
+    ) -> Result<(), ModelError> {
+        if !self.node_index.contains_key(node) {
+            return Err(ModelError::UnknownNodeInEntry {
+                what,
+                node: node.into(),
+            });
+        }
+        // `None` (all) is resolved at build time, when rotations are known
+        let target = if what == "fix" {
+            &mut self.fixes
+        } else {
+            &mut self.inputs
+        };
+        target.push((node.to_string(), dofs.map(<[Dof]>::to_vec)));
+        Ok(())
+    }
+
+    /// Validate and compile the model.
+    pub fn build(self) -> Result<Model, ModelError> {
+        // which nodes carry rotations
+        let mut rot: Vec<bool> = self.nodes.iter().map(|n| n.2).collect();
+        for e in &self.elements {
+            match e.spec {
+                ElementSpec::Beam { .. } | ElementSpec::Hinge { .. } => {
+                    for &n in &e.nodes {
+                        rot[n] = true;
+                    }
+                }
+                ElementSpec::Rigid => rot[e.nodes[0]] = true,
+                ElementSpec::Truss { .. } => {}
+            }
+        }
+        // coordinate layout
+        let mut nodes = Vec::with_capacity(self.nodes.len());
+        let mut nx = 0;
+        for (i, (name, x0, _)) in self.nodes.iter().enumerate() {
+            nodes.push(Node {
+                name: name.clone(),
+                x0: *x0,
+                rot: rot[i],
+                ix: nx,
+            });
+            nx += 3 + 4 * usize::from(rot[i]);
+        }
+        // elements
+        let mut elements = Vec::with_capacity(self.elements.len());
+        let mut e_kind = Vec::new();
+        let mut ne = 0;
+        for p in &self.elements {
+            let pos = |k: usize| nodes[p.nodes[k]].x0;
+            let two = [p.nodes[0], *p.nodes.get(1).unwrap_or(&p.nodes[0])];
+            let element = match &p.spec {
+                ElementSpec::Truss { ea } => {
+                    let mut t = Truss::new(two, pos(0), pos(1));
+                    t.ea = *ea;
+                    Element::Truss(t)
+                }
+                ElementSpec::Beam { orient, ct } => {
+                    let mut b = Beam::new(two, pos(0), pos(1), *orient).map_err(|source| {
+                        ModelError::Frame {
+                            element: p.name.clone(),
+                            source,
+                        }
+                    })?;
+                    b.ct = *ct;
+                    Element::Beam(b)
+                }
+                ElementSpec::Hinge { axis, k } => {
+                    let mut h = Hinge::new(two, *axis).map_err(|source| ModelError::Frame {
+                        element: p.name.clone(),
+                        source,
+                    })?;
+                    h.k = *k;
+                    Element::Hinge(h)
+                }
+                ElementSpec::Rigid => {
+                    let positions: Vec<[f64; 3]> = (0..p.nodes.len()).map(pos).collect();
+                    let flags = p.nodes.iter().map(|&n| rot[n]).collect();
+                    Element::Rigid(Rigid::new(p.nodes.clone(), &positions, flags))
+                }
+            };
+            let n_modes = element.ne();
+            for &m in p.free.iter().chain(&p.input) {
+                if m > n_modes {
+                    return Err(ModelError::BadMode {
+                        element: p.name.clone(),
+                        kind: element.type_name(),
+                        mode: m as i64,
+                        ne: n_modes,
+                    });
+                }
+            }
+            let mut xmap = Vec::new();
+            for u in element.node_uses() {
+                let n = &nodes[u.node];
+                if u.pos {
+                    xmap.extend(n.ix..n.ix + 3);
+                }
+                if u.rot {
+                    xmap.extend(n.ix + 3..n.ix + 7);
+                }
+            }
+            let mut kinds = vec![DefKind::Fixed; n_modes];
+            for &m in &p.free {
+                kinds[m - 1] = DefKind::Free;
+            }
+            for &m in &p.input {
+                kinds[m - 1] = DefKind::Input;
+            }
+            e_kind.extend(kinds);
+            elements.push(ElementEntry {
+                name: p.name.clone(),
+                element,
+                ie: ne,
+                xmap,
+            });
+            ne += n_modes;
+        }
+        // partition of x
+        let mut x_kind = vec![CoordKind::Free; nx];
+        for (what, list, kind) in [
+            ("fix", &self.fixes, CoordKind::Fixed),
+            ("inputs", &self.inputs, CoordKind::Input),
+        ] {
+            for (name, dofs) in list {
+                let n = &nodes[self.node_index[name]];
+                let all = dofs.is_none();
+                for &d in dofs.as_deref().unwrap_or(&Dof::ALL) {
+                    match n.x_index(d) {
+                        Some(i) => {
+                            if x_kind[i] != CoordKind::Free && x_kind[i] != kind {
+                                return Err(ModelError::FixAndInput {
+                                    node: n.name.clone(),
+                                    dof: d.name(),
+                                });
+                            }
+                            x_kind[i] = kind;
+                        }
+                        None if all => {}
+                        None => {
+                            return Err(ModelError::NoRotation {
+                                what,
+                                node: n.name.clone(),
+                                dof: d.name(),
+                            })
+                        }
+                    }
+                }
+            }
+        }
+        Ok(Model {
+            name: self.name,
+            nodes,
+            elements,
+            nx,
+            ne,
+            partition: Partition {
+                x: x_kind,
+                e: e_kind,
+            },
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builder_reports_items() {
+        let mut b = ModelBuilder::new("t");
+        b.add_node("a", [0.0; 3], false).unwrap();
+        assert_eq!(
+            b.add_node("a", [1.0; 3], false).unwrap_err(),
+            ModelError::DuplicateNode { node: "a".into() }
+        );
+        b.add_node("b", [0.0; 3], false).unwrap();
+        let e = b.add_element("t1", &["a", "b"], ElementSpec::Truss { ea: 0.0 }, &[], &[]);
+        assert!(matches!(e, Err(ModelError::ZeroLength { .. })));
+        let e = b.add_element("t1", &["a", "c"], ElementSpec::Truss { ea: 0.0 }, &[], &[]);
+        assert!(matches!(e, Err(ModelError::UnknownNode { .. })));
+        b.fix("a", Some(&[Dof::Rx])).unwrap();
+        assert!(matches!(b.build(), Err(ModelError::NoRotation { .. })));
+    }
+
+    #[test]
+    fn rotations_only_where_used() {
+        let mut b = ModelBuilder::new("t");
+        b.add_node("a", [0.0; 3], false).unwrap();
+        b.add_node("b", [1.0, 0.0, 0.0], false).unwrap();
+        b.add_node("c", [2.0, 0.0, 0.0], false).unwrap();
+        b.add_element("t", &["a", "b"], ElementSpec::Truss { ea: 0.0 }, &[], &[])
+            .unwrap();
+        b.add_element(
+            "w",
+            &["b", "c"],
+            ElementSpec::Beam {
+                orient: None,
+                ct: 0.0,
+            },
+            &[2],
+            &[],
+        )
+        .unwrap();
+        b.fix("a", None).unwrap();
+        let m = b.build().unwrap();
+        assert_eq!(m.nx, 3 + 7 + 7);
+        assert_eq!(m.ne, 7);
+        assert_eq!(&m.partition.x[0..3], &[CoordKind::Fixed; 3]);
+        assert_eq!(m.partition.e[2], DefKind::Free);
+        assert_eq!(m.deformation_owner(6), (1, 5));
+    }
+}
