@@ -1,1 +1,143 @@
-fn main() {}
+//! `flexmbd`: exact-constraint design of compliant mechanisms from the command line.
+//!
+//! Exit codes: 0 success; 1 numerical failure; 2 invalid input (file, line and item named);
+//! 3 `check --require-exact` on a model that is not exactly constrained.
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use flexmbd_core::kinematics::advice::{advise, auto_generalised};
+use flexmbd_core::kinematics::{check, CheckOptions};
+use flexmbd_io::report::{check_json, check_text, generalised_names, CheckReport};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "flexmbd",
+    version,
+    about = "Exact-constraint design of compliant mechanisms (flexible multibody, SPACAR-style)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Kinematic analysis: SVD of Dcc, Table 1 class, motions, self-stresses, repair advice.
+    Check {
+        /// Model file (.toml).
+        model: PathBuf,
+        /// Print JSON instead of tables.
+        #[arg(long)]
+        json: bool,
+        /// Relative rank tolerance: s_i counts as zero when s_i <= tol * s_1 (default sqrt(eps)).
+        #[arg(long, value_name = "TOL")]
+        rank_tol: Option<f64>,
+        /// Choose generalised coordinates automatically (one per motion) and report them.
+        #[arg(long)]
+        auto: bool,
+        /// Maximum number of verified suggestions per motion or self-stress state.
+        #[arg(long, default_value_t = 6, value_name = "N")]
+        max_suggestions: usize,
+        /// Exit with code 3 unless the model is exactly constrained.
+        #[arg(long)]
+        require_exact: bool,
+    },
+}
+
+/// An error that is the user's input, reported with exit code 2.
+#[derive(Debug)]
+struct BadInput(String);
+impl std::fmt::Display for BadInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+impl std::error::Error for BadInput {}
+
+fn load(path: &Path) -> anyhow::Result<flexmbd_core::Model> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("toml") => flexmbd_io::read_model(path).map_err(|e| BadInput(e.to_string()).into()),
+        _ => Err(BadInput(format!(
+            "{}: unknown model format (expected a .toml file)",
+            path.display()
+        ))
+        .into()),
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Check {
+            model,
+            json,
+            rank_tol,
+            auto,
+            max_suggestions,
+            require_exact,
+        } => {
+            let m = load(&model)?;
+            let opts = CheckOptions {
+                rank_tol: rank_tol.unwrap_or(CheckOptions::default().rank_tol),
+            };
+            if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
+                return Err(BadInput(format!(
+                    "--rank-tol must be a finite number >= 0, found {}",
+                    opts.rank_tol
+                ))
+                .into());
+            }
+            let x = m.x0();
+            let before = check(&m, &m.partition, &x, &opts).context("kinematic analysis failed")?;
+            let (partition, analysis, chosen) = if auto {
+                let c = auto_generalised(&m, &m.partition, &x, &opts)
+                    .context("automatic choice of generalised coordinates failed")?;
+                (c.partition, c.analysis, Some(c.chosen))
+            } else {
+                (m.partition.clone(), before.clone(), None)
+            };
+            let advice = advise(&m, &partition, &x, &analysis, &opts, max_suggestions)
+                .context("repair advice failed")?;
+            let file = model.display().to_string();
+            let report = CheckReport {
+                model: &m,
+                file: &file,
+                rank_tol: opts.rank_tol,
+                analysis: &analysis,
+                advice: &advice,
+                auto: chosen.as_deref().map(|c| (c, &before)),
+            };
+            let names = generalised_names(&m, &partition.x, &partition.e);
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&check_json(&report, &names))?
+                );
+            } else {
+                print!("{}", check_text(&report, &names));
+            }
+            let exact = analysis.n_motions() == 0 && analysis.n_self_stresses() == 0;
+            Ok(if require_exact && !exact {
+                ExitCode::from(3)
+            } else {
+                ExitCode::SUCCESS
+            })
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            let bad_input = e.downcast_ref::<BadInput>().is_some();
+            eprintln!("error: {e:#}");
+            if !bad_input {
+                eprintln!("hint: try a looser --rank-tol, or check the model for NaN coordinates");
+            }
+            ExitCode::from(if bad_input { 2 } else { 1 })
+        }
+    }
+}

@@ -84,24 +84,36 @@ pub struct Node {
     pub name: String,
     /// Reference position [m].
     pub x0: [f64; 3],
-    /// Whether the node carries rotation coordinates (Euler parameters).
-    pub rot: bool,
-    /// Index of its x coordinate in the global x; y, z follow, then λ0..λ3 if `rot`.
-    pub ix: usize,
+    /// For a node placed `at` another: the host whose position it shares (it has only its own
+    /// rotation, e.g. the second rotation node of a hinge).
+    pub host: Option<NodeId>,
+    /// Index of its x coordinate in the global x (y, z follow); the host's for a hosted node.
+    pub ix_pos: usize,
+    /// Index of λ0 in x (λ1..λ3 follow), if the node carries rotation coordinates.
+    pub ix_rot: Option<usize>,
 }
 
 impl Node {
+    /// Whether the node carries rotation coordinates (Euler parameters).
+    pub fn rot(&self) -> bool {
+        self.ix_rot.is_some()
+    }
     /// Index in x of a degree of freedom (rotations: λ1..λ3), if the node has it.
     pub fn x_index(&self, dof: Dof) -> Option<usize> {
         match dof.index() {
-            i @ 0..3 => Some(self.ix + i),
-            i if self.rot => Some(self.ix + 1 + i),
-            _ => None,
+            i @ 0..3 => Some(self.ix_pos + i),
+            i => self.ix_rot.map(|r| r + i - 2),
         }
     }
-    /// Number of coordinates of this node in x.
-    pub fn nx(&self) -> usize {
-        3 + 4 * usize::from(self.rot)
+    /// The coordinates this node owns in x (a hosted node owns only its Euler parameters).
+    pub fn own_range(&self) -> std::ops::Range<usize> {
+        let start = if self.host.is_some() {
+            self.ix_rot.expect("hosted nodes rotate")
+        } else {
+            self.ix_pos
+        };
+        let end = self.ix_rot.map_or(self.ix_pos + 3, |r| r + 4);
+        start..end
     }
 }
 
@@ -149,9 +161,9 @@ impl Model {
     pub fn x0(&self) -> Vec<f64> {
         let mut x = vec![0.0; self.nx];
         for n in &self.nodes {
-            x[n.ix..n.ix + 3].copy_from_slice(&n.x0);
-            if n.rot {
-                x[n.ix + 3] = 1.0;
+            x[n.ix_pos..n.ix_pos + 3].copy_from_slice(&n.x0);
+            if let Some(r) = n.ix_rot {
+                x[r] = 1.0;
             }
         }
         x
@@ -172,18 +184,28 @@ impl Model {
     /// The node and coordinate label of global coordinate index `i` ("x", "y", "z",
     /// "lambda0".."lambda3").
     pub fn coordinate_owner(&self, i: usize) -> (NodeId, &'static str) {
-        let n = self.nodes.partition_point(|n| n.ix <= i) - 1;
+        let n = self
+            .nodes
+            .iter()
+            .position(|n| n.own_range().contains(&i))
+            .expect("i < nx");
         let labels = ["x", "y", "z", "lambda0", "lambda1", "lambda2", "lambda3"];
-        (n, labels[i - self.nodes[n].ix])
+        let node = &self.nodes[n];
+        (
+            n,
+            node.ix_rot
+                .filter(|&r| i >= r)
+                .map_or(labels[i - node.ix_pos], |r| labels[3 + i - r]),
+        )
     }
     /// Number of rotational nodes (each adds one implicit Euler normalisation constraint).
     pub fn n_rotational_nodes(&self) -> usize {
-        self.nodes.iter().filter(|n| n.rot).count()
+        self.nodes.iter().filter(|n| n.rot()).count()
     }
 }
 
 /// What a model-building error refers to, so that a file reader can point at its line.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Item {
     /// A node definition.
     Node(String),
@@ -217,6 +239,14 @@ pub enum ModelError {
         element: String,
         /// Node name.
         node: String,
+    },
+    /// A node is placed `at` a node that is not defined before it.
+    #[error("node `{node}`: `at` names node `{host}`, which is not defined before it")]
+    UnknownHost {
+        /// Node name.
+        node: String,
+        /// The host named.
+        host: String,
     },
     /// A fix or input entry refers to a node that does not exist.
     #[error("{what} entry `{node}`: node `{node}` is not defined")]
@@ -303,8 +333,8 @@ pub enum ModelError {
     /// A non-finite number or non-positive parameter.
     #[error("{item}: `{field}` must be {requirement}, found {value}")]
     BadValue {
-        /// "node `a`" or "element `b`".
-        item: String,
+        /// The node or element.
+        item: Item,
         /// Field name.
         field: &'static str,
         /// e.g. "finite".
@@ -314,12 +344,23 @@ pub enum ModelError {
     },
 }
 
+impl std::fmt::Display for Item {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Item::Node(n) => write!(f, "node `{n}`"),
+            Item::Element(e) => write!(f, "element `{e}`"),
+            Item::Fix(n) => write!(f, "fix entry `{n}`"),
+            Item::Input(n) => write!(f, "inputs entry `{n}`"),
+        }
+    }
+}
+
 impl ModelError {
     /// The model item the error concerns.
-    pub fn item(&self) -> Option<Item> {
+    pub fn item(&self) -> Item {
         use ModelError::*;
-        Some(match self {
-            DuplicateNode { node } => Item::Node(node.clone()),
+        match self {
+            DuplicateNode { node } | UnknownHost { node, .. } => Item::Node(node.clone()),
             DuplicateElement { element }
             | UnknownNode { element, .. }
             | NodeCount { element, .. }
@@ -336,8 +377,8 @@ impl ModelError {
                 }
             }
             FixAndInput { node, .. } => Item::Input(node.clone()),
-            BadValue { .. } => return None,
-        })
+            BadValue { item, .. } => item.clone(),
+        }
     }
 }
 
@@ -384,7 +425,8 @@ struct PendingElement {
 #[derive(Clone, Debug, Default)]
 pub struct ModelBuilder {
     name: String,
-    nodes: Vec<(String, [f64; 3], bool)>,
+    /// (name, position, rotation asked for, host)
+    nodes: Vec<(String, [f64; 3], bool, Option<NodeId>)>,
     node_index: HashMap<String, NodeId>,
     elements: Vec<PendingElement>,
     element_names: HashMap<String, usize>,
@@ -393,10 +435,10 @@ pub struct ModelBuilder {
     inputs: Vec<(String, Option<Vec<Dof>>)>,
 }
 
-fn check_finite(item: &str, field: &'static str, v: &[f64]) -> Result<(), ModelError> {
+fn check_finite(item: &Item, field: &'static str, v: &[f64]) -> Result<(), ModelError> {
     match v.iter().find(|x| !x.is_finite()) {
         Some(&value) => Err(ModelError::BadValue {
-            item: item.to_string(),
+            item: item.clone(),
             field,
             requirement: "finite",
             value,
@@ -416,14 +458,36 @@ impl ModelBuilder {
 
     /// Add a node at `x0` [m]; `rot` asks for rotation coordinates even if no element uses them.
     pub fn add_node(&mut self, name: &str, x0: [f64; 3], rot: bool) -> Result<NodeId, ModelError> {
-        check_finite(&format!("node `{name}`"), "x", &x0)?;
+        check_finite(&Item::Node(name.to_string()), "x", &x0)?;
         if self.node_index.contains_key(name) {
             return Err(ModelError::DuplicateNode {
                 node: name.to_string(),
             });
         }
         let id = self.nodes.len();
-        self.nodes.push((name.to_string(), x0, rot));
+        self.nodes.push((name.to_string(), x0, rot, None));
+        self.node_index.insert(name.to_string(), id);
+        Ok(id)
+    }
+
+    /// Add a node `at` an earlier node: it shares the host's position and has its own rotation
+    /// (SPACAR: a second rotational node on one translational node, as for a hinge).
+    pub fn add_node_at(&mut self, name: &str, host: &str) -> Result<NodeId, ModelError> {
+        if self.node_index.contains_key(name) {
+            return Err(ModelError::DuplicateNode {
+                node: name.to_string(),
+            });
+        }
+        let unknown = || ModelError::UnknownHost {
+            node: name.to_string(),
+            host: host.to_string(),
+        };
+        let &h = self.node_index.get(host).ok_or_else(unknown)?;
+        // a chain of hosts resolves to the first
+        let h = self.nodes[h].3.unwrap_or(h);
+        let id = self.nodes.len();
+        let x0 = self.nodes[h].1;
+        self.nodes.push((name.to_string(), x0, true, Some(h)));
         self.node_index.insert(name.to_string(), id);
         Ok(id)
     }
@@ -477,7 +541,7 @@ impl ModelBuilder {
             }
             ids.push(id);
         }
-        let item = format!("element `{name}`");
+        let item = Item::Element(name.to_string());
         match &spec {
             ElementSpec::Truss { ea } => check_finite(&item, "EA", &[*ea])?,
             ElementSpec::Beam { orient, ct } => {
@@ -561,9 +625,9 @@ impl ModelBuilder {
         self.entry("fix", node, dofs)
     }
 
-    /// Make the listed dofs of a node generalised coordinates (x^m).
-    pub fn input(&mut self, node: &str, dofs: &[Dof]) -> Result<(), ModelError> {
-        self.entry("inputs", node, Some(dofs))
+    /// Make the listed dofs of a node generalised coordinates (x^m); `None` = all of them.
+    pub fn input(&mut self, node: &str, dofs: Option<&[Dof]>) -> Result<(), ModelError> {
+        self.entry("inputs", node, dofs)
     }
 
     fn entry(
@@ -591,7 +655,7 @@ impl ModelBuilder {
     /// Validate and compile the model.
     pub fn build(self) -> Result<Model, ModelError> {
         // which nodes carry rotations
-        let mut rot: Vec<bool> = self.nodes.iter().map(|n| n.2).collect();
+        let mut rot: Vec<bool> = self.nodes.iter().map(|n| n.2 || n.3.is_some()).collect();
         for e in &self.elements {
             match e.spec {
                 ElementSpec::Beam { .. } | ElementSpec::Hinge { .. } => {
@@ -606,14 +670,25 @@ impl ModelBuilder {
         // coordinate layout
         let mut nodes = Vec::with_capacity(self.nodes.len());
         let mut nx = 0;
-        for (i, (name, x0, _)) in self.nodes.iter().enumerate() {
+        for (i, (name, x0, _, host)) in self.nodes.iter().enumerate() {
+            let ix_pos = match host {
+                Some(h) => nodes.get(*h).map_or(0, |n: &Node| n.ix_pos),
+                None => {
+                    nx += 3;
+                    nx - 3
+                }
+            };
+            let ix_rot = rot[i].then(|| {
+                nx += 4;
+                nx - 4
+            });
             nodes.push(Node {
                 name: name.clone(),
                 x0: *x0,
-                rot: rot[i],
-                ix: nx,
+                host: *host,
+                ix_pos,
+                ix_rot,
             });
-            nx += 3 + 4 * usize::from(rot[i]);
         }
         // elements
         let mut elements = Vec::with_capacity(self.elements.len());
@@ -667,10 +742,13 @@ impl ModelBuilder {
             for u in element.node_uses() {
                 let n = &nodes[u.node];
                 if u.pos {
-                    xmap.extend(n.ix..n.ix + 3);
+                    xmap.extend(n.ix_pos..n.ix_pos + 3);
                 }
                 if u.rot {
-                    xmap.extend(n.ix + 3..n.ix + 7);
+                    let r = n
+                        .ix_rot
+                        .expect("rotation flags were set for every element use");
+                    xmap.extend(r..r + 4);
                 }
             }
             let mut kinds = vec![DefKind::Fixed; n_modes];

@@ -232,8 +232,9 @@ pub enum KinematicsError {
 pub fn columns(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Column> {
     let mut cols = Vec::new();
     for (id, n) in model.nodes.iter().enumerate() {
+        // a hosted node's position columns are its host's
         for (k, dof) in [Dof::X, Dof::Y, Dof::Z].into_iter().enumerate() {
-            if partition.x[n.ix + k] == CoordKind::Free {
+            if n.host.is_none() && partition.x[n.ix_pos + k] == CoordKind::Free {
                 let mut dir = [0.0; 3];
                 dir[k] = 1.0;
                 cols.push(Column {
@@ -244,11 +245,9 @@ pub fn columns(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Column> {
                 });
             }
         }
-        if !n.rot {
-            continue;
-        }
+        let Some(ir) = n.ix_rot else { continue };
         // unit λ and Λ̄ᵀ rows: λ̇_j = ½ (Λ̄ᵀ)_j · ω
-        let l = &x[n.ix + 3..n.ix + 7];
+        let l = &x[ir..ir + 4];
         let ln = l.iter().map(|v| v * v).sum::<f64>().sqrt();
         let lu = [l[0] / ln, l[1] / ln, l[2] / ln, l[3] / ln];
         let lb = lambda_bar(&lu);
@@ -269,13 +268,13 @@ pub fn columns(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Column> {
             })
         };
         for j in 1..4 {
-            if partition.x[n.ix + 3 + j] != CoordKind::Free {
+            if partition.x[ir + j] != CoordKind::Free {
                 orth(row(j), &mut basis);
             }
         }
         // free directions: the axis of each free component, made orthogonal to the rest
         for j in 1..4 {
-            if partition.x[n.ix + 3 + j] != CoordKind::Free {
+            if partition.x[ir + j] != CoordKind::Free {
                 continue;
             }
             let mut axis = [0.0; 3];
@@ -316,9 +315,12 @@ pub fn rows(model: &Model, partition: &Partition) -> Vec<Row> {
 fn column_in_x(model: &Model, col: &Column) -> Vec<(usize, f64)> {
     let n = &model.nodes[col.node];
     if col.dof.is_rotation() {
-        (0..4).map(|c| (n.ix + 3 + c, col.lambda_rate[c])).collect()
+        let ir = n
+            .ix_rot
+            .expect("rotation columns belong to rotational nodes");
+        (0..4).map(|c| (ir + c, col.lambda_rate[c])).collect()
     } else {
-        vec![(n.ix + col.dof.index(), 1.0)]
+        vec![(n.ix_pos + col.dof.index(), 1.0)]
     }
 }
 

@@ -258,7 +258,7 @@ fn counts_equal_spacar_euler_form() {
         let refs: Vec<&str> = nodes.iter().map(|s| s.as_str()).collect();
         b.add_element("body", &refs, ElementSpec::Rigid, &[], &[])
             .unwrap();
-        b.input("body", &[Dof::Rz]).unwrap();
+        b.input("body", Some(&[Dof::Rz])).unwrap();
         let m = b.build().unwrap();
         let x = m.x0();
         let a = run(&m);
@@ -270,11 +270,12 @@ fn counts_equal_spacar_euler_form() {
             .filter(|&i| p.e[i] != DefKind::Free)
             .map(|i| cols.iter().map(|&j| ev.D[(i, j)]).collect())
             .collect();
-        for n in m.nodes.iter().filter(|n| n.rot) {
+        for n in m.nodes.iter().filter(|n| n.rot()) {
+            let ir = n.ix_rot.unwrap();
             rows.push(
                 cols.iter()
                     .map(|&j| {
-                        if (n.ix + 3..n.ix + 7).contains(&j) {
+                        if (ir..ir + 4).contains(&j) {
                             2.0 * x[j]
                         } else {
                             0.0
