@@ -22,5 +22,7 @@ pub mod kinematics;
 pub mod linalg;
 pub mod math;
 pub mod model;
+pub mod section;
+pub mod statics;
 
 pub use model::{CoordKind, DefKind, Model, ModelBuilder, ModelError, Partition};

@@ -154,6 +154,54 @@ pub struct Model {
     pub ne: usize,
     /// Partition of x and e.
     pub partition: Partition,
+    /// Deformations the user declared rigid explicitly (`fixed`), for statics: there every
+    /// deformation with finite stiffness is flexible unless listed here (length ne).
+    pub explicit_rigid: Vec<bool>,
+    /// Loads, masses and prescribed inputs for statics and dynamics.
+    pub loads: Loads,
+}
+
+/// A force and moment on a node, in global axes [N, N·m]. Dead loads (constant direction).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct NodalLoad {
+    /// Node index.
+    pub node: NodeId,
+    /// Force [N].
+    pub force: [f64; 3],
+    /// Moment [N·m]; needs a rotational node.
+    pub moment: [f64; 3],
+}
+
+/// What a prescribed value acts on.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub enum Target {
+    /// A nodal coordinate (index in x): translations as displacement [m] from the reference,
+    /// rotations rx/ry/rz as an angle φ [rad] with λ_i = sin(φ/2).
+    Coordinate(usize),
+    /// A deformation (index in e), its value [m or rad].
+    Deformation(usize),
+}
+
+/// A prescribed input value, reached at the end of the load steps.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Prescribed {
+    /// What.
+    pub target: Target,
+    /// Final value.
+    pub value: f64,
+}
+
+/// Loads, masses and prescribed motions.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Loads {
+    /// Nodal forces and moments (reached at load factor 1).
+    pub nodal: Vec<NodalLoad>,
+    /// Gravitational acceleration [m/s²].
+    pub gravity: [f64; 3],
+    /// Point masses at nodes [kg].
+    pub point_masses: Vec<(NodeId, f64)>,
+    /// Prescribed inputs.
+    pub prescribed: Vec<Prescribed>,
 }
 
 impl Model {
@@ -215,6 +263,12 @@ pub enum Item {
     Fix(String),
     /// The input entry of a node.
     Input(String),
+    /// A load on a node.
+    Load(String),
+    /// A point mass on a node.
+    Mass(String),
+    /// Model-wide data (gravity).
+    Model,
 }
 
 /// Invalid model data. Every variant names the item it concerns.
@@ -237,6 +291,20 @@ pub enum ModelError {
     UnknownNode {
         /// Element name.
         element: String,
+        /// Node name.
+        node: String,
+    },
+    /// An element of the wrong type (or none) for the operation.
+    #[error("`{element}` is not a {kind} of this model")]
+    NotA {
+        /// Element name.
+        element: String,
+        /// The type wanted.
+        kind: &'static str,
+    },
+    /// A moment on a node without rotation coordinates.
+    #[error("load on node `{node}`: a moment needs a rotational node (a beam, hinge or rigid-body reference node, or `rot = true`)")]
+    MomentWithoutRotation {
         /// Node name.
         node: String,
     },
@@ -351,6 +419,9 @@ impl std::fmt::Display for Item {
             Item::Element(e) => write!(f, "element `{e}`"),
             Item::Fix(n) => write!(f, "fix entry `{n}`"),
             Item::Input(n) => write!(f, "inputs entry `{n}`"),
+            Item::Load(n) => write!(f, "load on `{n}`"),
+            Item::Mass(n) => write!(f, "mass on `{n}`"),
+            Item::Model => write!(f, "model"),
         }
     }
 }
@@ -368,14 +439,15 @@ impl ModelError {
             | ZeroLength { element, .. }
             | Frame { element, .. }
             | BadMode { element, .. }
-            | ModeConflict { element, .. } => Item::Element(element.clone()),
-            UnknownNodeInEntry { what, node } | NoRotation { what, node, .. } => {
-                if *what == "fix" {
-                    Item::Fix(node.clone())
-                } else {
-                    Item::Input(node.clone())
-                }
-            }
+            | ModeConflict { element, .. }
+            | NotA { element, .. } => Item::Element(element.clone()),
+            MomentWithoutRotation { node } => Item::Load(node.clone()),
+            UnknownNodeInEntry { what, node } | NoRotation { what, node, .. } => match *what {
+                "fix" => Item::Fix(node.clone()),
+                "load" => Item::Load(node.clone()),
+                "mass" => Item::Mass(node.clone()),
+                _ => Item::Input(node.clone()),
+            },
             FixAndInput { node, .. } => Item::Input(node.clone()),
             BadValue { item, .. } => item.clone(),
         }
@@ -433,6 +505,13 @@ pub struct ModelBuilder {
     /// (node, dofs); `None` = all coordinates the node has.
     fixes: Vec<(String, Option<Vec<Dof>>)>,
     inputs: Vec<(String, Option<Vec<Dof>>)>,
+    beam_props: HashMap<String, crate::section::BeamProps>,
+    rigid_modes: Vec<(String, usize)>,
+    loads: Vec<(String, [f64; 3], [f64; 3])>,
+    gravity: [f64; 3],
+    masses: Vec<(String, f64)>,
+    prescribed_x: Vec<(String, Dof, f64)>,
+    prescribed_e: Vec<(String, usize, f64)>,
 }
 
 fn check_finite(item: &Item, field: &'static str, v: &[f64]) -> Result<(), ModelError> {
@@ -620,6 +699,142 @@ impl ModelBuilder {
         Ok(())
     }
 
+    /// Stiffness, mass and section data of a beam added before.
+    pub fn set_beam_props(
+        &mut self,
+        element: &str,
+        props: crate::section::BeamProps,
+    ) -> Result<(), ModelError> {
+        let item = Item::Element(element.to_string());
+        let v = [
+            props.ea,
+            props.gj,
+            props.eiy,
+            props.eiz,
+            props.shear[0],
+            props.shear[1],
+            props.ct,
+            props.rho_a,
+        ];
+        check_finite(&item, "section constants", &v)?;
+        match self.elements.iter().find(|e| e.name == element) {
+            Some(PendingElement {
+                spec: ElementSpec::Beam { .. },
+                ..
+            }) => {
+                self.beam_props.insert(element.to_string(), props);
+                Ok(())
+            }
+            _ => Err(ModelError::NotA {
+                element: element.to_string(),
+                kind: "beam",
+            }),
+        }
+    }
+
+    /// Declare deformation modes (1-based) rigid in statics even if they have stiffness.
+    pub fn set_rigid_modes(&mut self, element: &str, modes: &[i64]) -> Result<(), ModelError> {
+        let Some(el) = self.elements.iter().find(|e| e.name == element) else {
+            return Err(ModelError::NotA {
+                element: element.to_string(),
+                kind: "element",
+            });
+        };
+        for &m in modes {
+            if m < 1 || el.input.contains(&(m as usize)) {
+                return Err(ModelError::ModeConflict {
+                    element: element.to_string(),
+                    mode: m.max(0) as usize,
+                });
+            }
+            self.rigid_modes.push((element.to_string(), m as usize));
+        }
+        Ok(())
+    }
+
+    /// A dead force [N] and moment [N·m] on a node, reached at load factor 1.
+    pub fn add_load(
+        &mut self,
+        node: &str,
+        force: [f64; 3],
+        moment: [f64; 3],
+    ) -> Result<(), ModelError> {
+        let item = Item::Load(node.to_string());
+        check_finite(&item, "force", &force)?;
+        check_finite(&item, "moment", &moment)?;
+        if !self.node_index.contains_key(node) {
+            return Err(ModelError::UnknownNodeInEntry {
+                what: "load",
+                node: node.into(),
+            });
+        }
+        self.loads.push((node.to_string(), force, moment));
+        Ok(())
+    }
+
+    /// Gravitational acceleration [m/s²].
+    pub fn set_gravity(&mut self, g: [f64; 3]) -> Result<(), ModelError> {
+        check_finite(&Item::Model, "gravity", &g)?;
+        self.gravity = g;
+        Ok(())
+    }
+
+    /// A point mass [kg] at a node.
+    pub fn add_point_mass(&mut self, node: &str, m: f64) -> Result<(), ModelError> {
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(ModelError::BadValue {
+                item: Item::Mass(node.into()),
+                field: "m",
+                requirement: "finite and ≥ 0",
+                value: m,
+            });
+        }
+        if !self.node_index.contains_key(node) {
+            return Err(ModelError::UnknownNodeInEntry {
+                what: "mass",
+                node: node.into(),
+            });
+        }
+        self.masses.push((node.to_string(), m));
+        Ok(())
+    }
+
+    /// Prescribe an input coordinate's final value (translation: displacement [m]; rotation:
+    /// angle [rad]); the dof becomes an input.
+    pub fn prescribe_coordinate(
+        &mut self,
+        node: &str,
+        dof: Dof,
+        value: f64,
+    ) -> Result<(), ModelError> {
+        check_finite(&Item::Input(node.into()), dof.name(), &[value])?;
+        self.entry("inputs", node, Some(&[dof]))?;
+        self.prescribed_x.push((node.to_string(), dof, value));
+        Ok(())
+    }
+
+    /// Prescribe an input deformation's final value; mode 1-based, made an input.
+    pub fn prescribe_deformation(
+        &mut self,
+        element: &str,
+        mode: usize,
+        value: f64,
+    ) -> Result<(), ModelError> {
+        check_finite(&Item::Element(element.into()), "input value", &[value])?;
+        let Some(el) = self.elements.iter_mut().find(|e| e.name == element) else {
+            return Err(ModelError::NotA {
+                element: element.to_string(),
+                kind: "element",
+            });
+        };
+        el.free.retain(|&m| m != mode);
+        if !el.input.contains(&mode) {
+            el.input.push(mode);
+        }
+        self.prescribed_e.push((element.to_string(), mode, value));
+        Ok(())
+    }
+
     /// Fix the listed dofs of a node (support); `None` = all its coordinates.
     pub fn fix(&mut self, node: &str, dofs: Option<&[Dof]>) -> Result<(), ModelError> {
         self.entry("fix", node, dofs)
@@ -711,6 +926,9 @@ impl ModelBuilder {
                         }
                     })?;
                     b.ct = *ct;
+                    if let Some(props) = self.beam_props.get(&p.name) {
+                        b.set_props(*props);
+                    }
                     Element::Beam(b)
                 }
                 ElementSpec::Hinge { axis, k } => {
@@ -799,6 +1017,60 @@ impl ModelBuilder {
                 }
             }
         }
+        // statics data: explicit rigid modes, loads, masses, prescribed values
+        let mut explicit_rigid = vec![false; ne];
+        let element_index =
+            |name: &str| elements.iter().position(|e: &ElementEntry| e.name == name);
+        for (name, mode) in &self.rigid_modes {
+            let el = &elements[element_index(name).expect("checked when added")];
+            if *mode > el.element.ne() {
+                return Err(ModelError::BadMode {
+                    element: name.clone(),
+                    kind: el.element.type_name(),
+                    mode: *mode as i64,
+                    ne: el.element.ne(),
+                });
+            }
+            explicit_rigid[el.ie + mode - 1] = true;
+        }
+        let mut loads = Loads {
+            gravity: self.gravity,
+            ..Default::default()
+        };
+        for (name, force, moment) in &self.loads {
+            let node = self.node_index[name];
+            if moment.iter().any(|m| *m != 0.0) && !nodes[node].rot() {
+                return Err(ModelError::MomentWithoutRotation { node: name.clone() });
+            }
+            loads.nodal.push(NodalLoad {
+                node,
+                force: *force,
+                moment: *moment,
+            });
+        }
+        for (name, m) in &self.masses {
+            loads.point_masses.push((self.node_index[name], *m));
+        }
+        for (name, dof, value) in &self.prescribed_x {
+            let i = nodes[self.node_index[name]].x_index(*dof).ok_or_else(|| {
+                ModelError::NoRotation {
+                    what: "inputs",
+                    node: name.clone(),
+                    dof: dof.name(),
+                }
+            })?;
+            loads.prescribed.push(Prescribed {
+                target: Target::Coordinate(i),
+                value: *value,
+            });
+        }
+        for (name, mode, value) in &self.prescribed_e {
+            let el = &elements[element_index(name).expect("checked when added")];
+            loads.prescribed.push(Prescribed {
+                target: Target::Deformation(el.ie + mode - 1),
+                value: *value,
+            });
+        }
         Ok(Model {
             name: self.name,
             nodes,
@@ -809,6 +1081,8 @@ impl ModelBuilder {
                 x: x_kind,
                 e: e_kind,
             },
+            explicit_rigid,
+            loads,
         })
     }
 }

@@ -80,6 +80,17 @@ pub fn generalised_names(model: &Model, px: &[CoordKind], pe: &[DefKind]) -> Vec
     out
 }
 
+/// A number for tables: fixed notation in [1e-3, 1e5), scientific otherwise (7 significant
+/// digits).
+pub fn fmt_num(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-3..1e5).contains(&a) {
+        format!("{v:.6}")
+    } else {
+        format!("{v:.6e}")
+    }
+}
+
 /// Left-aligned text table with a header row.
 pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     let mut w: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
@@ -170,7 +181,7 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
         .enumerate()
         .map(|(i, v)| {
             let mark = if *v <= a.tol { "zero" } else { "" };
-            vec![format!("{}", i + 1), format!("{v:.6e}"), mark.to_string()]
+            vec![format!("{}", i + 1), fmt_num(*v), mark.to_string()]
         })
         .collect();
     s += &table(&["#", "value", ""], &rows);

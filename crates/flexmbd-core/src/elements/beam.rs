@@ -35,6 +35,7 @@ use super::{
     NodeUse,
 };
 use crate::math::{cst3, dot, mul, norm, rotate, sub, Scalar, SmoothMap, V3};
+use crate::section::BeamProps;
 use faer::Mat;
 
 /// Spatial beam element (paper eq. (2)).
@@ -52,6 +53,8 @@ pub struct Beam {
     pub stiffness: [f64; 4],
     /// Shear flexibility EIy/(kGA), EIz/(kGA) [m²]; zero for Euler–Bernoulli.
     pub shear: [f64; 2],
+    /// Section and mass data, when the model gives a section.
+    pub props: Option<BeamProps>,
 }
 
 impl Beam {
@@ -72,7 +75,16 @@ impl Beam {
             ct: 0.0,
             stiffness: [0.0; 4],
             shear: [0.0; 2],
+            props: None,
         })
+    }
+
+    /// Take stiffness, c_t and mass data from section constants.
+    pub fn set_props(&mut self, p: BeamProps) {
+        self.stiffness = [p.ea, p.gj, p.eiy, p.eiz];
+        self.shear = p.shear;
+        self.ct = p.ct;
+        self.props = Some(p);
     }
 
     /// The auxiliary quantities ē1..ē6 (theory.md §3.3).

@@ -236,7 +236,8 @@ pub fn advise(
         cands.extend(free_deformation_candidates(
             model, partition, &rates, &v, &names,
         ));
-        cands.sort_by(|p, q| q.1.total_cmp(&p.1));
+        // largest first (to 1e-6); stable: coordinates before deformations at equal weight
+        cands.sort_by_key(|c| std::cmp::Reverse((c.1 * 1e6).round() as u64));
         let want = (before.0 - 1, before.1);
         let suggestions = verify(
             model,
@@ -301,7 +302,8 @@ fn ranked(v: &[f64]) -> Vec<(usize, f64)> {
         .filter(|(_, a)| a.abs() > CANDIDATE_FLOOR * max)
         .map(|(i, a)| (i, a.abs()))
         .collect();
-    idx.sort_by(|a, b| b.1.total_cmp(&a.1));
+    // largest first; equal magnitudes (to 1e-6) keep their model order
+    idx.sort_by_key(|&(i, a)| (std::cmp::Reverse((a / max * 1e6).round() as u64), i));
     idx
 }
 

@@ -1,0 +1,239 @@
+//! Validation of the static solver (validation.md S01, S02) and of its reactions.
+
+use super::*;
+use crate::model::{Dof, ElementSpec, ModelBuilder};
+use crate::section::BeamProps;
+
+/// A straight cantilever along +x of `n` beams, clamped at x = 0, with given constants.
+fn cantilever(n: usize, l: f64, props: BeamProps) -> ModelBuilder {
+    let mut b = ModelBuilder::new("cantilever");
+    for i in 0..=n {
+        b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
+            .unwrap();
+    }
+    for i in 0..n {
+        let (p, q) = (format!("n{i}"), format!("n{}", i + 1));
+        let name = format!("b{i}");
+        b.add_element(
+            &name,
+            &[&p, &q],
+            ElementSpec::Beam {
+                orient: Some([0.0, 1.0, 0.0]),
+                ct: 0.0,
+            },
+            &[],
+            &[],
+        )
+        .unwrap();
+        b.set_beam_props(&name, props).unwrap();
+    }
+    b.fix("n0", None).unwrap();
+    b
+}
+
+fn s02_props() -> BeamProps {
+    // S02: E = G = 1e4 Pa, A = 1 m², I = J = 1e-2 m⁴: EI = GJ = 100, EA = GA = 1e4
+    BeamProps {
+        ea: 1e4,
+        gj: 100.0,
+        eiy: 100.0,
+        eiz: 100.0,
+        shear: [0.01, 0.01],
+        ..Default::default()
+    }
+}
+
+/// Tip position and rotation about z of a planar solution.
+fn tip(model: &Model, x: &[f64]) -> (f64, f64, f64) {
+    let n = model.nodes.last().unwrap();
+    let r = n.ix_rot.unwrap();
+    (x[n.ix_pos], x[n.ix_pos + 1], 2.0 * x[r + 3].atan2(x[r]))
+}
+
+#[test]
+fn s02_end_moment_matches_discrete_closed_form() {
+    // theory.md §11.3 (verified against a SPACAR run): under a constant moment each element
+    // rotates by 2β = asin(M l0/EI), ε3 = ε4 = l0 sin β, and the chord shortens by
+    // l0 sin²β/6 (σ1 = 0 so ε1 = 0). Tip = Σ_k l (cos (2k+1)β, sin (2k+1)β).
+    let (l, ei, n) = (10.0, 100.0, 20);
+    let m = 0.25 * 2.0 * std::f64::consts::PI * ei / l; // λ = 1/4 of S02
+    let mut b = cantilever(n, l, s02_props());
+    b.add_load(&format!("n{n}"), [0.0; 3], [0.0, 0.0, m])
+        .unwrap();
+    let model = b.build().unwrap();
+    let sol = solve(
+        &model,
+        &StaticOptions {
+            steps: 4,
+            ..Default::default()
+        },
+        |_, _| {},
+    )
+    .unwrap();
+    let x = &sol.steps.last().unwrap().x;
+    let (xt, yt, phi) = tip(&model, x);
+    let l0 = l / n as f64;
+    let beta = 0.5 * (m * l0 / ei).asin();
+    let chord = l0 * (1.0 - beta.sin().powi(2) / 6.0);
+    let (mut xe, mut ye) = (0.0, 0.0);
+    for k in 0..n {
+        let a = (2 * k + 1) as f64 * beta;
+        xe += chord * a.cos();
+        ye += chord * a.sin();
+    }
+    assert!(
+        (phi - 2.0 * n as f64 * beta).abs() < 1e-9,
+        "rotation {phi} vs {}",
+        2.0 * n as f64 * beta
+    );
+    assert!(
+        (xt - xe).abs() < 1e-9 * l && (yt - ye).abs() < 1e-9 * l,
+        "tip ({xt}, {yt}) vs ({xe}, {ye})"
+    );
+    // reaction at the clamp: zero force, moment −M about z (generalised force on λ3 = 2 × moment)
+    let rr = &sol.steps.last().unwrap().reactions;
+    let r0 = model.nodes[0].ix_rot.unwrap();
+    assert!(
+        (rr[r0 + 3] / 2.0 + m).abs() < 1e-8 * m,
+        "reaction {}",
+        rr[r0 + 3]
+    );
+    for k in 0..3 {
+        assert!(rr[k].abs() < 1e-8 * m);
+    }
+}
+
+#[test]
+fn s02_rolls_up_with_error_falling_as_one_over_n_squared() {
+    // S02 closed form for λ = 1/2: x_tip = 0, y_tip = 2L/π = 6.366198, rotation π.
+    let (l, ei) = (10.0, 100.0);
+    let m = 0.5 * 2.0 * std::f64::consts::PI * ei / l;
+    let mut errors = Vec::new();
+    for n in [20, 40, 80] {
+        let mut b = cantilever(n, l, s02_props());
+        b.add_load(&format!("n{n}"), [0.0; 3], [0.0, 0.0, m])
+            .unwrap();
+        let model = b.build().unwrap();
+        let sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 8,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let (xt, yt, phi) = tip(&model, &sol.steps.last().unwrap().x);
+        let err = ((xt - 0.0).powi(2) + (yt - 2.0 * l / std::f64::consts::PI).powi(2)).sqrt();
+        errors.push((n, err, phi));
+    }
+    // second-order convergence: halving l0 divides the error by ≈ 4
+    for w in errors.windows(2) {
+        let ratio = w[0].1 / w[1].1;
+        assert!(ratio > 3.5 && ratio < 4.5, "{errors:?}");
+    }
+    // 80 elements: within 0.1 % of L (validation.md S02 tolerance for non-exact elements)
+    assert!(errors[2].1 < 1e-3 * l, "{errors:?}");
+}
+
+/// S01 reference: (k, u/L, w/L, φ) from validation.md (Mattiasson 1981; derived elastica).
+const S01: [(f64, f64, f64, f64); 6] = [
+    (1.0, 0.05643, 0.30172, 0.46135),
+    (2.0, 0.16064, 0.49346, 0.78175),
+    (3.0, 0.25442, 0.60325, 0.98602),
+    (5.0, 0.38763, 0.71379, 1.21537),
+    (7.0, 0.47293, 0.76737, 1.33496),
+    (10.0, 0.55500, 0.81061, 1.43029),
+];
+
+#[test]
+fn s01_tip_load_matches_mattiasson_table() {
+    // L = 1, EI = 1, EA L²/EI = 1e7 (validation.md S01), dead tip load −y; 40 elements.
+    let n = 40;
+    let props = BeamProps {
+        ea: 1e7,
+        gj: 1.0,
+        eiy: 1.0,
+        eiz: 1.0,
+        ..Default::default()
+    };
+    let mut b = cantilever(n, 1.0, props);
+    b.add_load(&format!("n{n}"), [0.0, -10.0, 0.0], [0.0; 3])
+        .unwrap();
+    let model = b.build().unwrap();
+    let sol = solve(
+        &model,
+        &StaticOptions {
+            steps: 10,
+            ..Default::default()
+        },
+        |_, _| {},
+    )
+    .unwrap();
+    for (k, u, w, phi) in S01 {
+        let step = sol
+            .steps
+            .iter()
+            .find(|s| (s.load_factor * 10.0 - k).abs() < 1e-9)
+            .expect("step");
+        let (xt, yt, rot) = tip(&model, &step.x);
+        // tolerance 5e-4 (u, w) and 1e-3 rad (φ), validation.md S01
+        assert!(
+            (1.0 - xt - u).abs() < 5e-4,
+            "k = {k}: u = {} vs {u}",
+            1.0 - xt
+        );
+        assert!((-yt - w).abs() < 5e-4, "k = {k}: w = {} vs {w}", -yt);
+        assert!((-rot - phi).abs() < 1e-3, "k = {k}: φ = {} vs {phi}", -rot);
+    }
+}
+
+#[test]
+fn prescribed_tip_rotation_gives_the_end_moment() {
+    // Prescribing the tip rotation φ (input rz) of an Euler–Bernoulli cantilever gives a
+    // constant curvature: the reaction at the input equals the moment of the discrete closed
+    // form, sin(2β)·EI/l0 with 2β = φ/N.
+    let (l, ei, n) = (1.0, 2.0, 10);
+    let props = BeamProps {
+        ea: 1e6,
+        gj: 1.0,
+        eiy: ei,
+        eiz: ei,
+        ..Default::default()
+    };
+    let mut b = cantilever(n, l, props);
+    let phi = 1.0;
+    b.prescribe_coordinate(&format!("n{n}"), Dof::Rz, phi)
+        .unwrap();
+    let model = b.build().unwrap();
+    let sol = solve(
+        &model,
+        &StaticOptions {
+            steps: 5,
+            ..Default::default()
+        },
+        |_, _| {},
+    )
+    .unwrap();
+    let last = sol.steps.last().unwrap();
+    let tipn = model.nodes.last().unwrap();
+    let r = tipn.ix_rot.unwrap();
+    let (_, _, rot) = tip(&model, &last.x);
+    assert!((rot - phi).abs() < 1e-12);
+    let l0 = l / n as f64;
+    let m_expected = (phi / n as f64).sin() * ei / l0;
+    // generalised force on λ3 at the tip, converted to a moment: M = ½ Λ̄ f_λ (λ0 entry is 0)
+    let lam = [last.x[r], last.x[r + 1], last.x[r + 2], last.x[r + 3]];
+    let lb = crate::math::lambda_bar(&lam);
+    let f = [
+        0.0,
+        last.reactions[r + 1],
+        last.reactions[r + 2],
+        last.reactions[r + 3],
+    ];
+    let mz: f64 = 0.5 * (0..4).map(|c| lb[2][c] * f[c]).sum::<f64>();
+    assert!(
+        (mz - m_expected).abs() < 1e-8 * m_expected,
+        "{mz} vs {m_expected}"
+    );
+}
