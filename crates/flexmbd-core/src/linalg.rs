@@ -108,3 +108,64 @@ pub fn pivot_columns(a: MatRef<'_, f64>, k: usize, tol: f64) -> Vec<usize> {
     }
     chosen
 }
+
+/// Why a symmetric-definite eigenproblem failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EigenError {
+    /// B is not positive definite.
+    #[error("the {what} matrix is not positive definite (pivot {index}): {hint}")]
+    NotPositiveDefinite {
+        /// Which matrix.
+        what: &'static str,
+        /// Failing pivot.
+        index: usize,
+        /// What it means for the user.
+        hint: &'static str,
+    },
+    /// The eigen iteration did not converge.
+    #[error("the symmetric eigenvalue iteration did not converge")]
+    NoConvergence,
+}
+
+/// Solve A v = ν B v for symmetric A and symmetric positive definite B (the `sygv` problem,
+/// which faer lacks): B = L Lᵀ, C = L⁻¹ A L⁻ᵀ, C y = ν y, v = L⁻ᵀ y. Eigenvalues ascending,
+/// vectors B-orthonormal (vᵀ B v = 1) as columns.
+pub fn sym_def_eigen(
+    a: MatRef<'_, f64>,
+    b: MatRef<'_, f64>,
+    what: &'static str,
+    hint: &'static str,
+) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
+    use faer::linalg::triangular_solve::{
+        solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+    };
+    use faer::{Par, Side};
+    let n = a.nrows();
+    if n == 0 {
+        return Ok((Vec::new(), Mat::zeros(0, 0)));
+    }
+    let llt = b
+        .llt(Side::Lower)
+        .map_err(|e| EigenError::NotPositiveDefinite {
+            what,
+            index: match e {
+                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => index,
+            },
+            hint,
+        })?;
+    let l = llt.L();
+    // W = L⁻¹ A, C = L⁻¹ Wᵀ (A symmetric)
+    let mut w = a.to_owned();
+    solve_lower_triangular_in_place(l, w.as_mut(), Par::Seq);
+    let mut c = w.transpose().to_owned();
+    solve_lower_triangular_in_place(l, c.as_mut(), Par::Seq);
+    let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
+    let evd = c
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|_| EigenError::NoConvergence)?;
+    let s = evd.S().column_vector();
+    let values: Vec<f64> = (0..n).map(|i| s[i]).collect();
+    let mut v = evd.U().to_owned();
+    solve_upper_triangular_in_place(l.transpose(), v.as_mut(), Par::Seq);
+    Ok((values, v))
+}

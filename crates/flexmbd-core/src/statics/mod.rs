@@ -121,6 +121,8 @@ pub struct StepResult {
     pub substeps: usize,
     /// Final residual ‖r‖∞ [N].
     pub residual: f64,
+    /// Lagrange multipliers μ (constrained deformations, then Euler normalisations).
+    pub multipliers: Vec<f64>,
 }
 
 /// All load steps, the unloaded state first.
@@ -340,7 +342,29 @@ struct Local {
     energy: f64,
 }
 
+/// Which part of the tangent to assemble.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Part {
+    /// K = K_material + K_geometric (Newton).
+    Full,
+    /// Dᵀ S D only.
+    Material,
+    /// Σ σᵢ ∂²eᵢ/∂x² + normalisation multipliers + load stiffness (proportional to the load).
+    Geometric,
+}
+
 fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembled {
+    assemble_part(model, su, x, mu, t, Part::Full)
+}
+
+fn assemble_part(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+) -> Assembled {
     let locals: Vec<Local> = model
         .elements
         .par_iter()
@@ -364,9 +388,16 @@ fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembl
                 }
             }
             // K_k = Dᵀ S D + Σ σᵢ ∂²eᵢ/∂x²
-            let mut k = entry.element.hessian_weighted(&xk, &sigma);
-            let sd = s * &d;
-            k += d.transpose() * &sd;
+            let nxk = xk.len();
+            let mut k = if part == Part::Material {
+                Mat::zeros(nxk, nxk)
+            } else {
+                entry.element.hessian_weighted(&xk, &sigma)
+            };
+            if part != Part::Geometric {
+                let sd = s * &d;
+                k += d.transpose() * &sd;
+            }
             Local {
                 e,
                 sigma,
@@ -686,6 +717,7 @@ pub fn solve(
             iterations,
             substeps,
             residual,
+            multipliers: mu.to_vec(),
         }
     };
     // step 0: the unloaded state (with prescribed values at t = 0)
@@ -764,6 +796,8 @@ pub fn solve(
         steps: out,
     })
 }
+
+pub mod linear;
 
 #[cfg(test)]
 mod tests;

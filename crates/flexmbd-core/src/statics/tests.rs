@@ -237,3 +237,171 @@ fn prescribed_tip_rotation_gives_the_end_moment() {
         "{mz} vs {m_expected}"
     );
 }
+
+mod linearised {
+    use super::super::linear::{buckling, compliance, linearize, unstable_directions};
+    use super::*;
+    use crate::section::{Material, Shape};
+
+    #[test]
+    fn cantilever_tip_compliance_matches_closed_form() {
+        // Timoshenko cantilever tip compliance (closed form): C_yy = L³/(3EIz) + L/(kGA),
+        // C_y,rz = L²/(2EIz), C_rz,rz = L/EIz, C_xx = L/EA, C_rx,rx = L/GJ. The SPACAR beam is
+        // exact for end loads (cubic deflection), so one element would do; use 3.
+        let (l, n) = (0.1, 3);
+        let steel = Material {
+            e: 200e9,
+            g: 80e9,
+            rho: 7800.0,
+        };
+        let shape = Shape::Rectangle { w: 0.01, t: 0.002 };
+        let p = BeamProps::from_section(&steel, &shape, false);
+        let mut b = cantilever(n, l, p);
+        b.add_load(&format!("n{n}"), [0.0; 3], [0.0; 3]).unwrap();
+        let model = b.build().unwrap();
+        let sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 1,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let step = &sol.steps[1];
+        let lin = linearize(&model, step);
+        let c = compliance(&model, &lin, step, n).unwrap();
+        let s = shape.props(steel.nu());
+        let (eiz, ga) = (steel.e * s.iz, s.k * steel.g * s.a);
+        let cases = [
+            (1, 1, l.powi(3) / (3.0 * eiz) + l / ga),
+            (1, 5, l * l / (2.0 * eiz)),
+            (5, 5, l / eiz),
+            (0, 0, l / (steel.e * s.a)),
+            (3, 3, l / (steel.g * s.j)),
+        ];
+        for (i, j, want) in cases {
+            assert!(
+                (c.global[i][j] - want).abs() < 1e-9 * want,
+                "C[{i}][{j}] = {} vs {want}",
+                c.global[i][j]
+            );
+            assert!(
+                (c.global[j][i] - want).abs() < 1e-9 * want,
+                "C[{j}][{i}] symmetric"
+            );
+        }
+        // unloaded: local axes = global axes
+        assert!((c.local[1][1] - c.global[1][1]).abs() < 1e-15);
+    }
+
+    fn column(n: usize, supports: &str) -> (Model, f64) {
+        // S09 instance: spring-steel strip L = 0.1 m, b = 20 mm, t = 0.5 mm, E = 200 GPa:
+        // weak-axis EI = 0.0416667 N·m². Column along x, compressive dead load of 1 N at the top.
+        let l = 0.1;
+        let steel = Material {
+            e: 200e9,
+            g: 200e9 / 2.6,
+            rho: 7800.0,
+        };
+        // width along local y (= global z), thickness along local z: weak axis is local y
+        let p = BeamProps::from_section(&steel, &Shape::Rectangle { w: 0.02, t: 0.5e-3 }, true);
+        let mut b = ModelBuilder::new("column");
+        for i in 0..=n {
+            b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
+                .unwrap();
+        }
+        for i in 0..n {
+            let name = format!("b{i}");
+            b.add_element(
+                &name,
+                &[&format!("n{i}"), &format!("n{}", i + 1)],
+                ElementSpec::Beam {
+                    orient: Some([0.0, 0.0, 1.0]),
+                    ct: 0.0,
+                },
+                &[],
+                &[],
+            )
+            .unwrap();
+            b.set_beam_props(&name, p).unwrap();
+        }
+        let top = format!("n{n}");
+        match supports {
+            "clamped-free" => b.fix("n0", None).unwrap(),
+            "pinned-pinned" => {
+                b.fix("n0", Some(&[Dof::X, Dof::Y, Dof::Z, Dof::Rx]))
+                    .unwrap();
+                b.fix(&top, Some(&[Dof::Y, Dof::Z])).unwrap();
+            }
+            "clamped-clamped" => {
+                b.fix("n0", None).unwrap();
+                b.fix(&top, Some(&[Dof::Y, Dof::Z, Dof::Rx, Dof::Ry, Dof::Rz]))
+                    .unwrap();
+            }
+            _ => unreachable!(),
+        }
+        b.add_load(&top, [-1.0, 0.0, 0.0], [0.0; 3]).unwrap();
+        (b.build().unwrap(), p.eiy)
+    }
+
+    #[test]
+    fn s09_euler_buckling_loads() {
+        // validation.md S09: P_cr = c EI/L², tolerance 0.1 % with 8 elements
+        let l: f64 = 0.1;
+        for (supports, c) in [
+            ("clamped-free", std::f64::consts::PI.powi(2) / 4.0),
+            ("pinned-pinned", std::f64::consts::PI.powi(2)),
+            ("clamped-clamped", 4.0 * std::f64::consts::PI.powi(2)),
+        ] {
+            let (model, ei) = column(8, supports);
+            let sol = solve(
+                &model,
+                &StaticOptions {
+                    steps: 1,
+                    ..Default::default()
+                },
+                |_, _| {},
+            )
+            .unwrap();
+            let step = &sol.steps[1];
+            let lin = linearize(&model, step);
+            let bk = buckling(&model, &lin, 3).unwrap();
+            let p_cr = bk.multipliers[0] * 1.0;
+            let want = c * ei / (l * l);
+            assert!(
+                (p_cr - want).abs() < 1e-3 * want,
+                "{supports}: {p_cr} vs {want}"
+            );
+            assert_eq!(unstable_directions(&model, &lin).unwrap(), 0);
+        }
+    }
+
+    #[test]
+    fn beyond_the_buckling_load_the_straight_state_is_unstable() {
+        // the straight clamped-free column loaded to 1.2 P_cr stays straight (no imperfection)
+        // but its tangent stiffness has one negative direction in each bending plane that
+        // buckles: the weak plane only (strong-axis P_cr is 1600 × larger).
+        let (model, ei) = column(8, "clamped-free");
+        let p = 1.2 * std::f64::consts::PI.powi(2) / 4.0 * ei / 0.01;
+        let mut scaled = model.clone();
+        scaled.loads.nodal[0].force[0] = -p;
+        let sol = solve(
+            &scaled,
+            &StaticOptions {
+                steps: 1,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let last = &sol.steps[1];
+        let tip = scaled.nodes.last().unwrap().ix_pos;
+        assert!(last.x[tip + 1].abs() < 1e-12, "still straight");
+        let lin = linearize(&scaled, last);
+        assert_eq!(unstable_directions(&scaled, &lin).unwrap(), 1);
+        // and the buckling multiplier says the same: 1/1.2 of the current load
+        let mu = buckling(&scaled, &lin, 1).unwrap().multipliers[0];
+        assert!((mu - 1.0 / 1.2).abs() < 1e-3, "{mu}");
+    }
+}

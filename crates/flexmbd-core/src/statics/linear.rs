@@ -1,0 +1,274 @@
+//! The linearised problem at a converged static state: support compliance, buckling load
+//! multipliers and the stability of the equilibrium (theory.md §13.3, §13.4).
+//!
+//! At a state with multipliers μ the Newton matrix splits into the material part
+//! K_m = Dᵀ S D and the load-proportional geometric part
+//! K_g = Σᵢ σᵢ ∂²eᵢ/∂x² + Σ 2μ_n I_λn − ∂f_ext/∂x (stress resultants, Euler normalisation
+//! multipliers and the load stiffness of applied moments), with the constraint Jacobian G of
+//! the rigid and input deformations and normalisations. In the null space Z of G (the minimal
+//! coordinates of the paper) K_m and K_g are SPACAR's K0 and G0.
+//!
+//! - Compliance of a node: the response of its translation and rotation to unit forces and
+//!   moments on it, from [K_m + K_g, Gᵀ; G, 0]; rotations are ω = 2 Λ̄ dλ. Local axes are the
+//!   node's current axes. SPACAR's C = DX (K0 + G0)⁻¹ DXᵀ (theory.md §13.4).
+//! - Buckling: (K_m + μ K_g) v = 0 in Z, i.e. SPACAR's eig(−K0, G0): μ is the factor by which the
+//!   current load may be multiplied before the tangent stiffness becomes singular.
+//! - Stability: the number of negative eigenvalues of Zᵀ (K_m + K_g) Z (buckling multipliers
+//!   below 1); non-zero means the configuration has buckled.
+//!
+//! Dense matrices: meant for flexure models of up to a few thousand coordinates.
+
+use super::{assemble_part, setup, Part, StepResult};
+use crate::linalg::{sym_def_eigen, EigenError};
+use crate::math::{lambda_bar, rotate};
+use crate::model::Model;
+use faer::Mat;
+
+/// The linearised static problem at a state (dense).
+#[derive(Clone, Debug)]
+pub struct Linearized {
+    /// x index → unknown index.
+    pub unknown: Vec<Option<usize>>,
+    /// Material stiffness K_m on the free coordinates.
+    pub km: Mat<f64>,
+    /// Geometric (load-proportional) stiffness K_g on the free coordinates.
+    pub kg: Mat<f64>,
+    /// Constraint Jacobian G (constraints × free coordinates).
+    pub g: Mat<f64>,
+}
+
+/// Failure of a linearised analysis.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinearError {
+    /// The tangent system is singular.
+    #[error("the tangent stiffness at load factor {load_factor:.4} is singular: the model is a mechanism or has buckled here; compliance is unbounded")]
+    Singular {
+        /// Load factor of the state.
+        load_factor: f64,
+    },
+    /// An eigenproblem failed.
+    #[error(transparent)]
+    Eigen(#[from] EigenError),
+}
+
+fn dense(
+    n: usize,
+    m: usize,
+    tr: &[faer::sparse::Triplet<usize, usize, f64>],
+    r0: usize,
+    c0: usize,
+) -> Mat<f64> {
+    let mut a = Mat::zeros(n, m);
+    for t in tr {
+        if t.row >= r0 && t.row < r0 + n && t.col >= c0 && t.col < c0 + m {
+            a[(t.row - r0, t.col - c0)] += t.val;
+        }
+    }
+    a
+}
+
+/// Linearise at a converged step.
+pub fn linearize(model: &Model, step: &StepResult) -> Linearized {
+    let su = setup(model);
+    let (nf, nk) = (su.nf, su.nk);
+    let t = step.load_factor;
+    let m = assemble_part(model, &su, &step.x, &step.multipliers, t, Part::Material);
+    let g = assemble_part(model, &su, &step.x, &step.multipliers, t, Part::Geometric);
+    Linearized {
+        unknown: su.unknown,
+        km: dense(nf, nf, &m.triplets, 0, 0),
+        kg: dense(nf, nf, &g.triplets, 0, 0),
+        g: dense(nk, nf, &m.triplets, nf, 0),
+    }
+}
+
+/// 6 × 6 compliance of a node: rows/columns (x, y, z, rx, ry, rz); column k is the response to
+/// a unit force (k < 3) or moment (k ≥ 3).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Compliance {
+    /// In global axes [m/N, m/(N·m) = 1/N, rad/N, rad/(N·m)].
+    pub global: [[f64; 6]; 6],
+    /// In the node's current local axes.
+    pub local: [[f64; 6]; 6],
+}
+
+impl Compliance {
+    /// Stiffness 1/Cᵢᵢ in each direction (global axes); infinite where the compliance is zero.
+    pub fn stiffness_global(&self) -> [f64; 6] {
+        std::array::from_fn(|i| 1.0 / self.global[i][i])
+    }
+    /// Stiffness 1/Cᵢᵢ in each direction (local axes).
+    pub fn stiffness_local(&self) -> [f64; 6] {
+        std::array::from_fn(|i| 1.0 / self.local[i][i])
+    }
+}
+
+/// Compliance of `node` at the linearised state (inputs and supports held).
+pub fn compliance(
+    model: &Model,
+    lin: &Linearized,
+    step: &StepResult,
+    node: usize,
+) -> Result<Compliance, LinearError> {
+    let (nf, nk) = (lin.km.nrows(), lin.g.nrows());
+    let n = nf + nk;
+    let kkt = Mat::from_fn(n, n, |i, j| match (i < nf, j < nf) {
+        (true, true) => lin.km[(i, j)] + lin.kg[(i, j)],
+        (false, true) => lin.g[(i - nf, j)],
+        (true, false) => lin.g[(j - nf, i)],
+        (false, false) => 0.0,
+    });
+    let nd = &model.nodes[node];
+    let lam = nd
+        .ix_rot
+        .map(|r| [step.x[r], step.x[r + 1], step.x[r + 2], step.x[r + 3]]);
+    let lb = lam.map(|l| lambda_bar(&l));
+    // right-hand sides: unit forces and moments
+    let mut rhs = Mat::zeros(n, 6);
+    for k in 0..3 {
+        if let Some(u) = lin.unknown[nd.ix_pos + k] {
+            rhs[(u, k)] = 1.0;
+        }
+        if let (Some(r), Some(lb)) = (nd.ix_rot, lb) {
+            for c in 0..4 {
+                if let Some(u) = lin.unknown[r + c] {
+                    rhs[(u, 3 + k)] = 2.0 * lb[k][c];
+                }
+            }
+        }
+    }
+    let lu = kkt.partial_piv_lu();
+    let sol = faer::prelude::Solve::solve(&lu, &rhs);
+    // residual check: a singular system gives garbage or non-finite values
+    let res = &kkt * &sol - &rhs;
+    let scale = kkt.norm_max() * sol.norm_max() + 1.0;
+    if !sol.norm_max().is_finite() || res.norm_max() > 1e-6 * scale {
+        return Err(LinearError::Singular {
+            load_factor: step.load_factor,
+        });
+    }
+    let mut c = [[0.0; 6]; 6];
+    for k in 0..6 {
+        let dx = |i: usize| lin.unknown[i].map_or(0.0, |u| sol[(u, k)]);
+        for j in 0..3 {
+            c[j][k] = dx(nd.ix_pos + j);
+        }
+        if let (Some(r), Some(lb)) = (nd.ix_rot, lb) {
+            for j in 0..3 {
+                c[3 + j][k] = 2.0 * (0..4).map(|cc| lb[j][cc] * dx(r + cc)).sum::<f64>();
+            }
+        }
+    }
+    // local axes: v_loc = Rᵀ v_glob, R the node's rotation (columns: images of global axes)
+    let rt: [[f64; 3]; 3] = match lam {
+        Some(l) => {
+            let cols = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|e| rotate(&l, e));
+            std::array::from_fn(|i| cols[i]) // row i of Rᵀ = column i of R
+        }
+        None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    };
+    let t = |i: usize, j: usize| {
+        if i / 3 == j / 3 {
+            rt[i % 3][j % 3]
+        } else {
+            0.0
+        }
+    };
+    let mut local = [[0.0; 6]; 6];
+    for i in 0..6 {
+        for j in 0..6 {
+            let mut v = 0.0;
+            for a in 0..6 {
+                for b in 0..6 {
+                    v += t(i, a) * c[a][b] * t(j, b);
+                }
+            }
+            local[i][j] = v;
+        }
+    }
+    Ok(Compliance { global: c, local })
+}
+
+/// Null-space basis of G (columns), by SVD.
+fn null_space(g: &Mat<f64>) -> Mat<f64> {
+    let nf = g.ncols();
+    if g.nrows() == 0 {
+        return Mat::identity(nf, nf);
+    }
+    let f = crate::linalg::svd(g.as_ref(), "G").expect("constraint Jacobian is finite");
+    let tol = f64::EPSILON.sqrt() * f.s.first().copied().unwrap_or(0.0);
+    let r = crate::linalg::numerical_rank(&f.s, tol);
+    Mat::from_fn(nf, nf - r, |i, j| f.V[(i, r + j)])
+}
+
+fn sym(a: &Mat<f64>) -> Mat<f64> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
+/// Buckling load multipliers and modes.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Buckling {
+    /// Positive multipliers μ, ascending: the current load times μ buckles the structure.
+    pub multipliers: Vec<f64>,
+    /// Negative multipliers (buckling under the reversed load), by increasing |μ|.
+    pub reversed: Vec<f64>,
+    /// Buckling modes as increments of x (same order as `multipliers`).
+    #[serde(skip)]
+    pub modes: Vec<Vec<f64>>,
+}
+
+/// Buckling multipliers (at most `count` of each sign) at the linearised state.
+pub fn buckling(model: &Model, lin: &Linearized, count: usize) -> Result<Buckling, LinearError> {
+    let z = null_space(&lin.g);
+    let km = sym(&(z.transpose() * &lin.km * &z));
+    let kg = sym(&(z.transpose() * &lin.kg * &z));
+    // (K_m + μ K_g) v = 0  ⇔  −K_g v = (1/μ) K_m v
+    let (nu, v) = sym_def_eigen(
+        (-&kg).as_ref(),
+        km.as_ref(),
+        "material stiffness",
+        "the model has a zero-stiffness motion (a mechanism): fix it or give it stiffness",
+    )?;
+    let mut pos: Vec<(f64, usize)> = Vec::new();
+    let mut neg: Vec<f64> = Vec::new();
+    let numax = nu.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    for (i, &n) in nu.iter().enumerate() {
+        if n > 1e-12 * numax {
+            pos.push((1.0 / n, i));
+        } else if n < -1e-12 * numax {
+            neg.push(1.0 / n);
+        }
+    }
+    pos.sort_by(|a, b| a.0.total_cmp(&b.0));
+    neg.sort_by(|a, b| b.total_cmp(a));
+    pos.truncate(count);
+    neg.truncate(count);
+    let modes = pos
+        .iter()
+        .map(|&(_, i)| {
+            let q = Mat::from_fn(z.ncols(), 1, |r, _| v[(r, i)]);
+            let dxf = &z * &q;
+            let mut dx = vec![0.0; model.nx];
+            for (xi, u) in lin.unknown.iter().enumerate() {
+                if let Some(u) = u {
+                    dx[xi] = dxf[(*u, 0)];
+                }
+            }
+            dx
+        })
+        .collect();
+    Ok(Buckling {
+        multipliers: pos.iter().map(|p| p.0).collect(),
+        reversed: neg,
+        modes,
+    })
+}
+
+/// Number of negative eigenvalues of the tangent stiffness Zᵀ(K_m + K_g)Z in the minimal
+/// coordinates: zero for a stable equilibrium. With K_m = L Lᵀ its inertia is that of
+/// I − L⁻¹(−K_g)L⁻ᵀ, so it equals the number of buckling multipliers μ < 1 — a test independent
+/// of the units of the coordinates (metres and Euler parameters).
+pub fn unstable_directions(model: &Model, lin: &Linearized) -> Result<usize, LinearError> {
+    let b = buckling(model, lin, usize::MAX)?;
+    Ok(b.multipliers.iter().filter(|&&m| m < 1.0 - 1e-9).count())
+}
