@@ -26,13 +26,13 @@ struct Cli {
 enum Command {
     /// Kinematic analysis: SVD of Dcc, Table 1 class, motions, self-stresses, repair advice.
     Check {
-        /// Model file (.toml).
+        /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Print JSON instead of tables.
         #[arg(long)]
         json: bool,
         /// Relative rank tolerance: s_i counts as zero when s_i <= tol * s_1 (default sqrt(eps)).
-        #[arg(long, value_name = "TOL")]
+        #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
         rank_tol: Option<f64>,
         /// Choose generalised coordinates automatically (one per motion) and report them.
         #[arg(long)]
@@ -43,6 +43,14 @@ enum Command {
         /// Exit with code 3 unless the model is exactly constrained.
         #[arg(long)]
         require_exact: bool,
+    },
+    /// Convert a SPACAR .dat model to the native TOML format (SPACAR data the TOML format
+    /// cannot express yet, such as stiffness, masses and loads, is written as comments).
+    Convert {
+        /// SPACAR model file (.dat).
+        input: PathBuf,
+        /// TOML file to write.
+        output: PathBuf,
     },
 }
 
@@ -57,18 +65,67 @@ impl std::fmt::Display for BadInput {
 impl std::error::Error for BadInput {}
 
 fn load(path: &Path) -> anyhow::Result<flexmbd_core::Model> {
-    match path.extension().and_then(|e| e.to_str()) {
+    match extension(path).as_deref() {
         Some("toml") => flexmbd_io::read_model(path).map_err(|e| BadInput(e.to_string()).into()),
+        Some("dat") => read_spacar(path)?
+            .to_model()
+            .map_err(|e| BadInput(e.to_string()).into()),
         _ => Err(BadInput(format!(
-            "{}: unknown model format (expected a .toml file)",
+            "{}: unknown model format (expected a .toml file or a SPACAR .dat file)",
             path.display()
         ))
         .into()),
     }
 }
 
+/// The lower-case file extension.
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
+/// Read a SPACAR file and print its warnings to stderr.
+fn read_spacar(path: &Path) -> anyhow::Result<flexmbd_io::SpacarModel> {
+    let m = flexmbd_io::read_dat(path).map_err(|e| BadInput(e.to_string()))?;
+    for w in &m.warnings {
+        eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+    }
+    Ok(m)
+}
+
+/// Write to stdout; a closed pipe (`flexmbd check … | head`) is not an error.
+fn emit(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::Error::new(e).context("cannot write to standard output"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// `flexmbd convert IN.dat OUT.toml`.
+fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
+    if extension(input).as_deref() != Some("dat") {
+        return Err(BadInput(format!(
+            "{}: convert reads SPACAR .dat files",
+            input.display()
+        ))
+        .into());
+    }
+    let m = read_spacar(input)?;
+    // build the model first, so that a file flexmbd cannot use is reported, not written
+    m.to_model().map_err(|e| BadInput(e.to_string()))?;
+    let text = m.to_toml().map_err(|e| BadInput(e.to_string()))?;
+    std::fs::write(output, text).with_context(|| format!("cannot write {}", output.display()))?;
+    Ok(ExitCode::SUCCESS)
+}
+
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
+        Command::Convert { input, output } => convert(&input, &output),
         Command::Check {
             model,
             json,
@@ -110,12 +167,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             let names = generalised_names(&m, &partition.x, &partition.e);
             if json {
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&check_json(&report, &names))?
-                );
+                let mut text = serde_json::to_string_pretty(&check_json(&report, &names))?;
+                text.push('\n');
+                emit(&text)?;
             } else {
-                print!("{}", check_text(&report, &names));
+                emit(&check_text(&report, &names))?;
             }
             let exact = analysis.n_motions() == 0 && analysis.n_self_stresses() == 0;
             Ok(if require_exact && !exact {

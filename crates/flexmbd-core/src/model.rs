@@ -345,7 +345,7 @@ pub enum ModelError {
         node: String,
     },
     /// The element's end nodes coincide.
-    #[error("element `{element}` has zero length ({l0:e} m between its nodes)")]
+    #[error("element `{element}` has zero length ({l0:.3e} m between its nodes)")]
     ZeroLength {
         /// Element name.
         element: String,
@@ -942,7 +942,20 @@ impl ModelBuilder {
                 ElementSpec::Rigid => {
                     let positions: Vec<[f64; 3]> = (0..p.nodes.len()).map(pos).collect();
                     let flags = p.nodes.iter().map(|&n| rot[n]).collect();
-                    Element::Rigid(Rigid::new(p.nodes.clone(), &positions, flags))
+                    // a member at the position of an earlier member (a node `at` it) adds only
+                    // its rotation: its position constraints would be redundant
+                    let pos_flags = (0..p.nodes.len())
+                        .map(|k| {
+                            let ip = nodes[p.nodes[k]].ix_pos;
+                            !(0..k).any(|j| nodes[p.nodes[j]].ix_pos == ip)
+                        })
+                        .collect();
+                    Element::Rigid(Rigid::with_shared_positions(
+                        p.nodes.clone(),
+                        &positions,
+                        flags,
+                        pos_flags,
+                    ))
                 }
             };
             let n_modes = element.ne();

@@ -52,3 +52,14 @@ pub fn at(file: &str, text: &str, offset: usize, message: impl Into<String>) -> 
         message: message.into(),
     }
 }
+
+/// Build an [`InputError::At`] from a 1-based line and column (line-oriented formats such as
+/// SPACAR `.dat`).
+pub fn at_line(file: &str, line: usize, column: usize, message: impl Into<String>) -> InputError {
+    InputError::At {
+        file: file.to_string(),
+        line,
+        column: column.max(1),
+        message: message.into(),
+    }
+}

@@ -2,12 +2,18 @@
 //!
 //! - [`model_toml`]: the native TOML model format (docs/model-format.md) → `flexmbd_core::Model`.
 //! - [`report`]: the kinematic analysis as JSON and as aligned text tables.
+//! - [`spacar`]: SPACAR `.dat` models (docs/spacar-import.md) → `SpacarModel` → `Model`.
+//! - [`toml_writer`]: a neutral [`ModelSpec`] → `Model` or native TOML (`flexmbd convert`).
 //!
 //! Every input error is a [`InputError`] naming file, line and item.
 
 pub mod error;
 pub mod model_toml;
 pub mod report;
+pub mod spacar;
+pub mod toml_writer;
 
 pub use error::InputError;
 pub use model_toml::{parse_model, read_model};
+pub use spacar::{parse_dat, read_dat, SpacarModel};
+pub use toml_writer::{write_toml, ModelSpec};

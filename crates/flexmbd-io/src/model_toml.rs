@@ -57,6 +57,12 @@ struct FileSpec {
     rigid: Vec<Spanned<RigidSpec>>,
 }
 
+impl FileSpec {
+    const SECTIONS: [&'static str; 8] = [
+        "model", "nodes", "fix", "inputs", "truss", "beam", "hinge", "rigid",
+    ];
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ModelSection {
@@ -114,6 +120,16 @@ struct RigidSpec {
     nodes: Vec<String>,
 }
 
+/// An element as read: (span, id, nodes, spec, free modes, input modes).
+type PendingElement = (
+    Range<usize>,
+    String,
+    Vec<String>,
+    ElementSpec,
+    Vec<i64>,
+    Vec<i64>,
+);
+
 /// Read and compile a TOML model file.
 pub fn read_model(path: &std::path::Path) -> Result<Model, InputError> {
     let file = path.display().to_string();
@@ -126,16 +142,24 @@ pub fn read_model(path: &std::path::Path) -> Result<Model, InputError> {
 
 /// Parse and compile TOML model text; `file` names it in messages.
 pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
-    let spec: FileSpec = toml::from_str(text).map_err(|e| {
+    let mut spec: FileSpec = toml::from_str(text).map_err(|e| {
         let msg = e.message().trim().to_string();
         match e.span() {
-            Some(span) => at(file, text, span.start, msg),
+            Some(span) => at(file, text, span.start, name_item(text, span.start, msg)),
             None => InputError::File {
                 file: file.into(),
                 message: msg,
             },
         }
     })?;
+    // the toml crate hands tables over in key order; file order is what the user wrote (and
+    // what "defined before it" and the first error reported refer to)
+    for map in [&mut spec.nodes, &mut spec.fix, &mut spec.inputs]
+        .into_iter()
+        .flatten()
+    {
+        map.sort_by_key(|_, v| v.span().start);
+    }
     let name = spec
         .model
         .as_ref()
@@ -164,14 +188,7 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
     }
 
     // elements, in file order
-    let mut elements: Vec<(
-        Range<usize>,
-        String,
-        Vec<String>,
-        ElementSpec,
-        Vec<i64>,
-        Vec<i64>,
-    )> = Vec::new();
+    let mut elements: Vec<PendingElement> = Vec::new();
     for t in &spec.truss {
         let s = t.get_ref();
         elements.push((
@@ -281,6 +298,138 @@ fn vec3(v: &toml::Value, what: &str) -> Result<[f64; 3], String> {
         }
     }
     Ok(out)
+}
+
+/// Prefix a TOML-level error message (syntax, unknown key, missing field, wrong type) with the
+/// item it is in, found from the text: the last table header before `offset` and, in [nodes],
+/// [fix] and [inputs], the key of the entry; in an element table, its `id`.
+fn name_item(text: &str, offset: usize, msg: String) -> String {
+    let offset = offset.min(text.len());
+    let line_start = text[..offset].rfind('\n').map_or(0, |p| p + 1);
+    let line_end = text[offset..].find('\n').map_or(text.len(), |p| offset + p);
+    let before: Vec<&str> = text[..line_start].lines().collect();
+    let here = &text[line_start..line_end];
+    // the header: the error line itself, or the nearest one above it
+    let is_header = |l: &str| l.trim_start().starts_with('[');
+    let (header, body_above): (Option<&str>, &[&str]) = if is_header(here) {
+        (Some(here), &[])
+    } else {
+        match before.iter().rposition(|l| is_header(l)) {
+            Some(i) => (Some(before[i]), &before[i + 1..]),
+            None => (None, &before[..]),
+        }
+    };
+    let header_name = header.map(|h| {
+        let h = h.trim().trim_start_matches('[');
+        h[..h.find(']').unwrap_or(h.len())].trim().to_string()
+    });
+    let (section, sub) = match &header_name {
+        Some(h) => match h.split_once('.') {
+            Some((a, b)) => (a.trim().to_string(), Some(unquote(b.trim()))),
+            None => (h.clone(), None),
+        },
+        None => (String::new(), None),
+    };
+    let entry_table = matches!(section.as_str(), "nodes" | "fix" | "inputs") && sub.is_some();
+    if let (Some(h), "duplicate key") = (&header_name, msg.as_str()) {
+        if is_header(here) && !entry_table {
+            return format!("the table `[{h}]` appears twice");
+        }
+    }
+    // the entry key: on the error line or the nearest `key =` line above it in the table
+    let entry_key = || {
+        std::iter::once(here)
+            .chain(body_above.iter().rev().copied())
+            .find_map(line_key)
+    };
+    let item = match section.as_str() {
+        "nodes" | "fix" | "inputs" if !is_header(here) || sub.is_some() => {
+            let what = match section.as_str() {
+                "nodes" => "node",
+                "fix" => "fix entry",
+                _ => "inputs entry",
+            };
+            let key = sub.or_else(entry_key);
+            if let (Some(k), "duplicate key") = (&key, msg.as_str()) {
+                return format!("{what} `{k}` is defined twice");
+            }
+            key.map(|k| format!("{what} `{k}`"))
+        }
+        "nodes" | "fix" | "inputs" => Some(format!("[{section}]")),
+        "model" => Some("[model]".to_string()),
+        "truss" | "beam" | "hinge" | "rigid"
+            if header.is_some_and(|h| !h.trim_start().starts_with("[["))
+                && msg.contains("expected a sequence") =>
+        {
+            return format!(
+                "`[{section}]` must be written `[[{section}]]` (one table per element)"
+            );
+        }
+        "truss" | "beam" | "hinge" | "rigid" => {
+            // the element's id: a `id = "..."` line in the table body below the header
+            let start = if is_header(here) {
+                line_end
+            } else {
+                line_start
+            };
+            let below = text[start.min(text.len())..]
+                .lines()
+                .take_while(|l| !is_header(l));
+            let id = body_above
+                .iter()
+                .copied()
+                .chain(std::iter::once(here).filter(|l| !is_header(l)))
+                .chain(below)
+                .find_map(|l| {
+                    let (k, v) = l.split_once('=')?;
+                    (k.trim() == "id").then(|| quoted(v.trim()))?
+                });
+            Some(match id {
+                Some(id) => format!("element `{id}`"),
+                None => format!("[[{section}]]"),
+            })
+        }
+        // a top-level `section = value` before any header
+        "" => line_key(here)
+            .filter(|k| FileSpec::SECTIONS.contains(&k.as_str()))
+            .map(|k| format!("[{k}]")),
+        _ => None,
+    };
+    match item {
+        Some(item) => match (line_key(here), msg.as_str()) {
+            (Some(k), "duplicate key") => format!("{item}: `{k}` is given twice"),
+            _ => format!("{item}: {msg}"),
+        },
+        None => match msg.strip_prefix("unknown field") {
+            // a top-level key is a section
+            Some(rest) if header_name.as_deref().is_none_or(|h| !h.contains('.')) => {
+                format!("unknown section{rest}")
+            }
+            _ => msg,
+        },
+    }
+}
+
+/// The key of a `key = value` line, if the line starts with one.
+fn line_key(line: &str) -> Option<String> {
+    let (k, _) = line.split_once('=')?;
+    let k = k.trim();
+    let ok = !k.is_empty()
+        && k.chars()
+            .all(|c| c.is_alphanumeric() || "_-\"' .".contains(c));
+    ok.then(|| unquote(k))
+}
+
+/// A key without its quotes.
+fn unquote(k: &str) -> String {
+    k.trim_matches(|c| c == '"' || c == '\'').to_string()
+}
+
+/// The content of a quoted string at the start of `v`.
+fn quoted(v: &str) -> Option<String> {
+    let q = v.chars().next().filter(|c| *c == '"' || *c == '\'')?;
+    let rest = &v[1..];
+    Some(rest[..rest.find(q)?].to_string())
 }
 
 /// A node definition.

@@ -64,6 +64,10 @@ pub fn generalised_names(model: &Model, px: &[CoordKind], pe: &[DefKind]) -> Vec
     let mut out = Vec::new();
     for n in &model.nodes {
         for d in flexmbd_core::model::Dof::ALL {
+            // a hosted node's position is its host's: listed there
+            if n.host.is_some() && !d.is_rotation() {
+                continue;
+            }
             if let Some(i) = n.x_index(d) {
                 if px[i] == CoordKind::Input {
                     out.push(format!("{}.{}", n.name, d.name()));

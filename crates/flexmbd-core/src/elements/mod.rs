@@ -134,14 +134,14 @@ impl ElementKind for Element {
 pub fn local_frame(axis: [f64; 3], orient: Option<[f64; 3]>) -> Result<[[f64; 3]; 3], FrameError> {
     use crate::math::{cross, dot, norm, normalize};
     let l = norm(axis);
-    if !(l > 0.0) {
+    if l.is_nan() || l <= 0.0 {
         return Err(FrameError::ZeroAxis);
     }
     let ex = normalize(axis);
     let ey0 = match orient {
         Some(v) => {
             let n = norm(v);
-            if !(n > 0.0) || !n.is_finite() {
+            if n.is_nan() || n <= 0.0 || !n.is_finite() {
                 return Err(FrameError::ZeroOrientation);
             }
             normalize(v)

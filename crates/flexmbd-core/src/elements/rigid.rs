@@ -25,6 +25,9 @@ pub struct Rigid {
     pub nodes: Vec<NodeId>,
     /// Whether member i carries a rotation (always true for member 0).
     pub rot: Vec<bool>,
+    /// Whether member i has its own position constraints (false for a member that shares the
+    /// position of an earlier member, e.g. a node `at` it; always true for member 0).
+    pub pos: Vec<bool>,
     /// Reference offsets r_i⁰ − r₀⁰ of members 1.. (index 0 unused).
     pub offsets: Vec<[f64; 3]>,
 }
@@ -68,18 +71,40 @@ impl SmoothMap<8, 3> for RelRot {
 impl Rigid {
     /// A rigid body; `positions` are the members' reference positions, `rot` says which members
     /// carry a rotation (member 0 is forced to).
-    pub fn new(nodes: Vec<NodeId>, positions: &[[f64; 3]], mut rot: Vec<bool>) -> Self {
+    pub fn new(nodes: Vec<NodeId>, positions: &[[f64; 3]], rot: Vec<bool>) -> Self {
+        let pos = vec![true; nodes.len()];
+        Self::with_shared_positions(nodes, positions, rot, pos)
+    }
+
+    /// As [`Rigid::new`], with `pos[i]` false for members whose position is that of an earlier
+    /// member (only their rotation is tied to the body).
+    pub fn with_shared_positions(
+        nodes: Vec<NodeId>,
+        positions: &[[f64; 3]],
+        mut rot: Vec<bool>,
+        mut pos: Vec<bool>,
+    ) -> Self {
         assert_eq!(nodes.len(), positions.len(), "one position per member");
         assert_eq!(nodes.len(), rot.len(), "one rotation flag per member");
+        assert_eq!(nodes.len(), pos.len(), "one position flag per member");
         if let Some(r) = rot.first_mut() {
             *r = true;
+        }
+        if let Some(p) = pos.first_mut() {
+            *p = true;
         }
         let offsets = positions.iter().map(|&p| sub(p, positions[0])).collect();
         Self {
             nodes,
             rot,
+            pos,
             offsets,
         }
+    }
+
+    /// Number of deformations of member i ≥ 1.
+    fn member_ne(&self, i: usize) -> usize {
+        3 * usize::from(self.pos[i]) + 3 * usize::from(self.rot[i])
     }
 
     /// Local offset of member i's coordinates in x_k.
@@ -93,32 +118,41 @@ impl Rigid {
         off
     }
 
-    /// Apply `f(i, xi_pos, xi_rot, e_offset)` to every member i ≥ 1.
+    /// Apply `f(i, e_offset, n_deformations)` to every member i ≥ 1.
     fn for_members(&self, mut f: impl FnMut(usize, usize, usize)) {
         let mut ie = 0;
         for i in 1..self.nodes.len() {
-            f(i, ie, 3 + 3 * usize::from(self.rot[i]));
-            ie += 3 + 3 * usize::from(self.rot[i]);
+            f(i, ie, self.member_ne(i));
+            ie += self.member_ne(i);
         }
+    }
+}
+
+impl Rigid {
+    /// For member i at local offset `oi` whose deformations start at `ie`: the local offset of
+    /// its position (if constrained) and of its λ with the index of its rotation deformations.
+    fn split(&self, i: usize, oi: usize, ie: usize) -> (Option<usize>, Option<(usize, usize)>) {
+        let pos = self.pos[i].then_some(oi);
+        let rot = self.rot[i].then(|| {
+            let or = if self.pos[i] { oi + 3 } else { oi };
+            (or, ie + 3 * usize::from(self.pos[i]))
+        });
+        (pos, rot)
     }
 }
 
 impl ElementKind for Rigid {
     fn node_uses(&self) -> Vec<NodeUse> {
-        self.nodes
-            .iter()
-            .zip(&self.rot)
-            .map(|(&node, &rot)| NodeUse {
-                node,
-                pos: true,
-                rot,
+        (0..self.nodes.len())
+            .map(|i| NodeUse {
+                node: self.nodes[i],
+                pos: self.pos[i],
+                rot: self.rot[i],
             })
             .collect()
     }
     fn ne(&self) -> usize {
-        (1..self.nodes.len())
-            .map(|i| 3 + 3 * usize::from(self.rot[i]))
-            .sum()
+        (1..self.nodes.len()).map(|i| self.member_ne(i)).sum()
     }
     fn mode_name(&self, k: usize, node_names: &[String]) -> String {
         let mut name = String::new();
@@ -127,7 +161,7 @@ impl ElementKind for Rigid {
                 let j = k - ie;
                 let node = node_names.get(self.nodes[i]).map_or("?", |s| s.as_str());
                 let comp = ["x", "y", "z"][j % 3];
-                name = if j < 3 {
+                name = if j < 3 && self.pos[i] {
                     format!("position {comp} of {node}")
                 } else {
                     format!("rotation {comp} of {node}")
@@ -140,11 +174,12 @@ impl ElementKind for Rigid {
         let off = self.local_offsets();
         let mut e = vec![0.0; self.ne()];
         self.for_members(|i, ie, _| {
-            let xp: [f64; 10] = gather_pos(xk, off[i]);
-            e[ie..ie + 3].copy_from_slice(&RelPos(self.offsets[i]).value(&xp));
-            if self.rot[i] {
-                let xr = gather_rot(xk, off[i]);
-                e[ie + 3..ie + 6].copy_from_slice(&RelRot.value(&xr));
+            let (pos, ir) = self.split(i, off[i], ie);
+            if let Some(op) = pos {
+                e[ie..ie + 3].copy_from_slice(&RelPos(self.offsets[i]).value(&gather_pos(xk, op)));
+            }
+            if let Some((or, er)) = ir {
+                e[er..er + 3].copy_from_slice(&RelRot.value(&gather_rot(xk, or)));
             }
         });
         e
@@ -153,19 +188,20 @@ impl ElementKind for Rigid {
         let off = self.local_offsets();
         let mut d = Mat::zeros(self.ne(), xk.len());
         self.for_members(|i, ie, _| {
-            let (_, jp) = RelPos(self.offsets[i]).jacobian(&gather_pos(xk, off[i]));
-            let cols = pos_columns(off[i]);
-            for r in 0..3 {
-                for (c, &col) in cols.iter().enumerate() {
-                    d[(ie + r, col)] += jp[r][c];
+            let (pos, ir) = self.split(i, off[i], ie);
+            if let Some(op) = pos {
+                let (_, jp) = RelPos(self.offsets[i]).jacobian(&gather_pos(xk, op));
+                for r in 0..3 {
+                    for (c, &col) in pos_columns(op).iter().enumerate() {
+                        d[(ie + r, col)] += jp[r][c];
+                    }
                 }
             }
-            if self.rot[i] {
-                let (_, jr) = RelRot.jacobian(&gather_rot(xk, off[i]));
-                let cols = rot_columns(off[i]);
+            if let Some((or, er)) = ir {
+                let (_, jr) = RelRot.jacobian(&gather_rot(xk, or));
                 for r in 0..3 {
-                    for (c, &col) in cols.iter().enumerate() {
-                        d[(ie + 3 + r, col)] += jr[r][c];
+                    for (c, &col) in rot_columns(or).iter().enumerate() {
+                        d[(er + r, col)] += jr[r][c];
                     }
                 }
             }
@@ -176,18 +212,21 @@ impl ElementKind for Rigid {
         let off = self.local_offsets();
         let mut h = Mat::zeros(xk.len(), xk.len());
         self.for_members(|i, ie, _| {
-            let wp = [w[ie], w[ie + 1], w[ie + 2]];
-            let hp = RelPos(self.offsets[i]).hessian_weighted(&gather_pos(xk, off[i]), &wp);
-            let cols = pos_columns(off[i]);
-            for (a, &ca) in cols.iter().enumerate() {
-                for (b, &cb) in cols.iter().enumerate() {
-                    h[(ca, cb)] += hp[a][b];
+            let (pos, ir) = self.split(i, off[i], ie);
+            if let Some(op) = pos {
+                let wp = [w[ie], w[ie + 1], w[ie + 2]];
+                let hp = RelPos(self.offsets[i]).hessian_weighted(&gather_pos(xk, op), &wp);
+                let cols = pos_columns(op);
+                for (a, &ca) in cols.iter().enumerate() {
+                    for (b, &cb) in cols.iter().enumerate() {
+                        h[(ca, cb)] += hp[a][b];
+                    }
                 }
             }
-            if self.rot[i] {
-                let wr = [w[ie + 3], w[ie + 4], w[ie + 5]];
-                let hr = RelRot.hessian_weighted(&gather_rot(xk, off[i]), &wr);
-                let cols = rot_columns(off[i]);
+            if let Some((or, er)) = ir {
+                let wr = [w[er], w[er + 1], w[er + 2]];
+                let hr = RelRot.hessian_weighted(&gather_rot(xk, or), &wr);
+                let cols = rot_columns(or);
                 for (a, &ca) in cols.iter().enumerate() {
                     for (b, &cb) in cols.iter().enumerate() {
                         h[(ca, cb)] += hr[a][b];
@@ -207,9 +246,9 @@ impl ElementKind for Rigid {
 fn pos_columns(oi: usize) -> [usize; 10] {
     [0, 1, 2, 3, 4, 5, 6, oi, oi + 1, oi + 2]
 }
-/// Local columns of [λ₀; λ_i] for member i (λ_i follows r_i).
-fn rot_columns(oi: usize) -> [usize; 8] {
-    [3, 4, 5, 6, oi + 3, oi + 4, oi + 5, oi + 6]
+/// Local columns of [λ₀; λ_i] for a member whose λ_i starts at local offset `or`.
+fn rot_columns(or: usize) -> [usize; 8] {
+    [3, 4, 5, 6, or, or + 1, or + 2, or + 3]
 }
 fn gather_pos(xk: &[f64], oi: usize) -> [f64; 10] {
     pos_columns(oi).map(|c| xk[c])
@@ -234,6 +273,16 @@ mod tests {
         let r = Rigid::new(vec![0, 1, 2, 3], &pos, vec![true, false, true, true]);
         assert_eq!(r.ne(), 3 + 6 + 6);
         check_contract(&r, &pos, Contract::default());
+        // a member sharing member 1's position contributes its rotation only
+        let pos2 = [pos[0], pos[1], pos[1]];
+        let r2 = Rigid::with_shared_positions(
+            vec![0, 1, 2],
+            &pos2,
+            vec![true; 3],
+            vec![true, true, false],
+        );
+        assert_eq!(r2.ne(), 6 + 3);
+        check_contract(&r2, &pos2, Contract::default());
     }
 
     #[test]

@@ -52,7 +52,10 @@ pub struct StaticOptions {
     pub tol_disp: f64,
     /// Maximum number of step halvings in one load step.
     pub max_halvings: usize,
-    /// Backtracking line search on the residual norm.
+    /// Backtracking line search on ‖r‖² + (k‖g‖)². Off by default: from a straight beam the
+    /// Newton step moves nodes along lines instead of arcs and stretches axially stiff elements
+    /// (membrane locking), so every merit function rejects a step that pure Newton recovers
+    /// from in a few iterations; step halving is the safeguard instead.
     pub line_search: bool,
 }
 
@@ -64,7 +67,7 @@ impl Default for StaticOptions {
             tol_force: 1e-9,
             tol_disp: 1e-9,
             max_halvings: 12,
-            line_search: true,
+            line_search: false,
         }
     }
 }
@@ -183,8 +186,6 @@ struct Setup {
     l_ref: f64,
     /// Whether x index i is a rotation parameter.
     is_lambda: Vec<bool>,
-    /// Round-off floor of the residual [N]: forces from relative strains of order ε.
-    f_noise: f64,
 }
 
 fn setup(model: &Model) -> Setup {
@@ -282,21 +283,6 @@ fn setup(model: &Model) -> Setup {
         }
     }
     let l_ref = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max).max(1e-12);
-    // residual floor: an element's deformations carry a rounding error of about ε·l (lengths)
-    // or ε (angles); through S this is a force error ε·Σ_b |S_ab|·l. Factor 100 for the sums.
-    let mut f_noise: f64 = 0.0;
-    for entry in &model.elements {
-        let s = entry.element.stiffness();
-        let l = match &entry.element {
-            Element::Beam(b) => b.l0,
-            Element::Truss(t) => t.l0,
-            _ => 1.0,
-        };
-        for a in 0..s.nrows() {
-            let row: f64 = (0..s.ncols()).map(|b| s[(a, b)].abs()).sum();
-            f_noise = f_noise.max(100.0 * f64::EPSILON * row * l);
-        }
-    }
     Setup {
         roles,
         unknown,
@@ -312,7 +298,6 @@ fn setup(model: &Model) -> Setup {
         norm,
         l_ref,
         is_lambda,
-        f_noise,
     }
 }
 
@@ -562,6 +547,9 @@ fn apply_prescribed(model: &Model, su: &Setup, x: &mut [f64], t: f64) {
     }
 }
 
+/// Smallest line-search step before a step is taken anyway.
+const MIN_STEP: f64 = 1.0 / 16.0;
+
 /// Outcome of one Newton solve.
 enum Newton {
     Converged { iterations: usize, residual: f64 },
@@ -572,8 +560,8 @@ fn newton(
     model: &Model,
     su: &Setup,
     opts: &StaticOptions,
-    x: &mut Vec<f64>,
-    mu: &mut Vec<f64>,
+    x: &mut [f64],
+    mu: &mut [f64],
     t: f64,
 ) -> Newton {
     let (nf, nk) = (su.nf, su.nk);
@@ -581,6 +569,19 @@ fn newton(
     normalise_lambda(su, x);
     let mut a = assemble(model, su, x, mu, t);
     let mut last_inc = f64::INFINITY;
+    // reference stiffness: the largest diagonal entry of the tangent (translations only: the
+    // Euler-parameter entries are in other units)
+    let mut is_trans = vec![false; nf];
+    for i in 0..model.nx {
+        if let (Some(u), false) = (su.unknown[i], su.is_lambda[i]) {
+            is_trans[u] = true;
+        }
+    }
+    let k_ref = a
+        .triplets
+        .iter()
+        .filter(|t| t.row == t.col && t.row < nf && is_trans[t.row])
+        .fold(0.0f64, |m, t| m.max(t.val.abs()));
     let scale_inc = |dx: &[f64]| -> f64 {
         let mut m: f64 = 0.0;
         for i in 0..model.nx {
@@ -608,7 +609,10 @@ fn newton(
                 reason: "the residual is not finite".into(),
             };
         }
-        let force_ok = rn <= (opts.tol_force * a.f_scale).max(su.f_noise) || rn == 0.0;
+        // the residual cannot be smaller than the backward error of evaluating internal forces
+        // from positions of size l_ref: about ε ‖K‖ l_ref (factor 10 for the sums)
+        let floor = 10.0 * f64::EPSILON * k_ref * su.l_ref;
+        let force_ok = rn <= (opts.tol_force * a.f_scale).max(floor) || rn == 0.0;
         let geom_ok = gn <= opts.tol_disp * su.l_ref;
         if force_ok && geom_ok && (last_inc <= opts.tol_disp || it == 0 && rn == 0.0 && gn == 0.0) {
             return Newton::Converged {
@@ -647,14 +651,16 @@ fn newton(
                 reason: "the tangent matrix is singular (a mechanism, or a buckled state)".into(),
             };
         }
-        // backtracking line search on the scaled residual norm
+        // backtracking line search on the merit ‖r‖² + (k_ref ‖g‖)², k_ref a stiffness that
+        // gives the constraint violation force units
         let merit = |a: &Assembled| {
-            let fs = a.f_scale.max(f64::MIN_POSITIVE);
-            (inf_norm(&a.r) / fs).powi(2) + (inf_norm(&a.g) / su.l_ref).powi(2)
+            let r2: f64 = a.r.iter().map(|v| v * v).sum();
+            let g2: f64 = a.g.iter().map(|v| v * v).sum();
+            r2 + k_ref * k_ref * g2
         };
         let m0 = merit(&a);
         let mut alpha = 1.0;
-        let (x_old, mu_old) = (x.clone(), mu.clone());
+        let (x_old, mu_old) = (x.to_vec(), mu.to_vec());
         loop {
             for i in 0..model.nx {
                 if let Some(u) = su.unknown[i] {
@@ -666,15 +672,9 @@ fn newton(
             }
             normalise_lambda(su, x);
             let trial = assemble(model, su, x, mu, t);
-            let accept = !opts.line_search
-                || alpha < 0.1
-                || merit(&trial) < m0
-                || !merit(&trial).is_finite() && alpha < 0.1;
-            if accept && merit(&trial).is_finite() {
-                a = trial;
-                break;
-            }
-            if alpha < 0.1 {
+            let m = merit(&trial);
+            // accept a decrease, or the smallest step tried
+            if !opts.line_search || (m.is_finite() && m < m0) || alpha < MIN_STEP {
                 a = trial;
                 break;
             }
