@@ -44,6 +44,36 @@ enum Command {
         #[arg(long)]
         require_exact: bool,
     },
+    /// Nonlinear statics: load steps, reactions, stress resultants, support stiffness, buckling.
+    Static {
+        /// Model file (.toml).
+        model: PathBuf,
+        /// Number of load steps (overrides [static] steps; default 10).
+        #[arg(long, value_name = "N")]
+        steps: Option<usize>,
+        /// Report the 6 × 6 compliance and support stiffness of this node at every step
+        /// (repeatable; adds to [static] compliance).
+        #[arg(long, value_name = "NODE")]
+        compliance: Vec<String>,
+        /// Report this many buckling load multipliers at every step (0: none).
+        #[arg(long, value_name = "N")]
+        buckling: Option<usize>,
+        /// Relative residual tolerance (default 1e-9).
+        #[arg(long, value_name = "TOL")]
+        tol_force: Option<f64>,
+        /// Relative increment tolerance (default 1e-9).
+        #[arg(long, value_name = "TOL")]
+        tol_disp: Option<f64>,
+        /// Print JSON instead of tables.
+        #[arg(long)]
+        json: bool,
+        /// Also write summary.csv and step_K.csv into this directory.
+        #[arg(long, value_name = "DIR")]
+        csv: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Convert a SPACAR .dat model to the native TOML format (SPACAR data the TOML format
     /// cannot express yet, such as stiffness, masses and loads, is written as comments).
     Convert {
@@ -126,6 +156,19 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
+        Command::Static {
+            model,
+            steps,
+            compliance,
+            buckling,
+            tol_force,
+            tol_disp,
+            json,
+            csv,
+            quiet,
+        } => run_static(
+            &model, steps, compliance, buckling, tol_force, tol_disp, json, csv, quiet,
+        ),
         Command::Check {
             model,
             json,
@@ -181,6 +224,137 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             })
         }
     }
+}
+
+/// `flexmbd static`.
+fn run_static(
+    path: &Path,
+    steps: Option<usize>,
+    compliance: Vec<String>,
+    buckling: Option<usize>,
+    tol_force: Option<f64>,
+    tol_disp: Option<f64>,
+    json: bool,
+    csv: Option<PathBuf>,
+    quiet: bool,
+) -> anyhow::Result<ExitCode> {
+    use flexmbd_core::statics::linear::{
+        buckling as buckle, compliance as comply, linearize, unstable_directions,
+    };
+    use flexmbd_core::statics::{solve, StaticOptions};
+    use flexmbd_io::static_report::{static_json, static_text, write_csv, StepExtras};
+    let file = match extension(path).as_deref() {
+        Some("toml") => flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?,
+        Some("dat") => {
+            return Err(BadInput(format!(
+                "{}: statics of SPACAR .dat files is not supported yet (their stiffness and loads are read but not mapped); run `flexmbd convert` and add sections and loads to the TOML model",
+                path.display()
+            ))
+            .into())
+        }
+        _ => return Err(BadInput(format!("{}: unknown model format (expected a .toml file)", path.display())).into()),
+    };
+    let (model, settings) = (file.model, file.settings);
+    let mut opts = StaticOptions::default();
+    opts.steps = steps.or(settings.steps).unwrap_or(opts.steps);
+    opts.max_iterations = settings.max_iterations.unwrap_or(opts.max_iterations);
+    for (name, v, target) in [
+        (
+            "--tol-force",
+            tol_force.or(settings.tol_force),
+            &mut opts.tol_force,
+        ),
+        (
+            "--tol-disp",
+            tol_disp.or(settings.tol_disp),
+            &mut opts.tol_disp,
+        ),
+    ] {
+        if let Some(v) = v {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(
+                    BadInput(format!("{name} must be a positive number, found {v}")).into(),
+                );
+            }
+            *target = v;
+        }
+    }
+    if opts.steps == 0 {
+        return Err(BadInput("--steps must be at least 1".into()).into());
+    }
+    let mut nodes = settings.compliance.clone();
+    nodes.extend(compliance);
+    let node_ids = nodes
+        .iter()
+        .map(|n| {
+            model.node_id(n).ok_or_else(|| {
+                BadInput(format!(
+                    "--compliance: node `{n}` is not defined in {}",
+                    path.display()
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let n_buckling = buckling.unwrap_or(settings.buckling);
+
+    // progress bar on stderr, hidden when stderr is not a terminal
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(opts.steps as u64)
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} step {pos}/{len} {elapsed}")
+            .expect("valid template"),
+    );
+    let sol = solve(&model, &opts, |k, _| bar.set_position(k as u64))
+        .context("static analysis failed")?;
+    bar.finish_and_clear();
+
+    // linearised results per step
+    let linear_wanted = !node_ids.is_empty() || n_buckling > 0;
+    let extras: Vec<StepExtras> = sol
+        .steps
+        .iter()
+        .map(|st| {
+            let mut x = StepExtras::default();
+            if !linear_wanted {
+                return x;
+            }
+            let lin = linearize(&model, st);
+            for (name, &id) in nodes.iter().zip(&node_ids) {
+                match comply(&model, &lin, st, id) {
+                    Ok(c) => x.compliance.push((name.clone(), c)),
+                    Err(e) => x.warnings.push(format!("compliance of `{name}`: {e}")),
+                }
+            }
+            if n_buckling > 0 {
+                match buckle(&model, &lin, n_buckling) {
+                    Ok(b) => x.buckling = Some(b),
+                    Err(e) => x.warnings.push(format!("buckling: {e}")),
+                }
+                match unstable_directions(&model, &lin) {
+                    Ok(n) => x.unstable_directions = Some(n),
+                    Err(e) => x.warnings.push(format!("stability: {e}")),
+                }
+            }
+            x
+        })
+        .collect();
+    let fname = path.display().to_string();
+    if let Some(dir) = &csv {
+        write_csv(dir, &model, &sol, &extras)
+            .with_context(|| format!("cannot write CSV files into {}", dir.display()))?;
+    }
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&static_json(&model, &fname, &sol, &extras))?
+        );
+    } else {
+        print!("{}", static_text(&model, &fname, &sol, &extras));
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn main() -> ExitCode {

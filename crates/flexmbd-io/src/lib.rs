@@ -11,9 +11,12 @@ pub mod error;
 pub mod model_toml;
 pub mod report;
 pub mod spacar;
+pub mod static_report;
 pub mod toml_writer;
 
 pub use error::InputError;
-pub use model_toml::{parse_model, read_model};
+pub use model_toml::{
+    parse_model, parse_model_file, read_model, read_model_file, ModelFile, Settings,
+};
 pub use spacar::{parse_dat, read_dat, SpacarModel};
 pub use toml_writer::{write_toml, ModelSpec};

@@ -33,6 +33,7 @@
 
 use crate::error::{at, InputError};
 use flexmbd_core::model::{Dof, ElementSpec, Item};
+use flexmbd_core::section::{BeamProps, Material, Shape};
 use flexmbd_core::{Model, ModelBuilder};
 use indexmap::IndexMap;
 use serde::Deserialize;
@@ -55,12 +56,152 @@ struct FileSpec {
     hinge: Vec<Spanned<HingeSpec>>,
     #[serde(default)]
     rigid: Vec<Spanned<RigidSpec>>,
+    #[serde(default)]
+    material: Vec<Spanned<MaterialSpec>>,
+    #[serde(default)]
+    section: Vec<Spanned<SectionSpec>>,
+    #[serde(default)]
+    load: Vec<Spanned<LoadSpec>>,
+    #[serde(default)]
+    mass: Vec<Spanned<MassSpec>>,
+    #[serde(default)]
+    prescribe: Vec<Spanned<PrescribeSpec>>,
+    #[serde(rename = "static")]
+    statics: Option<Spanned<StaticSpec>>,
 }
 
 impl FileSpec {
-    const SECTIONS: [&'static str; 8] = [
-        "model", "nodes", "fix", "inputs", "truss", "beam", "hinge", "rigid",
+    const SECTIONS: [&'static str; 14] = [
+        "model",
+        "nodes",
+        "fix",
+        "inputs",
+        "truss",
+        "beam",
+        "hinge",
+        "rigid",
+        "material",
+        "section",
+        "load",
+        "mass",
+        "prescribe",
+        "static",
     ];
+}
+
+/// `[[material]]`: E and G (or ν), density.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialSpec {
+    id: String,
+    #[serde(rename = "E")]
+    e: f64,
+    #[serde(rename = "G")]
+    g: Option<f64>,
+    nu: Option<f64>,
+    #[serde(default)]
+    rho: f64,
+}
+
+/// `[[section]]`: a shape with its dimensions [m], or properties given directly.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SectionSpec {
+    id: String,
+    shape: String,
+    w: Option<f64>,
+    t: Option<f64>,
+    d: Option<f64>,
+    d_out: Option<f64>,
+    d_in: Option<f64>,
+    #[serde(rename = "A")]
+    a: Option<f64>,
+    #[serde(rename = "Iy")]
+    iy: Option<f64>,
+    #[serde(rename = "Iz")]
+    iz: Option<f64>,
+    #[serde(rename = "J")]
+    j: Option<f64>,
+    k: Option<f64>,
+    /// Include shear flexibility (Timoshenko); default true as SPACAR Light.
+    #[serde(default = "yes")]
+    shear: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// `[[load]]`: dead force and moment on a node at load factor 1.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LoadSpec {
+    node: String,
+    #[serde(default)]
+    force: [f64; 3],
+    #[serde(default)]
+    moment: [f64; 3],
+}
+
+/// `[[mass]]`: a point mass on a node.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MassSpec {
+    node: String,
+    m: f64,
+}
+
+/// `[[prescribe]]`: the final value of an input coordinate or deformation.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PrescribeSpec {
+    node: Option<String>,
+    dof: Option<String>,
+    element: Option<String>,
+    mode: Option<i64>,
+    value: f64,
+}
+
+/// `[static]`: solver settings and requested outputs.
+#[derive(Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+struct StaticSpec {
+    steps: Option<usize>,
+    max_iterations: Option<usize>,
+    tol_force: Option<f64>,
+    tol_disp: Option<f64>,
+    #[serde(default)]
+    gravity: [f64; 3],
+    #[serde(default)]
+    compliance: Vec<String>,
+    #[serde(default)]
+    buckling: usize,
+}
+
+/// Analysis settings read from the model file (`[static]`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Settings {
+    /// Load steps.
+    pub steps: Option<usize>,
+    /// Newton iterations per step.
+    pub max_iterations: Option<usize>,
+    /// Relative residual tolerance.
+    pub tol_force: Option<f64>,
+    /// Relative increment tolerance.
+    pub tol_disp: Option<f64>,
+    /// Nodes whose compliance is reported at every step.
+    pub compliance: Vec<String>,
+    /// Number of buckling multipliers reported at every step.
+    pub buckling: usize,
+}
+
+/// A model file: the model and its analysis settings.
+#[derive(Clone, Debug)]
+pub struct ModelFile {
+    /// The compiled model.
+    pub model: Model,
+    /// Settings from `[static]`.
+    pub settings: Settings,
 }
 
 #[derive(Deserialize)]
@@ -91,12 +232,28 @@ struct BeamSpec {
     id: String,
     nodes: Vec<String>,
     orient: Option<[f64; 3]>,
-    #[serde(default)]
-    ct: f64,
+    ct: Option<f64>,
     #[serde(default)]
     free: Vec<i64>,
     #[serde(default)]
     input: Vec<i64>,
+    /// Modes rigid in statics although they have stiffness.
+    #[serde(default)]
+    fixed: Vec<i64>,
+    section: Option<String>,
+    material: Option<String>,
+    /// Split into this many elements.
+    segments: Option<usize>,
+    #[serde(rename = "EA")]
+    ea: Option<f64>,
+    #[serde(rename = "GJ")]
+    gj: Option<f64>,
+    #[serde(rename = "EIy")]
+    eiy: Option<f64>,
+    #[serde(rename = "EIz")]
+    eiz: Option<f64>,
+    /// Mass per length ρA [kg/m] when the constants are given directly.
+    rho_a: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -142,6 +299,21 @@ pub fn read_model(path: &std::path::Path) -> Result<Model, InputError> {
 
 /// Parse and compile TOML model text; `file` names it in messages.
 pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
+    parse_model_file(text, file).map(|f| f.model)
+}
+
+/// Read a TOML model file with its analysis settings.
+pub fn read_model_file(path: &std::path::Path) -> Result<ModelFile, InputError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
+        file: file.clone(),
+        source,
+    })?;
+    parse_model_file(&text, &file)
+}
+
+/// Parse TOML model text with its analysis settings.
+pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError> {
     let mut spec: FileSpec = toml::from_str(text).map_err(|e| {
         let msg = e.message().trim().to_string();
         match e.span() {
@@ -200,20 +372,84 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
             s.input.clone(),
         ));
     }
+    // beams split into segments get intermediate nodes `id:1`, … and elements `id:1`, …
+    let mut beam_props: Vec<(String, Range<usize>, &BeamSpec)> = Vec::new();
     for t in &spec.beam {
         let s = t.get_ref();
+        let n = s.segments.unwrap_or(1);
+        if n == 0 {
+            return Err(err(
+                &t.span(),
+                format!("element `{}`: `segments` must be at least 1", s.id),
+            ));
+        }
         let e = ElementSpec::Beam {
             orient: s.orient,
-            ct: s.ct,
+            ct: s.ct.unwrap_or(0.0),
         };
-        elements.push((
-            t.span(),
-            s.id.clone(),
-            s.nodes.clone(),
-            e,
-            s.free.clone(),
-            s.input.clone(),
-        ));
+        if n == 1 || s.nodes.len() != 2 {
+            elements.push((
+                t.span(),
+                s.id.clone(),
+                s.nodes.clone(),
+                e,
+                s.free.clone(),
+                s.input.clone(),
+            ));
+            beam_props.push((s.id.clone(), t.span(), s));
+            continue;
+        }
+        let pos = |name: &str| -> Option<[f64; 3]> {
+            let v = nodes.get(name)?;
+            match node_value(v.get_ref()).ok()? {
+                NodeDef::At(x, _) => Some(x),
+                NodeDef::Hosted(h) => match node_value(nodes.get(&h)?.get_ref()).ok()? {
+                    NodeDef::At(x, _) => Some(x),
+                    NodeDef::Hosted(_) => None,
+                },
+            }
+        };
+        let (Some(p), Some(q)) = (pos(&s.nodes[0]), pos(&s.nodes[1])) else {
+            // unknown end nodes: let the builder report them
+            elements.push((
+                t.span(),
+                s.id.clone(),
+                s.nodes.clone(),
+                e,
+                s.free.clone(),
+                s.input.clone(),
+            ));
+            beam_props.push((s.id.clone(), t.span(), s));
+            continue;
+        };
+        let mut chain = vec![s.nodes[0].clone()];
+        for k in 1..n {
+            let f = k as f64 / n as f64;
+            let name = format!("{}:{k}", s.id);
+            let x = [
+                p[0] + f * (q[0] - p[0]),
+                p[1] + f * (q[1] - p[1]),
+                p[2] + f * (q[2] - p[2]),
+            ];
+            b.add_node(&name, x, false)
+                .map_err(|e| err(&t.span(), e.to_string()))?;
+            spans.insert(Item::Node(name.clone()), t.span());
+            chain.push(name);
+        }
+        chain.push(s.nodes[1].clone());
+        for k in 0..n {
+            let id = format!("{}:{}", s.id, k + 1);
+            let pair = vec![chain[k].clone(), chain[k + 1].clone()];
+            elements.push((
+                t.span(),
+                id.clone(),
+                pair,
+                e.clone(),
+                s.free.clone(),
+                s.input.clone(),
+            ));
+            beam_props.push((id, t.span(), s));
+        }
     }
     for t in &spec.hinge {
         let s = t.get_ref();
@@ -249,6 +485,22 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
         spans.insert(Item::Element(id), span);
     }
 
+    // materials, sections and beam constants
+    let materials = read_materials(&spec, file, text)?;
+    let sections = read_sections(&spec, file, text)?;
+    for (id, span, s) in &beam_props {
+        if let Some(props) = beam_constants(s, &materials, &sections)
+            .map_err(|m| err(span, format!("element `{}`: {m}", s.id)))?
+        {
+            b.set_beam_props(id, props)
+                .map_err(|e| err(span, e.to_string()))?;
+        }
+        if !s.fixed.is_empty() {
+            b.set_rigid_modes(id, &s.fixed)
+                .map_err(|e| err(span, e.to_string()))?;
+        }
+    }
+
     // supports and generalised coordinates
     for (section, list) in [("fix", &spec.fix), ("inputs", &spec.inputs)] {
         for (node, v) in list.iter().flat_map(|m| m.iter()) {
@@ -266,13 +518,247 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
         }
     }
 
-    b.build().map_err(|e| match spans.get(&e.item()) {
+    // loads, masses, prescribed inputs
+    for l in &spec.load {
+        let s = l.get_ref();
+        spans.insert(Item::Load(s.node.clone()), l.span());
+        b.add_load(&s.node, s.force, s.moment)
+            .map_err(|e| err(&l.span(), e.to_string()))?;
+    }
+    for m in &spec.mass {
+        let s = m.get_ref();
+        spans.insert(Item::Mass(s.node.clone()), m.span());
+        b.add_point_mass(&s.node, s.m)
+            .map_err(|e| err(&m.span(), e.to_string()))?;
+    }
+    for p in &spec.prescribe {
+        let s = p.get_ref();
+        let span = p.span();
+        match (&s.node, &s.dof, &s.element, s.mode) {
+            (Some(node), Some(dof), None, None) => {
+                let d = Dof::parse(dof).ok_or_else(|| {
+                    err(&span, format!("prescribe on `{node}`: unknown degree of freedom `{dof}`, expected x, y, z, rx, ry or rz"))
+                })?;
+                spans.insert(Item::Input(node.clone()), span.clone());
+                b.prescribe_coordinate(node, d, s.value).map_err(|e| err(&span, e.to_string()))?;
+            }
+            (None, None, Some(element), Some(mode)) if mode >= 1 => {
+                b.prescribe_deformation(element, mode as usize, s.value).map_err(|e| err(&span, e.to_string()))?;
+            }
+            _ => {
+                return Err(err(
+                    &span,
+                    "[[prescribe]]: give either `node` and `dof` (a nodal coordinate) or `element` and `mode` (≥ 1, a deformation), and `value`".into(),
+                ))
+            }
+        }
+    }
+    let st = spec
+        .statics
+        .as_ref()
+        .map(|s| s.get_ref().clone())
+        .unwrap_or_default();
+    if let Some(sp) = &spec.statics {
+        b.set_gravity(st.gravity)
+            .map_err(|e| err(&sp.span(), format!("[static]: {e}")))?;
+        for (what, v) in [("tol_force", st.tol_force), ("tol_disp", st.tol_disp)] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(err(
+                        &sp.span(),
+                        format!("[static]: `{what}` must be a positive number, found {v}"),
+                    ));
+                }
+            }
+        }
+        if st.steps == Some(0) {
+            return Err(err(
+                &sp.span(),
+                "[static]: `steps` must be at least 1".into(),
+            ));
+        }
+        for n in &st.compliance {
+            if !nodes.contains_key(n) {
+                return Err(err(
+                    &sp.span(),
+                    format!("[static]: compliance node `{n}` is not defined"),
+                ));
+            }
+        }
+    }
+    let settings = Settings {
+        steps: st.steps,
+        max_iterations: st.max_iterations,
+        tol_force: st.tol_force,
+        tol_disp: st.tol_disp,
+        compliance: st.compliance,
+        buckling: st.buckling,
+    };
+
+    let model = b.build().map_err(|e| match spans.get(&e.item()) {
         Some(span) => err(span, e.to_string()),
         None => InputError::File {
             file: file.into(),
             message: e.to_string(),
         },
-    })
+    })?;
+    Ok(ModelFile { model, settings })
+}
+
+type Materials = HashMap<String, Material>;
+type Sections = HashMap<String, (Shape, bool)>;
+
+fn positive(what: &str, v: f64) -> Result<f64, String> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("`{what}` must be a positive number, found {v}"))
+    }
+}
+
+fn read_materials(spec: &FileSpec, file: &str, text: &str) -> Result<Materials, InputError> {
+    let mut out = HashMap::new();
+    for m in &spec.material {
+        let s = m.get_ref();
+        let fail = |msg: String| {
+            at(
+                file,
+                text,
+                m.span().start,
+                format!("material `{}`: {msg}", s.id),
+            )
+        };
+        let e = positive("E", s.e).map_err(fail)?;
+        let g = match (s.g, s.nu) {
+            (Some(g), None) => positive("G", g).map_err(fail)?,
+            (None, Some(nu)) if nu.is_finite() && nu > -1.0 && nu < 0.5 => e / (2.0 * (1.0 + nu)),
+            (None, Some(nu)) => return Err(fail(format!("`nu` must be in (−1, 0.5), found {nu}"))),
+            (Some(_), Some(_)) => return Err(fail("give `G` or `nu`, not both".into())),
+            (None, None) => {
+                return Err(fail(
+                    "missing `G` (shear modulus) or `nu` (Poisson's ratio)".into(),
+                ))
+            }
+        };
+        if !(s.rho.is_finite() && s.rho >= 0.0) {
+            return Err(fail(format!("`rho` must be ≥ 0, found {}", s.rho)));
+        }
+        if out
+            .insert(s.id.clone(), Material { e, g, rho: s.rho })
+            .is_some()
+        {
+            return Err(fail("defined twice".into()));
+        }
+    }
+    Ok(out)
+}
+
+fn read_sections(spec: &FileSpec, file: &str, text: &str) -> Result<Sections, InputError> {
+    let mut out = HashMap::new();
+    for sec in &spec.section {
+        let s = sec.get_ref();
+        let fail = |msg: String| {
+            at(
+                file,
+                text,
+                sec.span().start,
+                format!("section `{}`: {msg}", s.id),
+            )
+        };
+        let need = |name: &str, v: Option<f64>| -> Result<f64, String> {
+            positive(
+                name,
+                v.ok_or_else(|| format!("shape `{}` needs `{name}`", s.shape))?,
+            )
+        };
+        let shape = match s.shape.as_str() {
+            "rectangle" => Shape::Rectangle {
+                w: need("w", s.w).map_err(fail)?,
+                t: need("t", s.t).map_err(fail)?,
+            },
+            "circle" => Shape::Circle {
+                d: need("d", s.d).map_err(fail)?,
+            },
+            "tube" => {
+                let (d_out, d_in) = (
+                    need("d_out", s.d_out).map_err(fail)?,
+                    need("d_in", s.d_in).map_err(fail)?,
+                );
+                if d_in >= d_out {
+                    return Err(fail(format!(
+                        "`d_in` ({d_in}) must be smaller than `d_out` ({d_out})"
+                    )));
+                }
+                Shape::Tube { d_out, d_in }
+            }
+            "general" => Shape::General {
+                a: need("A", s.a).map_err(fail)?,
+                iy: need("Iy", s.iy).map_err(fail)?,
+                iz: need("Iz", s.iz).map_err(fail)?,
+                j: need("J", s.j).map_err(fail)?,
+                k: s.k.unwrap_or(0.0),
+            },
+            other => {
+                return Err(fail(format!(
+                    "unknown shape `{other}`, expected rectangle, circle, tube or general"
+                )))
+            }
+        };
+        if out.insert(s.id.clone(), (shape, s.shear)).is_some() {
+            return Err(fail("defined twice".into()));
+        }
+    }
+    Ok(out)
+}
+
+/// The beam's stiffness and mass constants: from `section` + `material`, or given directly.
+fn beam_constants(
+    s: &BeamSpec,
+    materials: &Materials,
+    sections: &Sections,
+) -> Result<Option<BeamProps>, String> {
+    let direct = [s.ea, s.gj, s.eiy, s.eiz];
+    let mut props = match (&s.section, &s.material) {
+        (Some(sec), Some(mat)) => {
+            if direct.iter().any(Option::is_some) {
+                return Err(
+                    "give `section` and `material`, or `EA`, `GJ`, `EIy`, `EIz` directly, not both"
+                        .into(),
+                );
+            }
+            let m = materials
+                .get(mat)
+                .ok_or_else(|| format!("material `{mat}` is not defined"))?;
+            let (shape, shear) = sections
+                .get(sec)
+                .ok_or_else(|| format!("section `{sec}` is not defined"))?;
+            BeamProps::from_section(m, shape, !shear)
+        }
+        (Some(_), None) => return Err("a `section` needs a `material`".into()),
+        (None, Some(_)) => return Err("a `material` needs a `section`".into()),
+        (None, None) if direct.iter().any(Option::is_some) => {
+            let get = |name: &str, v: Option<f64>| -> Result<f64, String> {
+                match v {
+                    Some(v) if v.is_finite() && v >= 0.0 => Ok(v),
+                    Some(v) => Err(format!("`{name}` must be ≥ 0, found {v}")),
+                    None => Ok(0.0),
+                }
+            };
+            BeamProps {
+                ea: get("EA", s.ea)?,
+                gj: get("GJ", s.gj)?,
+                eiy: get("EIy", s.eiy)?,
+                eiz: get("EIz", s.eiz)?,
+                rho_a: get("rho_a", s.rho_a)?,
+                ..Default::default()
+            }
+        }
+        (None, None) => return Ok(None),
+    };
+    if let Some(ct) = s.ct {
+        props.ct = ct;
+    }
+    Ok(Some(props))
 }
 
 fn vec3(v: &toml::Value, what: &str) -> Result<[f64; 3], String> {

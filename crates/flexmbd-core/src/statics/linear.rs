@@ -90,6 +90,9 @@ pub struct Compliance {
     pub global: [[f64; 6]; 6],
     /// In the node's current local axes.
     pub local: [[f64; 6]; 6],
+    /// Directions (global x, y, z, rx, ry, rz) held by a support or a prescribed input: their
+    /// compliance is zero, their stiffness infinite.
+    pub held: [bool; 6],
 }
 
 impl Compliance {
@@ -186,7 +189,15 @@ pub fn compliance(
             local[i][j] = v;
         }
     }
-    Ok(Compliance { global: c, local })
+    let held = std::array::from_fn(|k| {
+        let dof = crate::model::Dof::ALL[k];
+        nd.x_index(dof).is_none_or(|i| lin.unknown[i].is_none())
+    });
+    Ok(Compliance {
+        global: c,
+        local,
+        held,
+    })
 }
 
 /// Null-space basis of G (columns), by SVD.
