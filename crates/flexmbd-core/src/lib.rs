@@ -17,6 +17,7 @@
 #![allow(non_snake_case)]
 
 pub mod assembly;
+pub mod dynamics;
 pub mod elements;
 pub mod kinematics;
 pub mod linalg;

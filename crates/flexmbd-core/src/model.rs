@@ -200,6 +200,8 @@ pub struct Loads {
     pub gravity: [f64; 3],
     /// Point masses at nodes [kg].
     pub point_masses: Vec<(NodeId, f64)>,
+    /// Inertia tensors at rotational nodes [kg·m²], global axes in the reference orientation.
+    pub inertias: Vec<(NodeId, [[f64; 3]; 3])>,
     /// Prescribed inputs.
     pub prescribed: Vec<Prescribed>,
 }
@@ -510,6 +512,7 @@ pub struct ModelBuilder {
     loads: Vec<(String, [f64; 3], [f64; 3])>,
     gravity: [f64; 3],
     masses: Vec<(String, f64)>,
+    inertias: Vec<(String, [[f64; 3]; 3])>,
     prescribed_x: Vec<(String, Dof, f64)>,
     prescribed_e: Vec<(String, usize, f64)>,
 }
@@ -799,6 +802,43 @@ impl ModelBuilder {
         Ok(())
     }
 
+    /// An inertia tensor [kg·m²] about a rotational node, global axes in the reference
+    /// orientation (SPACAR `XM n Ixx Ixy Ixz Iyy Iyz Izz`): [Ixx, Ixy, Ixz, Iyy, Iyz, Izz].
+    pub fn add_inertia(&mut self, node: &str, i: [f64; 6]) -> Result<(), ModelError> {
+        check_finite(&Item::Mass(node.into()), "inertia", &i)?;
+        if !self.node_index.contains_key(node) {
+            return Err(ModelError::UnknownNodeInEntry {
+                what: "mass",
+                node: node.into(),
+            });
+        }
+        let t = [[i[0], i[1], i[2]], [i[1], i[3], i[4]], [i[2], i[4], i[5]]];
+        // positive semi-definite: principal minors
+        let m2 = t[0][0] * t[1][1] - t[0][1] * t[0][1];
+        let det = t[0][0] * (t[1][1] * t[2][2] - t[1][2] * t[1][2])
+            - t[0][1] * (t[0][1] * t[2][2] - t[1][2] * t[0][2])
+            + t[0][2] * (t[0][1] * t[1][2] - t[1][1] * t[0][2]);
+        let scale = i
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+        if t[0][0] < 0.0
+            || t[1][1] < 0.0
+            || t[2][2] < 0.0
+            || m2 < -1e-12 * scale * scale
+            || det < -1e-12 * scale.powi(3)
+        {
+            return Err(ModelError::BadValue {
+                item: Item::Mass(node.into()),
+                field: "inertia",
+                requirement: "a positive semi-definite tensor",
+                value: det,
+            });
+        }
+        self.inertias.push((node.to_string(), t));
+        Ok(())
+    }
+
     /// Prescribe an input coordinate's final value (translation: displacement [m]; rotation:
     /// angle [rad]); the dof becomes an input.
     pub fn prescribe_coordinate(
@@ -1063,6 +1103,17 @@ impl ModelBuilder {
         }
         for (name, m) in &self.masses {
             loads.point_masses.push((self.node_index[name], *m));
+        }
+        for (name, t) in &self.inertias {
+            let node = self.node_index[name];
+            if !nodes[node].rot() {
+                return Err(ModelError::NoRotation {
+                    what: "mass",
+                    node: name.clone(),
+                    dof: "inertia",
+                });
+            }
+            loads.inertias.push((node, *t));
         }
         for (name, dof, value) in &self.prescribed_x {
             let i = nodes[self.node_index[name]].x_index(*dof).ok_or_else(|| {

@@ -1,0 +1,182 @@
+//! Validation of the modal analysis (validation.md F01, F02).
+
+use super::mass::mass_matrix;
+use super::*;
+use crate::model::{ElementSpec, ModelBuilder};
+use crate::section::{BeamProps, Material, Shape};
+use crate::statics::{solve, StaticOptions};
+
+/// A strip along x of `n` beams; width along global z (orientation vector), thickness along y,
+/// so out-of-plane bending moves the nodes along y.
+fn strip(n: usize, l: f64, props: BeamProps, clamp: bool) -> ModelBuilder {
+    let mut b = ModelBuilder::new("strip");
+    for i in 0..=n {
+        b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
+            .unwrap();
+    }
+    for i in 0..n {
+        let name = format!("b{i}");
+        b.add_element(
+            &name,
+            &[&format!("n{i}"), &format!("n{}", i + 1)],
+            ElementSpec::Beam {
+                orient: Some([0.0, 0.0, 1.0]),
+                ct: 0.0,
+            },
+            &[],
+            &[],
+        )
+        .unwrap();
+        b.set_beam_props(&name, props).unwrap();
+    }
+    if clamp {
+        b.fix("n0", None).unwrap();
+    }
+    b
+}
+
+/// Out-of-plane bending: most kinetic energy in translation, and the translations along y.
+fn y_share(m: &Mode) -> f64 {
+    let translational: f64 = m.kinetic.iter().map(|k| k.1).sum();
+    let (mut y, mut all) = (0.0, 0.0);
+    for (u, _) in &m.nodal {
+        y += u[1] * u[1];
+        all += u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    }
+    if translational < 0.5 || all == 0.0 {
+        return 0.0;
+    }
+    y / all
+}
+
+fn f01_strip() -> (BeamProps, f64, f64) {
+    // F01 instance: spring steel L = 0.1 m, b = 20 mm, t = 0.5 mm, E = 200 GPa, ρ = 7800 kg/m³
+    let steel = Material {
+        e: 200e9,
+        g: 200e9 / 2.6,
+        rho: 7800.0,
+    };
+    let p = BeamProps::from_section(&steel, &Shape::Rectangle { w: 0.02, t: 0.5e-3 }, true);
+    // √(EI/(ρA L⁴)) = 73.0882 rad/s
+    let c = (p.eiy / (p.rho_a * 0.1f64.powi(4))).sqrt();
+    (p, c, 0.1)
+}
+
+fn step_of(model: &Model) -> StepResult {
+    let mut sol = solve(
+        model,
+        &StaticOptions {
+            steps: 1,
+            ..Default::default()
+        },
+        |_, _| {},
+    )
+    .unwrap();
+    sol.steps.pop().unwrap()
+}
+
+#[test]
+fn f01_clamped_free_strip_bending_frequencies() {
+    // validation.md F01: β L = 1.875104, 4.694091, 7.854757; f = (βL)² √(EI/(ρA L⁴))/(2π);
+    // tolerance 0.1 % with ≥ 10 cubic elements (rotary inertia lowers them by < 0.05 %)
+    let (p, c, l) = f01_strip();
+    assert!((c - 73.0882).abs() < 1e-3, "{c}");
+    let model = strip(10, l, p, true).build().unwrap();
+    let step = step_of(&model);
+    let modal = modes(&model, &step, 12).unwrap();
+    let bending: Vec<&Mode> = modal.modes.iter().filter(|m| y_share(m) > 0.99).collect();
+    for (k, beta) in [1.875104f64, 4.694091, 7.854757].iter().enumerate() {
+        let want = beta * beta * c / (2.0 * std::f64::consts::PI);
+        let got = bending[k].frequency;
+        assert!(
+            (got - want).abs() < 1e-3 * want,
+            "mode {k}: {got} Hz vs {want}"
+        );
+    }
+    // the instance values of the table: 40.899, 256.313, 717.683 Hz
+    assert!((bending[0].frequency - 40.899).abs() < 0.05);
+    // mass orthonormality of the modes in x: δxᵢᵀ M δxⱼ = δᵢⱼ
+    let mx = mass_matrix(&model, &step.x);
+    for a in 0..6 {
+        for b in 0..6 {
+            let va = &modal.modes[a].shape;
+            let vb = &modal.modes[b].shape;
+            let mut v = 0.0;
+            for i in 0..model.nx {
+                for j in 0..model.nx {
+                    v += va[i] * mx[(i, j)] * vb[j];
+                }
+            }
+            let want = if a == b { 1.0 } else { 0.0 };
+            assert!((v - want).abs() < 1e-9, "M-orthonormality ({a}, {b}): {v}");
+        }
+    }
+}
+
+#[test]
+fn f01_free_free_strip_has_six_rigid_modes_then_bending() {
+    // free–free: 6 rigid-body modes at 0 Hz, first elastic bending β L = 4.730041
+    let (p, c, l) = f01_strip();
+    let model = strip(12, l, p, false).build().unwrap();
+    let step = step_of(&model);
+    let modal = modes(&model, &step, 10).unwrap();
+    // rigid-body eigenvalues relative to the first elastic one
+    let first_elastic = modal.modes[6].eigenvalue;
+    for m in &modal.modes[..6] {
+        assert!(
+            m.eigenvalue.abs() < 1e-9 * first_elastic,
+            "rigid-body eigenvalue {}",
+            m.eigenvalue
+        );
+    }
+    let bending: Vec<&Mode> = modal.modes[6..]
+        .iter()
+        .filter(|m| y_share(m) > 0.99)
+        .collect();
+    let want = 4.730041f64.powi(2) * c / (2.0 * std::f64::consts::PI);
+    assert!(
+        (bending[0].frequency - want).abs() < 1e-3 * want,
+        "{} vs {want}",
+        bending[0].frequency
+    );
+}
+
+#[test]
+fn f02_prestressed_cantilever_frequencies() {
+    // validation.md F02, clamped–free, nondimensional L = EI = ρA = 1, Euler–Bernoulli without
+    // rotary inertia (the rotations are massless and condensed out), axial dead force P at the
+    // free end; ω̄ = ω √(ρA L⁴/EI). Tolerance 0.2 %.
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    // EIz = 100 separates the other bending plane (equal stiffness would make the two planes'
+    // modes degenerate and their eigenvectors arbitrary mixtures)
+    let props = BeamProps {
+        ea: 1e7,
+        gj: 1.0,
+        eiy: 1.0,
+        eiz: 100.0,
+        rho_a: 1.0,
+        ..Default::default()
+    };
+    for (ratio, w1, w2) in [
+        (0.0, 3.5160, 22.0345),
+        (-0.5, 2.5346, 21.1052),
+        (1.0, 4.8148, 23.7701),
+        (5.0, 7.7007, 29.5202),
+    ] {
+        let mut b = strip(16, 1.0, props, true);
+        b.add_load("n16", [ratio * p_cr, 0.0, 0.0], [0.0; 3])
+            .unwrap();
+        let model = b.build().unwrap();
+        let step = step_of(&model);
+        let modal = modes(&model, &step, 8).unwrap();
+        assert!(modal.massless > 0, "rotations carry no inertia here");
+        let bending: Vec<&Mode> = modal.modes.iter().filter(|m| y_share(m) > 0.99).collect();
+        for (k, want) in [w1, w2].iter().enumerate() {
+            let got = bending[k].eigenvalue.sqrt();
+            assert!(
+                (got - want).abs() < 2e-3 * want,
+                "P = {ratio} P_cr, mode {k}: {got} vs {want}"
+            );
+        }
+    }
+}
