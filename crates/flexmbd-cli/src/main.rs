@@ -74,6 +74,24 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Natural frequencies and mode shapes, linearised about a static equilibrium (with
+    /// pre-stress) of the model's loads and strokes.
+    Modes {
+        /// Model file (.toml).
+        model: PathBuf,
+        /// Number of modes.
+        #[arg(long, default_value_t = 10, value_name = "N")]
+        count: usize,
+        /// Linearise at this load step of the static solution (default: the last).
+        #[arg(long, value_name = "K")]
+        at_step: Option<usize>,
+        /// Number of load steps of the static solution (overrides [static] steps).
+        #[arg(long, value_name = "N")]
+        steps: Option<usize>,
+        /// Print JSON instead of tables.
+        #[arg(long)]
+        json: bool,
+    },
     /// Convert a SPACAR .dat model to the native TOML format (SPACAR data the TOML format
     /// cannot express yet, such as stiffness, masses and loads, is written as comments).
     Convert {
@@ -156,6 +174,13 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
+        Command::Modes {
+            model,
+            count,
+            at_step,
+            steps,
+            json,
+        } => run_modes(&model, count, at_step, steps, json),
         Command::Static {
             model,
             steps,
@@ -224,6 +249,56 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             })
         }
     }
+}
+
+/// `flexmbd modes`.
+fn run_modes(
+    path: &Path,
+    count: usize,
+    at_step: Option<usize>,
+    steps: Option<usize>,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    use flexmbd_core::dynamics::modes;
+    use flexmbd_core::statics::{solve, StaticOptions};
+    let file = match extension(path).as_deref() {
+        Some("toml") => flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?,
+        _ => {
+            return Err(BadInput(format!("{}: `modes` reads .toml models", path.display())).into())
+        }
+    };
+    let (model, settings) = (file.model, file.settings);
+    let mut opts = StaticOptions::default();
+    opts.steps = steps.or(settings.steps).unwrap_or(opts.steps).max(1);
+    let sol = solve(&model, &opts, |_, _| {})
+        .context("the static equilibrium to linearise about was not found")?;
+    let k = at_step.unwrap_or(sol.steps.len() - 1);
+    let Some(step) = sol.steps.get(k) else {
+        return Err(BadInput(format!(
+            "--at-step {k}: the static solution has steps 0 to {}",
+            sol.steps.len() - 1
+        ))
+        .into());
+    };
+    let modal = modes(&model, step, count).context("modal analysis failed")?;
+    let fname = path.display().to_string();
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&flexmbd_io::modes_report::modes_json(
+                &model,
+                &fname,
+                step.load_factor,
+                &modal
+            ))?
+        );
+    } else {
+        print!(
+            "{}",
+            flexmbd_io::modes_report::modes_text(&model, &fname, step.load_factor, &modal)
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// `flexmbd static`.

@@ -9,6 +9,7 @@
 
 pub mod error;
 pub mod model_toml;
+pub mod modes_report;
 pub mod report;
 pub mod spacar;
 pub mod static_report;

@@ -65,6 +65,8 @@ struct FileSpec {
     #[serde(default)]
     mass: Vec<Spanned<MassSpec>>,
     #[serde(default)]
+    inertia: Vec<Spanned<InertiaSpec>>,
+    #[serde(default)]
     prescribe: Vec<Spanned<PrescribeSpec>>,
     #[serde(rename = "static")]
     statics: Option<Spanned<StaticSpec>>,
@@ -149,6 +151,16 @@ struct LoadSpec {
 struct MassSpec {
     node: String,
     m: f64,
+}
+
+/// `[[inertia]]`: an inertia tensor about a rotational node (global axes, reference
+/// orientation), `I = [Ixx, Ixy, Ixz, Iyy, Iyz, Izz]` [kg·m²].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InertiaSpec {
+    node: String,
+    #[serde(rename = "I")]
+    i: [f64; 6],
 }
 
 /// `[[prescribe]]`: the final value of an input coordinate or deformation.
@@ -529,6 +541,12 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         let s = m.get_ref();
         spans.insert(Item::Mass(s.node.clone()), m.span());
         b.add_point_mass(&s.node, s.m)
+            .map_err(|e| err(&m.span(), e.to_string()))?;
+    }
+    for m in &spec.inertia {
+        let s = m.get_ref();
+        spans.insert(Item::Mass(s.node.clone()), m.span());
+        b.add_inertia(&s.node, s.i)
             .map_err(|e| err(&m.span(), e.to_string()))?;
     }
     for p in &spec.prescribe {

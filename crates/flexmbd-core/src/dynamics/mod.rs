@@ -26,7 +26,7 @@ pub mod mass;
 use crate::elements::ElementKind;
 use crate::kinematics::columns;
 use crate::linalg::{numerical_rank, svd, sym_def_eigen, EigenError};
-use crate::model::{CoordKind, DefKind, Model, Partition};
+use crate::model::{DefKind, Model, Partition};
 use crate::statics::linear::linearize;
 use crate::statics::{roles, Role, StepResult};
 use faer::Mat;
@@ -144,17 +144,28 @@ pub fn modes(model: &Model, step: &StepResult, count: usize) -> Result<Modal, Mo
         |a: Mat<f64>| Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
     let k0 = sym(z.transpose() * &kx * &z);
     let m0 = sym(z.transpose() * &mx * &z);
-    let massless_nodes: Vec<usize> = model
-        .nodes
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| {
-            let own = n.own_range();
-            own.clone()
-                .any(|i| model.partition.x[i] == CoordKind::Free && mx[(i, i)] == 0.0)
-        })
-        .map(|(i, _)| i)
-        .collect();
+    // nodes with a free velocity direction (translation or angular velocity) without inertia
+    let part = Partition {
+        x: model.partition.x.clone(),
+        e: vec![DefKind::Free; model.ne],
+    };
+    let mut massless_nodes: Vec<usize> = Vec::new();
+    for c in columns(model, &part, &step.x) {
+        let n = &model.nodes[c.node];
+        let idx: Vec<(usize, f64)> = if c.dof.is_rotation() {
+            let r = n.ix_rot.expect("rotation column");
+            (0..4).map(|k| (r + k, c.lambda_rate[k])).collect()
+        } else {
+            vec![(n.ix_pos + c.dof.index(), 1.0)]
+        };
+        let m: f64 = idx
+            .iter()
+            .map(|&(i, a)| idx.iter().map(|&(j, b)| a * mx[(i, j)] * b).sum::<f64>())
+            .sum();
+        if m <= 0.0 && !massless_nodes.contains(&c.node) {
+            massless_nodes.push(c.node);
+        }
+    }
     // split M0 into massive and massless directions
     let evd = m0
         .self_adjoint_eigen(faer::Side::Lower)

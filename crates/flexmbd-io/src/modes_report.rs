@@ -1,0 +1,135 @@
+//! Reports of a modal analysis: frequencies, energy distribution per mode, shapes.
+
+use crate::report::{fmt_num, table};
+use flexmbd_core::dynamics::Modal;
+use flexmbd_core::elements::ElementKind;
+use flexmbd_core::Model;
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+
+fn strain_text(model: &Model, m: &flexmbd_core::dynamics::Mode, count: usize) -> String {
+    let names = model.node_names();
+    m.strain
+        .iter()
+        .take(count)
+        .map(|(el, mode, f)| {
+            let e = &model.elements[*el];
+            format!(
+                "{} {} {:.0}%",
+                e.name,
+                e.element.mode_name(*mode, &names),
+                100.0 * f
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+fn kinetic_text(model: &Model, m: &flexmbd_core::dynamics::Mode, count: usize) -> String {
+    m.kinetic
+        .iter()
+        .take(count)
+        .map(|(n, t, r)| {
+            let what = if r.abs() > t.abs() { "rot" } else { "transl" };
+            format!("{} {} {:.0}%", model.nodes[*n].name, what, 100.0 * (t + r))
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Text report: one row per mode with where its strain and kinetic energy are.
+pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) -> String {
+    let mut s = String::new();
+    let title = if model.name.is_empty() {
+        String::new()
+    } else {
+        format!(": {}", model.name)
+    };
+    let _ = writeln!(s, "flexmbd modes{title}  ({file})\n");
+    let _ = writeln!(
+        s,
+        "linearised at load factor {load_factor:.4}; {} degrees of freedom{}\n",
+        modal.ndof,
+        if modal.massless > 0 {
+            format!(
+                ", {} massless direction(s) condensed out statically",
+                modal.massless
+            )
+        } else {
+            String::new()
+        }
+    );
+    let rows: Vec<Vec<String>> = modal
+        .modes
+        .iter()
+        .enumerate()
+        .map(|(k, m)| {
+            let f = if m.frequency.is_nan() {
+                format!("complex (ω² = {})", fmt_num(m.eigenvalue))
+            } else {
+                fmt_num(m.frequency)
+            };
+            vec![
+                (k + 1).to_string(),
+                f,
+                strain_text(model, m, 3),
+                kinetic_text(model, m, 3),
+            ]
+        })
+        .collect();
+    s += &table(
+        &["mode", "f [Hz]", "strain energy in", "kinetic energy in"],
+        &rows,
+    );
+    if modal.modes.iter().any(|m| m.eigenvalue < 0.0) {
+        s += "\nwarning: negative eigenvalues: the equilibrium is unstable (the structure may have buckled)\n";
+    }
+    if !modal.massless_nodes.is_empty() {
+        let names: Vec<&str> = modal
+            .massless_nodes
+            .iter()
+            .map(|&n| model.nodes[n].name.as_str())
+            .collect();
+        let _ = writeln!(
+            s,
+            "\nnodes with coordinates without inertia (handled by static condensation): {}",
+            names.join(", ")
+        );
+    }
+    s
+}
+
+/// JSON document of a modal analysis.
+pub fn modes_json(model: &Model, file: &str, load_factor: f64, modal: &Modal) -> Value {
+    let names = model.node_names();
+    let modes: Vec<Value> = modal
+        .modes
+        .iter()
+        .map(|m| {
+            json!({
+                "frequency_hz": if m.frequency.is_nan() { Value::Null } else { json!(m.frequency) },
+                "eigenvalue": m.eigenvalue,
+                "strain_energy": m.strain.iter().map(|(el, mode, f)| json!({
+                    "element": model.elements[*el].name,
+                    "mode": mode + 1,
+                    "mode_name": model.elements[*el].element.mode_name(*mode, &names),
+                    "fraction": f,
+                })).collect::<Vec<_>>(),
+                "kinetic_energy": m.kinetic.iter().map(|(n, t, r)| json!({
+                    "node": model.nodes[*n].name, "translation": t, "rotation": r,
+                })).collect::<Vec<_>>(),
+                "shape": m.nodal.iter().zip(&model.nodes).map(|((u, w), n)| json!({
+                    "node": n.name, "translation": u, "rotation": w,
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    json!({
+        "model": model.name,
+        "file": file,
+        "load_factor": load_factor,
+        "ndof": modal.ndof,
+        "massless_directions": modal.massless,
+        "modes": modes,
+    })
+}
