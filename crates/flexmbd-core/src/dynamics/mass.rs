@@ -88,7 +88,7 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
         let blocks: [(Vec<usize>, Vec<[f64; 3]>); 4] = [
             (
                 (0..3).map(|k| xm[k]).collect(),
-                (0..3).map(|k| unit(k)).collect(),
+                (0..3).map(unit).collect(),
             ),
             (
                 (3..7).map(|k| xm[k]).collect(),
@@ -96,7 +96,7 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
             ),
             (
                 (7..10).map(|k| xm[k]).collect(),
-                (0..3).map(|k| unit(k)).collect(),
+                (0..3).map(unit).collect(),
             ),
             (
                 (10..14).map(|k| xm[k]).collect(),
