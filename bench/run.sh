@@ -1,0 +1,194 @@
+#!/usr/bin/env bash
+# flexmbd vs peers, same problems, same run, same machine. Run by hand (not part of cargo test).
+#
+#   bash bench/run.sh [options]
+#
+#   --sizes "N ..."        cantilever sizes (default: 10 100 1000 10000)
+#   --modes-sizes "N ..."  strip-modes sizes for the peers (default: 10 100 1000 10000)
+#   --quick                both size lists = "10 100 1000"
+#   --timeout S            wall-clock limit per case and program (default 240); a case that hits
+#                          it is recorded with status "timeout"
+#   --repeat R             run every case R times; the table shows medians (default 1)
+#   --threads T            RAYON_NUM_THREADS for flexmbd and OMP/OPENBLAS threads for the peers
+#                          (default: unset = flexmbd uses all cores, Exudyn is single-threaded)
+#   --skip-static | --skip-modes
+#   --with-calculix        also run the shared CalculiX strip-modes script (needs ccx installed:
+#                          bash /work/shared/peers/install.sh --with-calculix, as root)
+#   --out DIR              result directory (default bench/results); writes latest.jsonl (raw
+#                          records), latest.log (peer messages, stderr) and latest.json (summary)
+#
+# Peers: installed (idempotently) by /work/shared/peers/install.sh into
+# ${FLEXMBD_PEERS_VENV:-$HOME/.cache/flexmbd-peers/venv}. Shared scripts are read from
+# ${FLEXMBD_PEERS_DIR:-/work/shared/peers}; nothing is written there.
+set -uo pipefail
+
+BENCH="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$BENCH/.." && pwd)"
+PEERS="${FLEXMBD_PEERS_DIR:-/work/shared/peers}"
+export FLEXMBD_PEERS_DIR="$PEERS"
+SIZES="10 100 1000 10000"
+MSIZES="10 100 1000 10000"
+TIMEOUT=240
+REPEAT=1
+THREADS=""
+DO_STATIC=1
+DO_MODES=1
+WITH_CCX=0
+OUTDIR="$BENCH/results"
+
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; }
+die() { echo "run.sh: $*" >&2; exit 2; }
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --sizes) SIZES="${2:?}"; shift 2 ;;
+    --modes-sizes) MSIZES="${2:?}"; shift 2 ;;
+    --quick) SIZES="10 100 1000"; MSIZES="10 100 1000"; shift ;;
+    --timeout) TIMEOUT="${2:?}"; shift 2 ;;
+    --repeat) REPEAT="${2:?}"; shift 2 ;;
+    --threads) THREADS="${2:?}"; shift 2 ;;
+    --skip-static) DO_STATIC=0; shift ;;
+    --skip-modes) DO_MODES=0; shift ;;
+    --with-calculix) WITH_CCX=1; shift ;;
+    --out) OUTDIR="${2:?}"; shift 2 ;;
+    -h|--help) usage; exit 0 ;;
+    *) die "unknown argument $1 (see --help)" ;;
+  esac
+done
+[[ "$TIMEOUT" =~ ^[0-9]+$ ]] || die "bad --timeout"
+[[ "$REPEAT" =~ ^[0-9]+$ ]] && [ "$REPEAT" -ge 1 ] || die "bad --repeat"
+for n in $SIZES $MSIZES; do [[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -gt 0 ] || die "bad size '$n'"; done
+if [ -n "$THREADS" ]; then
+  export RAYON_NUM_THREADS="$THREADS" OMP_NUM_THREADS="$THREADS" OPENBLAS_NUM_THREADS="$THREADS"
+fi
+
+mkdir -p "$OUTDIR"
+OUTDIR="$(cd "$OUTDIR" && pwd)"
+case "$OUTDIR/" in "$PEERS"/*) die "--out must not point into $PEERS";; esac
+JSONL="$OUTDIR/latest.jsonl"; LOG="$OUTDIR/latest.log"; SUMMARY="$OUTDIR/latest.json"
+: >"$JSONL"; : >"$LOG"
+TMPD="$(mktemp -d)"
+trap 'rm -rf "$TMPD"' EXIT
+T_START=$(date +%s)
+say() { echo "[bench] $*" >&2; }
+
+# ---- 1. peers (idempotent: ~2 s when already installed) -------------------------------------
+say "peers: $PEERS/install.sh"
+PY="$(bash "$PEERS/install.sh" 2>>"$LOG" | tail -n 1)"
+[ -x "$PY" ] || die "peer install failed (see $LOG)"
+
+# ---- 2. flexmbd, release (bench profile) ----------------------------------------------------
+say "building flexmbd (cargo bench --no-run, release profile)"
+FLEX_EXE=""
+if [ "$DO_STATIC" -eq 1 ]; then
+  (cd "$ROOT" && cargo bench -p flexmbd-core --bench cantilever --no-run --message-format=json \
+      2>>"$LOG") >"$TMPD/cargo.json" || die "cargo bench --no-run failed (see $LOG)"
+  FLEX_EXE="$("$PY" -B -c '
+import json, sys
+exe = [json.loads(l).get("executable") for l in open(sys.argv[1]) if l.startswith("{")]
+exe = [e for e in exe if e and "cantilever" in e]
+print(exe[-1] if exe else "")' "$TMPD/cargo.json")"
+  [ -x "$FLEX_EXE" ] || die "cantilever bench executable not found"
+  # a private copy, so that a concurrent rebuild by someone else cannot swap it mid-run
+  cp "$FLEX_EXE" "$TMPD/cantilever-bench"; FLEX_EXE="$TMPD/cantilever-bench"
+fi
+
+# ---- 3. run description ---------------------------------------------------------------------
+COMMIT="$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
+git -C "$ROOT" diff --quiet HEAD -- crates 2>/dev/null || COMMIT="$COMMIT+dirty"
+"$PY" -B - "$JSONL" <<EOF
+import json, os, sys
+rec = {"peer": "run.sh", "problem": "meta", "status": "meta",
+       "date": "$(date '+%F %T %z')", "host_cpus": $(nproc),
+       "cpu_model": "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')",
+       "mem_gib": $(awk '/MemTotal/{printf "%.1f", $2/1048576}' /proc/meminfo),
+       "os": "$(. /etc/os-release && echo "${PRETTY_NAME:-?}")",
+       "rustc": "$(rustc --version 2>/dev/null)", "flexmbd_commit": "$COMMIT",
+       "python": "$PY", "sizes": "$SIZES", "modes_sizes": "$MSIZES", "timeout_s": $TIMEOUT,
+       "repeat": $REPEAT, "rayon_num_threads": os.environ.get("RAYON_NUM_THREADS", "unset (all cores)"),
+       "omp_num_threads": os.environ.get("OMP_NUM_THREADS", "unset"),
+       "loadavg_before": open("/proc/loadavg").read().split()[:3]}
+open(sys.argv[1], "a").write(json.dumps(rec) + "\n")
+EOF
+
+# ---- helpers --------------------------------------------------------------------------------
+# peer_case NAME PROBLEM N -- COMMAND ...: JSON lines to $JSONL, the rest to $LOG; a failure
+# without a JSON line still leaves a record (as /work/shared/peers/run_all.sh does).
+peer_case() {
+  local peer="$1" problem="$2" n="$3"; shift 4
+  local t0 t1 rc nrec
+  t0=$(date +%s.%N)
+  # ("; exit $?": the subshell waits instead of exec'ing, so bash's "Segmentation fault" job
+  # message goes to the log, not to the terminal)
+  (cd "$TMPD" && timeout -k 10 "$TIMEOUT" "$@"; exit $?) >"$TMPD/o" 2>"$TMPD/e" </dev/null
+  rc=$?
+  t1=$(date +%s.%N)
+  nrec=$(grep -c '^{' "$TMPD/o" || true)
+  grep '^{' "$TMPD/o" >>"$JSONL" || true
+  { echo "=== $(date '+%F %T') $peer $problem N=$n rc=$rc: $*"; grep -v '^{' "$TMPD/o"; cat "$TMPD/e"; } >>"$LOG"
+  if [ "$nrec" -eq 0 ]; then
+    local st=error; { [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ]; } && st=timeout
+    "$PY" -B - "$JSONL" "$peer" "$problem" "$n" "$st" "$rc" "$TIMEOUT" "$TMPD/e" <<'EOF'
+import json, sys
+out, peer, problem, n, st, rc, tmo, errf = sys.argv[1:]
+lines = [l for l in open(errf, errors="replace").read().strip().splitlines() if "run.sh: line" not in l]
+tail = " ".join(lines[-2:])[:300]
+if rc == "139":
+    tail = "segmentation fault (rc 139). " + tail
+rec = {"peer": peer, "problem": problem, "n_elements": int(n), "status": st, "rc": int(rc),
+       "wall_s": None, "timeout_s": int(tmo), "error": tail}
+open(out, "a").write(json.dumps(rec) + "\n")
+EOF
+  fi
+  say "$(printf '%-9s %-13s N=%-6s rc=%-3s %7.1f s' "$peer" "$problem" "$n" "$rc" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')")"
+}
+
+flexmbd_case() {  # flexmbd_case N
+  local n="$1" t0 t1 rc
+  t0=$(date +%s.%N)
+  # the binary cargo bench runs, called as cargo bench calls it (extra argument --bench)
+  (cd "$ROOT/crates/flexmbd-core" && timeout -k 10 "$TIMEOUT" "$FLEX_EXE" "$n" --bench; exit $?) \
+    >"$TMPD/fo" 2>"$TMPD/fe" </dev/null
+  rc=$?
+  t1=$(date +%s.%N)
+  { echo "=== $(date '+%F %T') flexmbd cantilever N=$n rc=$rc"; cat "$TMPD/fo" "$TMPD/fe"; } >>"$LOG"
+  "$PY" -B "$BENCH/report.py" flexmbd-record --n "$n" --rc "$rc" --timeout "$TIMEOUT" \
+    --runner-wall "$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')" --threads "${RAYON_NUM_THREADS:-all}" \
+    --version "$COMMIT" --stdout "$TMPD/fo" --stderr "$TMPD/fe" >>"$JSONL"
+  say "$(printf '%-9s %-13s N=%-6s rc=%-3s %7.1f s' flexmbd cantilever_k3 "$n" "$rc" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')")"
+}
+
+# ---- 4. large-deflection cantilever, k = 3 (flexmbd and Exudyn alternate per N) ------------
+if [ "$DO_STATIC" -eq 1 ]; then
+  for ((rep = 1; rep <= REPEAT; rep++)); do
+    for n in $SIZES; do
+      flexmbd_case "$n"
+      peer_case exudyn cantilever_k3 "$n" -- "$PY" -B "$BENCH/peers/cantilever_k3_exudyn.py" --n "$n"
+    done
+  done
+fi
+
+# ---- 5. strip eigenfrequencies (peers only; flexmbd has no modal analysis yet) --------------
+if [ "$DO_MODES" -eq 1 ]; then
+  for ((rep = 1; rep <= REPEAT; rep++)); do
+    for n in $MSIZES; do
+      peer_case exudyn   strip_modes "$n" -- "$PY" -B "$PEERS/strip_modes_exudyn.py" --n "$n"
+      peer_case opensees strip_modes "$n" -- "$PY" -B "$PEERS/strip_modes_opensees.py" --n "$n"
+      if [ "$WITH_CCX" -eq 1 ]; then
+        peer_case calculix strip_modes "$n" -- "$PY" -B "$PEERS/strip_modes_calculix.py" --n "$n"
+      fi
+    done
+  done
+fi
+
+# ---- 6. summary -----------------------------------------------------------------------------
+"$PY" -B - "$JSONL" <<'EOF'
+import json, sys
+lines = open(sys.argv[1]).read().splitlines()
+meta = json.loads(lines[0])
+meta["loadavg_after"] = open("/proc/loadavg").read().split()[:3]
+lines[0] = json.dumps(meta)
+open(sys.argv[1], "w").write("\n".join(lines) + "\n")
+EOF
+say "total $(( $(date +%s) - T_START )) s; raw records $JSONL, log $LOG"
+echo
+"$PY" -B "$BENCH/report.py" summarize "$JSONL" --json "$SUMMARY"
