@@ -861,12 +861,13 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
         }
         "nodes" | "fix" | "inputs" => Some(format!("[{section}]")),
         "model" => Some("[model]".to_string()),
-        "truss" | "beam" | "hinge" | "rigid"
+        "truss" | "beam" | "hinge" | "rigid" | "material" | "section" | "load" | "mass"
+        | "inertia" | "prescribe"
             if header.is_some_and(|h| !h.trim_start().starts_with("[["))
                 && msg.contains("expected a sequence") =>
         {
             return format!(
-                "`[{section}]` must be written `[[{section}]]` (one table per element)"
+                "`[{section}]` must be written `[[{section}]]` (one table per entry)"
             );
         }
         "truss" | "beam" | "hinge" | "rigid" => {

@@ -355,7 +355,7 @@ pub fn static_text(
             let mut r = vec![e.element.clone()];
             r.extend(e.sigma.iter().map(|v| fmt_num(*v)));
             r.resize(7, String::new());
-            r.push(e.max_stress.map_or("-".into(), |v| fmt_num(v)));
+            r.push(e.max_stress.map_or("-".into(), fmt_num));
             r
         })
         .collect();

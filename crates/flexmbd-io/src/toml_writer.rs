@@ -5,8 +5,17 @@
 //! [`write_toml`] then give the same model, so `flexmbd convert` followed by `flexmbd check` on
 //! the TOML file gives the result of `flexmbd check` on the original file. Numbers are written
 //! with full precision (Rust's shortest round-trip form).
+//!
+//! Besides the kinematic model (nodes, elements, `[fix]`, `[inputs]`) a spec carries the data of
+//! a static analysis: beam constants, modes kept rigid in statics, loads, point masses,
+//! prescribed input values, gravity and load-step settings. [`ModelSpec::build`] builds all of
+//! it (the kinematic check ignores the static data); [`ModelSpec::build_static`] builds the
+//! model for `flexmbd static`, without the `dynamic_inputs` (SPACAR's `DYNX` coordinates, which
+//! are inputs of the kinematic check but unknowns of an equilibrium).
 
+use crate::model_toml::{ModelFile, Settings};
 use flexmbd_core::model::{Dof, ElementSpec, Item};
+use flexmbd_core::section::BeamProps;
 use flexmbd_core::{Model, ModelBuilder, ModelError};
 use std::collections::HashMap;
 use std::fmt::Write;
@@ -51,6 +60,11 @@ pub struct ElementEntrySpec {
     pub free: Vec<i64>,
     /// Input modes (generalised deformations), 1-based.
     pub input: Vec<i64>,
+    /// Modes kept rigid in statics although they have stiffness (TOML `fixed`; beams only).
+    pub rigid: Vec<i64>,
+    /// Stiffness and mass constants of a beam (TOML `EA`, `GJ`, `EIy`, `EIz`, `rho_a`; the
+    /// shear flexibilities and rotary inertias are built but cannot be written).
+    pub props: Option<BeamProps>,
     /// Comment lines written above the element.
     pub comments: Vec<String>,
     /// Source line.
@@ -70,6 +84,87 @@ pub struct DofEntry {
     pub line: Option<usize>,
 }
 
+/// A dead nodal load at load factor 1 (`[[load]]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadEntry {
+    /// Node name.
+    pub node: String,
+    /// Force (N), global axes.
+    pub force: [f64; 3],
+    /// Moment [N·m], global axes.
+    pub moment: [f64; 3],
+    /// Comment lines written above the entry.
+    pub comments: Vec<String>,
+    /// Source line.
+    pub line: Option<usize>,
+}
+
+/// A point mass (`[[mass]]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassEntry {
+    /// Node name.
+    pub node: String,
+    /// Mass (kg).
+    pub m: f64,
+    /// Comment lines written above the entry.
+    pub comments: Vec<String>,
+    /// Source line.
+    pub line: Option<usize>,
+}
+
+/// What a prescribed value applies to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PrescribeTarget {
+    /// A nodal coordinate: displacement (m) or rotation angle φ (rad), λ_i = sin(φ/2).
+    Coordinate {
+        /// Node name.
+        node: String,
+        /// Degree of freedom.
+        dof: Dof,
+    },
+    /// A deformation mode (1-based) of an element.
+    Deformation {
+        /// Element name.
+        element: String,
+        /// Mode, 1-based.
+        mode: usize,
+    },
+}
+
+/// A prescribed final value of an input (`[[prescribe]]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PrescribeEntry {
+    /// Coordinate or deformation.
+    pub target: PrescribeTarget,
+    /// Final value, reached at load factor 1.
+    pub value: f64,
+    /// Comment lines written above the entry.
+    pub comments: Vec<String>,
+    /// Source line.
+    pub line: Option<usize>,
+}
+
+/// Settings of a static analysis (`[static]`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StaticSpec {
+    /// Load steps.
+    pub steps: Option<usize>,
+    /// Relative residual tolerance.
+    pub tol_force: Option<f64>,
+    /// Gravitational acceleration (m/s²).
+    pub gravity: Option<[f64; 3]>,
+    /// Comment lines written above the section.
+    pub comments: Vec<String>,
+    /// Source line (of the gravity, for errors).
+    pub line: Option<usize>,
+}
+
+impl StaticSpec {
+    fn is_empty(&self) -> bool {
+        self.steps.is_none() && self.tol_force.is_none() && self.gravity.is_none()
+    }
+}
+
 /// A model in neutral form.
 #[derive(Clone, Debug, Default)]
 pub struct ModelSpec {
@@ -85,6 +180,17 @@ pub struct ModelSpec {
     pub fix: Vec<DofEntry>,
     /// Generalised coordinates.
     pub inputs: Vec<DofEntry>,
+    /// Generalised coordinates of the kinematic check that are unknowns in statics (SPACAR's
+    /// dynamic degrees of freedom `DYNX`); written into `[inputs]`.
+    pub dynamic_inputs: Vec<DofEntry>,
+    /// Dead loads.
+    pub loads: Vec<LoadEntry>,
+    /// Point masses.
+    pub masses: Vec<MassEntry>,
+    /// Prescribed input values.
+    pub prescribed: Vec<PrescribeEntry>,
+    /// Static analysis settings.
+    pub statics: StaticSpec,
     /// Comment lines at the end of the file.
     pub footer: Vec<String>,
 }
@@ -99,8 +205,26 @@ pub struct SpecError {
 }
 
 impl ModelSpec {
-    /// Build the core model.
+    /// Build the core model with every input, including the `dynamic_inputs` (what the TOML
+    /// file written by [`write_toml`] gives).
     pub fn build(&self) -> Result<Model, SpecError> {
+        self.builder(true)
+    }
+
+    /// Build the model for a static analysis: the `dynamic_inputs` are unknowns, not inputs.
+    pub fn build_static(&self) -> Result<ModelFile, SpecError> {
+        let model = self.builder(false)?;
+        Ok(ModelFile {
+            model,
+            settings: Settings {
+                steps: self.statics.steps,
+                tol_force: self.statics.tol_force,
+                ..Default::default()
+            },
+        })
+    }
+
+    fn builder(&self, dynamic_inputs: bool) -> Result<Model, SpecError> {
         let mut b = ModelBuilder::new(&self.name);
         let mut lines: HashMap<Item, Option<usize>> = HashMap::new();
         let fail = |line: Option<usize>| move |error| SpecError { error, line };
@@ -118,13 +242,51 @@ impl ModelSpec {
                 .map_err(fail(e.line))?;
             lines.insert(Item::Element(e.name.clone()), e.line);
         }
+        for e in &self.elements {
+            if let Some(p) = e.props {
+                b.set_beam_props(&e.name, p).map_err(fail(e.line))?;
+            }
+            if !e.rigid.is_empty() {
+                b.set_rigid_modes(&e.name, &e.rigid).map_err(fail(e.line))?;
+            }
+        }
         for f in &self.fix {
             b.fix(&f.node, Some(&f.dofs)).map_err(fail(f.line))?;
             lines.entry(Item::Fix(f.node.clone())).or_insert(f.line);
         }
-        for i in &self.inputs {
+        let dynamic: &[DofEntry] = if dynamic_inputs {
+            &self.dynamic_inputs
+        } else {
+            &[]
+        };
+        for i in self.inputs.iter().chain(dynamic) {
             b.input(&i.node, Some(&i.dofs)).map_err(fail(i.line))?;
             lines.entry(Item::Input(i.node.clone())).or_insert(i.line);
+        }
+        for l in &self.loads {
+            b.add_load(&l.node, l.force, l.moment)
+                .map_err(fail(l.line))?;
+            lines.entry(Item::Load(l.node.clone())).or_insert(l.line);
+        }
+        for m in &self.masses {
+            b.add_point_mass(&m.node, m.m).map_err(fail(m.line))?;
+            lines.entry(Item::Mass(m.node.clone())).or_insert(m.line);
+        }
+        for p in &self.prescribed {
+            match &p.target {
+                PrescribeTarget::Coordinate { node, dof } => {
+                    b.prescribe_coordinate(node, *dof, p.value)
+                        .map_err(fail(p.line))?;
+                    lines.entry(Item::Input(node.clone())).or_insert(p.line);
+                }
+                PrescribeTarget::Deformation { element, mode } => b
+                    .prescribe_deformation(element, *mode, p.value)
+                    .map_err(fail(p.line))?,
+            }
+        }
+        if let Some(g) = self.statics.gravity {
+            b.set_gravity(g).map_err(fail(self.statics.line))?;
+            lines.insert(Item::Model, self.statics.line);
         }
         b.build().map_err(|error| SpecError {
             line: lines.get(&error.item()).copied().flatten(),
@@ -212,7 +374,13 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
         let _ = write!(out, "{} = {value}", quote(&n.name));
         trailing(&mut out, &n.comment);
     }
-    for (section, list) in [("fix", &spec.fix), ("inputs", &spec.inputs)] {
+    let inputs: Vec<DofEntry> = spec
+        .inputs
+        .iter()
+        .chain(&spec.dynamic_inputs)
+        .cloned()
+        .collect();
+    for (section, list) in [("fix", &spec.fix), ("inputs", &inputs)] {
         if list.is_empty() {
             continue;
         }
@@ -263,6 +431,15 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
                 if *ct != 0.0 {
                     let _ = writeln!(s, "ct = {}", num(*ct));
                 }
+                if let Some(p) = &e.props {
+                    // all four, so that the reader sees constants given directly
+                    for (key, v) in [("EA", p.ea), ("GJ", p.gj), ("EIy", p.eiy), ("EIz", p.eiz)] {
+                        let _ = writeln!(s, "{key} = {}", num(v));
+                    }
+                    if p.rho_a != 0.0 {
+                        let _ = writeln!(s, "rho_a = {}", num(p.rho_a));
+                    }
+                }
                 ("beam", s)
             }
             ElementSpec::Hinge { axis, k } => {
@@ -282,6 +459,13 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
                 ("rigid", String::new())
             }
         };
+        if !matches!(e.spec, ElementSpec::Beam { .. }) && (!e.rigid.is_empty() || e.props.is_some())
+        {
+            return Err(format!(
+                "element `{}`: the TOML format has beam constants and `fixed` modes for beams only",
+                e.name
+            ));
+        }
         let nodes: Vec<String> = e.nodes.iter().map(|n| quote(n)).collect();
         let _ = write!(
             out,
@@ -295,7 +479,11 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
         if !e.input.is_empty() {
             let _ = writeln!(out, "input = {}", int_list(&e.input));
         }
+        if !e.rigid.is_empty() {
+            let _ = writeln!(out, "fixed = {}", int_list(&e.rigid));
+        }
     }
+    write_static(&mut out, spec);
     if !spec.footer.is_empty() {
         out.push('\n');
         for f in &spec.footer {
@@ -303,6 +491,71 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
         }
     }
     Ok(out)
+}
+
+/// `[[load]]`, `[[mass]]`, `[[prescribe]]` and `[static]`.
+fn write_static(out: &mut String, spec: &ModelSpec) {
+    for l in &spec.loads {
+        out.push('\n');
+        for c in &l.comments {
+            comment(out, "", c);
+        }
+        let _ = writeln!(out, "[[load]]\nnode = {}", quote(&l.node));
+        if l.force != [0.0; 3] {
+            let _ = writeln!(out, "force = {}", vec3(&l.force));
+        }
+        if l.moment != [0.0; 3] {
+            let _ = writeln!(out, "moment = {}", vec3(&l.moment));
+        }
+    }
+    for m in &spec.masses {
+        out.push('\n');
+        for c in &m.comments {
+            comment(out, "", c);
+        }
+        let _ = writeln!(out, "[[mass]]\nnode = {}\nm = {}", quote(&m.node), num(m.m));
+    }
+    for p in &spec.prescribed {
+        out.push('\n');
+        for c in &p.comments {
+            comment(out, "", c);
+        }
+        match &p.target {
+            PrescribeTarget::Coordinate { node, dof } => {
+                let _ = writeln!(
+                    out,
+                    "[[prescribe]]\nnode = {}\ndof = {}",
+                    quote(node),
+                    quote(dof.name())
+                );
+            }
+            PrescribeTarget::Deformation { element, mode } => {
+                let _ = writeln!(
+                    out,
+                    "[[prescribe]]\nelement = {}\nmode = {mode}",
+                    quote(element)
+                );
+            }
+        }
+        let _ = writeln!(out, "value = {}", num(p.value));
+    }
+    let st = &spec.statics;
+    if !st.is_empty() {
+        out.push('\n');
+        for c in &st.comments {
+            comment(out, "", c);
+        }
+        out.push_str("[static]\n");
+        if let Some(n) = st.steps {
+            let _ = writeln!(out, "steps = {n}");
+        }
+        if let Some(t) = st.tol_force {
+            let _ = writeln!(out, "tol_force = {}", num(t));
+        }
+        if let Some(g) = &st.gravity {
+            let _ = writeln!(out, "gravity = {}", vec3(g));
+        }
+    }
 }
 
 #[cfg(test)]
@@ -349,6 +602,15 @@ mod tests {
                 },
                 free: vec![2, 3],
                 input: vec![4],
+                rigid: vec![5],
+                props: Some(BeamProps {
+                    ea: 1e6,
+                    gj: 2.0,
+                    eiy: 3.0,
+                    eiz: 0.0,
+                    rho_a: 0.25,
+                    ..Default::default()
+                }),
                 comments: vec!["BEAM 1".into()],
                 line: Some(3),
             }],
@@ -366,15 +628,72 @@ mod tests {
                     line: Some(5),
                 },
             ],
-            inputs: vec![],
+            dynamic_inputs: vec![DofEntry {
+                node: "3".into(),
+                dofs: vec![Dof::Z],
+                comment: None,
+                line: Some(6),
+            }],
+            loads: vec![LoadEntry {
+                node: "1@2".into(),
+                force: [0.0, 1.0, 0.0],
+                moment: [0.0, 0.0, 0.5],
+                comments: vec!["a load".into()],
+                line: Some(7),
+            }],
+            masses: vec![MassEntry {
+                node: "3".into(),
+                m: 0.5,
+                comments: vec![],
+                line: Some(8),
+            }],
+            prescribed: vec![
+                PrescribeEntry {
+                    target: PrescribeTarget::Coordinate {
+                        node: "3".into(),
+                        dof: Dof::Rz,
+                    },
+                    value: 0.1,
+                    comments: vec![],
+                    line: Some(9),
+                },
+                PrescribeEntry {
+                    target: PrescribeTarget::Deformation {
+                        element: "1".into(),
+                        mode: 4,
+                    },
+                    value: -1e-3,
+                    comments: vec![],
+                    line: Some(10),
+                },
+            ],
+            statics: StaticSpec {
+                steps: Some(3),
+                tol_force: Some(1e-7),
+                gravity: Some([0.0, -9.81, 0.0]),
+                comments: vec!["settings".into()],
+                line: Some(11),
+            },
             footer: vec!["end".into()],
+            ..Default::default()
         };
         let text = write_toml(&spec).unwrap();
         let a = spec.build().unwrap();
-        let b = crate::parse_model(&text, "w.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let b = crate::parse_model_file(&text, "w.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(b.settings.steps, Some(3));
+        assert_eq!(b.settings.tol_force, Some(1e-7));
+        let b = b.model;
         assert_eq!(a.name, b.name);
         assert_eq!(a.nx, b.nx);
         assert_eq!(a.partition, b.partition);
+        assert_eq!(a.loads, b.loads);
+        assert_eq!(a.explicit_rigid, b.explicit_rigid);
+        // the static build leaves the dynamic inputs free and carries the settings
+        let st = spec.build_static().unwrap();
+        assert_eq!(st.settings.steps, Some(3));
+        let z = st.model.nodes[2].x_index(Dof::Z).unwrap();
+        assert_eq!(st.model.partition.x[z], flexmbd_core::CoordKind::Free);
+        assert_eq!(a.partition.x[z], flexmbd_core::CoordKind::Input);
         assert_eq!(b.nodes[2].x0, [-2.5e20, 1e-7, 0.1]);
         assert!(text.contains("\"1\" = [\"x\", \"y\", \"z\"]  # FIX 1 1 2; FIX 1 3"));
     }

@@ -235,19 +235,40 @@ fn static_data_and_warnings_of_the_shared_models() {
     assert_eq!(m.warnings.len(), 2);
 }
 
+/// The converted TOML file reads back to the model of the static spec (with the DYNX inputs):
+/// same nodes, partition, rigid modes, loads, masses and prescribed values; and its kinematic
+/// check has the Dcc of the `.dat` file's check (a DYNE deformation with stiffness is not
+/// listed in the TOML file instead of an input: a row of Dcc either way).
 #[test]
 fn dat_to_toml_round_trip() {
     for p in dat_files() {
         let name = p.display().to_string();
         let m = flexmbd_io::read_dat(&p).unwrap();
         let direct = m.to_model().unwrap();
+        let (spec, _) = m.to_static_spec().unwrap();
+        let full = spec.build().unwrap();
         let text = m.to_toml().unwrap();
-        let back = flexmbd_io::parse_model(&text, "converted.toml")
+        let back = flexmbd_io::parse_model_file(&text, "converted.toml")
             .unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+        let (settings, back) = (back.settings, back.model);
         assert_eq!(direct.node_names(), back.node_names(), "{name}");
         assert_eq!(direct.nx, back.nx, "{name}");
         assert_eq!(direct.ne, back.ne, "{name}");
-        assert_eq!(direct.partition, back.partition, "{name}");
+        assert_eq!(full.partition, back.partition, "{name}");
+        assert_eq!(full.explicit_rigid, back.explicit_rigid, "{name}");
+        assert_eq!(full.loads, back.loads, "{name}");
+        assert_eq!(settings.steps, spec.statics.steps, "{name}");
+        // the kinematic partitions differ only in DYNE deformations (input vs not listed)
+        for (i, (k, t)) in direct.partition.e.iter().zip(&back.partition.e).enumerate() {
+            if k != t {
+                assert_eq!(
+                    (*k, *t),
+                    (DefKind::Input, DefKind::Fixed),
+                    "{name} deformation {i}"
+                );
+            }
+        }
+        assert_eq!(direct.partition.x, back.partition.x, "{name}");
         let (a, b) = (analyse(&direct), analyse(&back));
         assert_eq!(
             (a.m(), a.n(), a.rank, a.n_motions(), a.n_self_stresses()),
@@ -426,11 +447,16 @@ fn exercise(bytes: &[u8]) -> Result<(), String> {
     let model = m.to_model().map_err(|e| e.to_string())?;
     // the analysis may fail on absurd numbers (e.g. coordinates of 1e308), but must not panic
     let _ = check(&model, &model.partition, &model.x0(), &Default::default());
-    // a model that builds converts to TOML that reads back to the same partition
+    // the static data maps, or fails with a line
+    let (file, _) = m.to_model_file().map_err(|e| e.to_string())?;
+    assert_eq!(file.model.nx, model.nx);
+    // a model that builds for statics converts to TOML that reads back to the same model
     let toml = m.to_toml().expect("a model that builds converts");
     let back = flexmbd_io::parse_model(&toml, "back.toml")
         .unwrap_or_else(|e| panic!("converted TOML does not read back: {e}\n{toml}"));
-    assert_eq!(back.partition, model.partition);
+    let full = m.to_static_spec().unwrap().0.build().unwrap();
+    assert_eq!(back.partition, full.partition);
+    assert_eq!(back.loads, full.loads);
     Ok(())
 }
 
@@ -465,4 +491,75 @@ fn mutated_files_never_panic_and_errors_name_a_line() {
     eprintln!("mutations: {ok} read and built, {failed} rejected with a line");
     // both outcomes occur, so the mutations reach past the parser
     assert!(ok > 100 && failed > 100, "ok {ok}, failed {failed}");
+}
+
+/// The static data of the public models, mapped for `flexmbd static` (docs/spacar-import.md §6).
+#[test]
+fn static_mapping_of_the_shared_models() {
+    use flexmbd_core::statics::{roles, Role};
+    let read = |f: &str| flexmbd_io::read_dat(&shared().join(f)).unwrap();
+    let count = |m: &Model, r: Role| roles(m).iter().filter(|x| **x == r).count();
+
+    // the strip: DYNE 3 4 flexible (48), the other 96 modes rigid although they have ESTIFF;
+    // DELXF 26 0 0 0.3 (line 190) a moment on "25@26"; ITERSTEP 10 4 5e-7 (line 185)
+    let (f, w) = read("dvogureckiy99__dynastatflex__simple_beam.dat")
+        .to_model_file()
+        .unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(
+        (f.settings.steps, f.settings.tol_force),
+        (Some(4), Some(5e-7))
+    );
+    let m = &f.model;
+    assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (48, 96));
+    assert_eq!(m.loads.nodal.len(), 1);
+    assert_eq!(m.nodes[m.loads.nodal[0].node].name, "25@26");
+    assert_eq!(m.loads.nodal[0].moment, [0.0, 0.0, 0.3]);
+    match &m.elements[0].element {
+        flexmbd_core::elements::Element::Beam(b) => {
+            let p = b.props.unwrap();
+            assert_eq!((p.eiy, p.shear), (0.004916666666667, [2.715e-7, 1.086e-4]));
+            assert_eq!(p.rho_a, 0.0254);
+        }
+        other => panic!("{other:?}"),
+    }
+
+    // SPACAR Light 0.7 cantilever: all six modes DYNE (flexible), XF 3 0 10 0 (line 61) an
+    // initial load with 9 steps: a warning; one load XF + DELXF on node 3
+    let (f, w) = read("precision-utwente__spatools__spacar_file.dat")
+        .to_model_file()
+        .unwrap();
+    let lines: Vec<usize> = w.iter().map(|w| w.line).collect();
+    assert_eq!(lines, [61], "{w:?}");
+    assert_eq!(f.settings.steps, Some(9));
+    assert_eq!(count(&f.model, Role::Flexible), 24);
+    assert_eq!(f.model.loads.nodal.len(), 1);
+    assert_eq!(f.model.loads.nodal[0].force, [-1e10, 10.0, 0.0]);
+
+    // flexible catheter: RLSE 2..6 with ESTIFF flexible, EA = 0 (elongation rigid); the DYNX
+    // coordinates are unknowns, only INPUTX 49 1 stays an input; loads in user routines only
+    let (f, w) = read("roepnaamstraat__FlexibleInstrumentSimulation__FLEX_CAT_S_3D_V2.dat")
+        .to_model_file()
+        .unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    let m = &f.model;
+    assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (120, 24));
+    let inputs = m
+        .partition
+        .x
+        .iter()
+        .filter(|k| **k == CoordKind::Input)
+        .count();
+    assert_eq!(inputs, 1);
+    assert!(m.loads.nodal.is_empty() && m.loads.prescribed.is_empty());
+
+    // rigid catheter: hinge springs (RLSE 1) flexible, the other two hinge modes and the
+    // RBEAMs rigid; the RBEAM masses (EM M/L) lumped at their ends, the XM inertias unused
+    let (f, w) = read("roepnaamstraat__FlexibleInstrumentSimulation__RIG_CAT_S_3D_V2.dat")
+        .to_model_file()
+        .unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    let m = &f.model;
+    assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (33, 102));
+    assert_eq!(m.loads.point_masses.len(), 24);
 }

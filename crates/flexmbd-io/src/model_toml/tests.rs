@@ -854,11 +854,23 @@ a = ["x"]  # <-
 fn unknown_section() {
     check(
         &format!(
+            r#"{TRUSS}[materials]  # <-
+E = 2.1e11
+"#
+        ),
+        &["unknown section `materials`"],
+    );
+}
+
+#[test]
+fn single_bracket_material() {
+    check(
+        &format!(
             r#"{TRUSS}[material]  # <-
 E = 2.1e11
 "#
         ),
-        &["unknown section `material`"],
+        &["`[material]` must be written `[[material]]`"],
     );
 }
 

@@ -29,8 +29,9 @@
 //! TRUSS → truss over `["xp", "xq"]` with `EA` = `ESTIFF` value.
 //!
 //! **Partition.** RLSE → free (e^c); DYNE and INPUTE → input (e^m: SPACAR's dynamic DOFs e^d
-//! are rows of Dcc exactly like inputs, theory.md §4); FIX → fix; INPUTX and DYNX → inputs
-//! (x^d counts with x^m).
+//! are rows of Dcc exactly like inputs, theory.md §4); FIX → fix; INPUTX → inputs, DYNX →
+//! `dynamic_inputs` (x^d counts with x^m in the kinematic check; it is an unknown in statics).
+//! This is the kinematic mapping; the module `statics` adds the static data on top of it.
 
 use super::*;
 use crate::error::{at_line, InputError};
@@ -157,7 +158,7 @@ impl NodeMap {
 }
 
 /// A number for comments: whole numbers without `.0`, others in the shortest exact form.
-fn fmt_num(x: f64) -> String {
+pub(super) fn fmt_num(x: f64) -> String {
     if x == x.trunc() && x.abs() < 1e15 {
         format!("{x}")
     } else {
@@ -165,7 +166,7 @@ fn fmt_num(x: f64) -> String {
     }
 }
 
-fn fmt_values(v: &[f64]) -> String {
+pub(super) fn fmt_values(v: &[f64]) -> String {
     v.iter().map(|x| fmt_num(*x)).collect::<Vec<_>>().join(" ")
 }
 
@@ -396,6 +397,8 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             spec: spec_el,
             free,
             input,
+            rigid: Vec::new(),
+            props: None,
             comments,
             line: Some(e.line),
         });
@@ -420,7 +423,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
     for (kw, lists, target) in [
         ("FIX", &m.fix, 0),
         ("INPUTX", &m.inputx, 1),
-        ("DYNX", &m.dynx, 1),
+        ("DYNX", &m.dynx, 2),
     ] {
         for l in lists {
             let Some(&kind) = m.node_kinds.get(&l.node) else {
@@ -443,21 +446,24 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                 comment: Some(text),
                 line: Some(l.line),
             };
-            if target == 0 {
-                spec.fix.push(entry);
-            } else {
-                spec.inputs.push(entry);
+            match target {
+                0 => spec.fix.push(entry),
+                1 => spec.inputs.push(entry),
+                _ => spec.dynamic_inputs.push(entry),
             }
         }
     }
 
-    spec.header = header(m, &map);
+    spec.header = header(m, &map, None);
     Ok(spec)
 }
 
 /// The comment block at the top of a converted file: provenance, naming, and the SPACAR data
-/// the TOML format cannot express yet.
-fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
+/// the TOML format cannot express yet. `statics`: the static data is mapped too (loads,
+/// masses, prescribed values and settings are then commented where they are written), with the
+/// notes (warnings) of that mapping.
+pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]>) -> Vec<String> {
+    let mapped = statics.is_some();
     let mut h = vec![format!(
         "Converted by `flexmbd convert` from the SPACAR file {} (docs/spacar-import.md).",
         m.file
@@ -466,10 +472,14 @@ fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
         h.push(format!("Title: {t}"));
     }
     h.push("Nodes: \"t\" = SPACAR translational node t; \"t@r\" = SPACAR rotational node r, at the position of node t; \"@r\" = rotational node r used by hinges only.".into());
-    h.push(
-        "Partition: FIX -> [fix]; INPUTX, DYNX -> [inputs]; RLSE -> free; DYNE, INPUTE -> input."
-            .into(),
-    );
+    if mapped {
+        h.push("Partition: FIX -> [fix]; INPUTX, DYNX -> [inputs]; RLSE -> free; INPUTE -> input; DYNE -> not listed where the mode has stiffness (a row of the kinematic check, like an input; flexible in statics), input otherwise; deformations SPACAR keeps rigid (not listed) that have stiffness -> `fixed` (beams) or no EA/k (trusses, hinges).".into());
+    } else {
+        h.push(
+            "Partition: FIX -> [fix]; INPUTX, DYNX -> [inputs]; RLSE -> free; DYNE, INPUTE -> input."
+                .into(),
+        );
+    }
     h.push(format!(
         "SPACAR analysis: {}.",
         m.analysis_hint().describe()
@@ -486,6 +496,9 @@ fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
         ("GRAVITY", &m.gravity),
         ("OUTLEVEL", &m.outlevel),
     ] {
+        if mapped && (kw == "ITERSTEP" || kw == "GRAVITY") {
+            continue; // at [static]
+        }
         if let Some(v) = v {
             later.push((
                 v.line,
@@ -495,6 +508,10 @@ fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
     }
     for (kw, list) in [("XF", &m.xf), ("DELXF", &m.delxf), ("XM", &m.xm)] {
         for v in list {
+            let inertia = kw == "XM" && m.node_kinds.get(&v.node) == Some(&NodeKind::Rotational);
+            if mapped && !inertia {
+                continue; // at [[load]] and [[mass]]
+            }
             let what = match (kw, m.node_kinds.get(&v.node)) {
                 ("XM", Some(NodeKind::Rotational)) => "inertia Ixx Ixy Ixz Iyy Iyz Izz",
                 ("XM", _) => "mass",
@@ -516,7 +533,7 @@ fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
         }
     }
     for (kw, list) in [("INPUTX", &m.inputx_values), ("DELINPX", &m.delinpx)] {
-        for v in list {
+        for v in list.iter().filter(|_| !mapped) {
             later.push((
                 v.line,
                 format!(
@@ -530,7 +547,7 @@ fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
         }
     }
     for (kw, list) in [("INPUTE", &m.inpute_values), ("DELINPE", &m.delinpe)] {
-        for v in list {
+        for v in list.iter().filter(|_| !mapped) {
             later.push((
                 v.line,
                 format!(
@@ -570,9 +587,22 @@ fn header(m: &SpacarModel, map: &NodeMap) -> Vec<String> {
         ));
     }
     if !later.is_empty() {
-        h.push("SPACAR data this format cannot express yet (stiffness and masses: above each element):".into());
+        h.push(if mapped {
+            "SPACAR data this format cannot express (inertia tensors matter for dynamics only):"
+        } else {
+            "SPACAR data this format cannot express yet (stiffness and masses: above each element):"
+        }
+        .into());
         later.sort_by_key(|l| l.0);
         h.extend(later.into_iter().map(|l| format!("  {}", l.1)));
+    }
+    if let Some(notes) = statics.filter(|n| !n.is_empty()) {
+        h.push("Notes of the conversion (printed as warnings by `flexmbd static` on the .dat file, except those about this format):".into());
+        h.extend(
+            notes
+                .iter()
+                .map(|w| format!("  line {}: {}", w.line, w.message)),
+        );
     }
     let mut tail = String::new();
     if !m.visualization.is_empty() {

@@ -8,8 +8,11 @@
 //! (node kinds, references, mode numbers) run after reading; every error names file, line and
 //! column. Problems that cannot change the kinematic result are [`Warning`]s.
 //!
-//! [`SpacarModel::to_model`] builds the core [`Model`]; [`SpacarModel::to_spec`] gives the
-//! neutral [`ModelSpec`] that the TOML writer serialises ([`SpacarModel::to_toml`]).
+//! [`SpacarModel::to_model`] builds the core [`Model`] for the kinematic check from the neutral
+//! [`ModelSpec`] of [`SpacarModel::to_spec`]; [`SpacarModel::to_model_file`] builds the model for
+//! statics from [`SpacarModel::to_static_spec`] (the same plus stiffness, masses, loads,
+//! prescribed values, gravity and load steps; module `statics`), which the TOML writer serialises
+//! ([`SpacarModel::to_toml`]).
 //!
 //! Node mapping: SPACAR numbers translational and rotational nodes separately. Translational
 //! node `t` becomes flexmbd node `"t"` (its position); rotational node `r` becomes node `"t@r"`,
@@ -19,13 +22,15 @@
 mod lexer;
 pub mod mapping;
 mod parser;
+mod statics;
 mod validate;
 
 #[cfg(test)]
 mod tests;
 
 use crate::error::InputError;
-use crate::toml_writer::ModelSpec;
+use crate::model_toml::ModelFile;
+use crate::toml_writer::{ModelSpec, SpecError};
 use flexmbd_core::Model;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -498,31 +503,66 @@ impl SpacarModel {
         self.elements.iter().find(|e| e.number == number)
     }
 
-    /// The neutral model spec (flexmbd nodes, elements, fix and inputs, with comments).
+    /// The neutral model spec of the kinematic check (flexmbd nodes, elements, fix and inputs,
+    /// with comments): `DYNE` deformations and `DYNX` coordinates are inputs, as in SPACAR's
+    /// kinematic analysis.
     pub fn to_spec(&self) -> Result<ModelSpec, InputError> {
         mapping::to_spec(self)
     }
 
-    /// Build the core model; errors name file and line.
-    pub fn to_model(&self) -> Result<Model, InputError> {
-        let spec = self.to_spec()?;
-        spec.build().map_err(|e| {
-            crate::error::at_line(
-                &self.file,
-                e.line.unwrap_or(1),
-                1,
-                format!("{} (in the flexmbd model built from this line)", e.error),
-            )
-        })
+    /// The neutral model spec with the static data (beam constants, modes kept rigid, loads,
+    /// masses, prescribed values, gravity, load steps; docs/spacar-import.md §6), and the
+    /// warnings of that mapping (what `flexmbd static` on the `.dat` file approximates).
+    pub fn to_static_spec(&self) -> Result<(ModelSpec, Vec<Warning>), InputError> {
+        statics::convert(self).map(|c| (c.spec, c.warnings))
     }
 
-    /// The equivalent native TOML model, with the data TOML cannot express yet as comments.
-    pub fn to_toml(&self) -> Result<String, InputError> {
+    /// Build the core model for the kinematic check; errors name file and line.
+    pub fn to_model(&self) -> Result<Model, InputError> {
         let spec = self.to_spec()?;
-        crate::toml_writer::write_toml(&spec).map_err(|m| crate::error::InputError::File {
+        spec.build().map_err(|e| self.spec_error(e))
+    }
+
+    /// The model and settings for `flexmbd static`, with the warnings of the mapping (each
+    /// naming a line). `DYNE` deformations with stiffness are flexible, deformations SPACAR keeps
+    /// rigid stay rigid, `DYNX` coordinates are unknowns, loads and prescribed values reach
+    /// their final SPACAR values (initial + increment) at load factor 1.
+    pub fn to_model_file(&self) -> Result<(ModelFile, Vec<Warning>), InputError> {
+        let c = statics::convert(self)?;
+        let file = c.spec.build_static().map_err(|e| self.spec_error(e))?;
+        Ok((file, c.warnings))
+    }
+
+    /// The equivalent native TOML model with the static data; what TOML cannot express is kept
+    /// as comments.
+    pub fn to_toml(&self) -> Result<String, InputError> {
+        self.to_toml_with_warnings().map(|(t, _)| t)
+    }
+
+    /// [`Self::to_toml`] with the warnings of the mapping: those of [`Self::to_model_file`] and
+    /// those about what the TOML format cannot express (shear flexibilities, `DYNX` in statics).
+    /// They are also written into the file's header.
+    pub fn to_toml_with_warnings(&self) -> Result<(String, Vec<Warning>), InputError> {
+        let c = statics::convert(self)?;
+        // a file that does not read back is reported here, at its line
+        c.spec.build().map_err(|e| self.spec_error(e))?;
+        let text = crate::toml_writer::write_toml(&c.spec).map_err(|m| InputError::File {
             file: self.file.clone(),
             message: m,
-        })
+        })?;
+        let mut w = c.warnings;
+        w.extend(c.toml_warnings);
+        w.sort_by_key(|w| w.line);
+        Ok((text, w))
+    }
+
+    fn spec_error(&self, e: SpecError) -> InputError {
+        crate::error::at_line(
+            &self.file,
+            e.line.unwrap_or(1),
+            1,
+            format!("{} (in the flexmbd model built from this line)", e.error),
+        )
     }
 }
 

@@ -152,19 +152,300 @@ CROSSDIM 0.02 0.001
     // the user routine is a warning, nothing else is
     assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
     assert_eq!(m.warnings[0].line, 21);
-    // the TOML keeps it all as comments
+    // the TOML writes the static data, and keeps the rest as comments
     let toml = m.to_toml().unwrap();
     for needle in [
-        "XF 3 (\"3\"): force 0 1 0 (line 14)",
-        "DELXF 4 (\"3@4\"): moment 0 0 0.3 (line 15)",
-        "ITERSTEP 10 4 5e-7 1 3 0",
+        "# XF 3 0 1 0 (line 14): force, initial load",
+        "[[load]]\nnode = \"3\"\nforce = [0.0, 1.0, 0.0]\n",
+        "# DELXF 4 0 0 0.3 (line 15): moment, load increment",
+        "[[load]]\nnode = \"3@4\"\nmoment = [0.0, 0.0, 0.3]\n",
+        "[[mass]]\nnode = \"3\"\nm = 2.5\n",
+        "# INPUTX 3 2 0.01 (line 16), DELINPX 3 2 0.02 (line 17): coordinate y -> 0.03",
+        "[[prescribe]]\nnode = \"3\"\ndof = \"y\"\nvalue = 0.03\n",
+        "# ITERSTEP 10 4 5e-7 1 3 0 (line 19): steps = 4",
+        "[static]\nsteps = 4\ntol_force = 5e-7\ngravity = [0.0, 0.0, -9.81]\n",
+        "EA = 10.0\nGJ = 20.0\nEIy = 0.0\nEIz = 0.0\nrho_a = 0.5\nfixed = [1, 2]\n",
+        "XM 4 (\"3@4\"): inertia Ixx Ixy Ixz Iyy Iyz Izz 1 0 0 1 0 1 (line 13)",
         "USERSIG FORCES",
         "OUTXP 2 node 3 (\"3\") direction 2",
         "# ESTIFF: EA=10 GJ=20",
         "linearised state-space model (SPACAR mode 9)",
+        "line 11: ESIG 1: pre-stress",
     ] {
         assert!(toml.contains(needle), "{needle} not in\n{toml}");
     }
+    // the static model: XF + DELXF at load factor 1, the absolute input coordinate as a
+    // displacement, warnings for the initial values (more than one step) and the pre-stress
+    let (file, w) = m.to_model_file().unwrap();
+    assert_eq!(file.settings.steps, Some(4));
+    assert_eq!(file.settings.tol_force, Some(5e-7));
+    let lines: Vec<usize> = w.iter().map(|w| w.line).collect();
+    assert_eq!(lines, [11, 14, 16], "{w:?}");
+    let loads = &file.model.loads;
+    assert_eq!(loads.gravity, [0.0, 0.0, -9.81]);
+    assert_eq!(loads.nodal.len(), 2);
+    assert_eq!(loads.nodal[0].force, [0.0, 1.0, 0.0]);
+    assert_eq!(loads.nodal[1].moment, [0.0, 0.0, 0.3]);
+    assert_eq!(loads.point_masses, [(2, 2.5)]);
+    assert_eq!(loads.prescribed.len(), 1);
+    assert!((loads.prescribed[0].value - 0.03).abs() < 1e-15);
+}
+
+/// The roles of the deformations in statics and the model built for it.
+fn static_model(text: &str) -> (Model, Vec<Warning>) {
+    let (file, w) = parse(text)
+        .to_model_file()
+        .unwrap_or_else(|e| panic!("{e}"));
+    (file.model, w)
+}
+
+fn roles(model: &Model) -> Vec<flexmbd_core::statics::Role> {
+    flexmbd_core::statics::roles(model)
+}
+
+#[test]
+fn static_roles_follow_spacar() {
+    use flexmbd_core::statics::Role::{Flexible as F, Input as I, Rigid as R};
+    // beam 1: DYNE 3 4 with stiffness (flexible), 1 2 5 6 not listed but with stiffness (rigid);
+    // beam 2: DYNE 2 without stiffness (held), RLSE 5 (free, with EIz), INPUTE 1, 3 4 6 rigid;
+    // truss 3 not listed with EA (rigid: EA dropped); truss 4 DYNE with EA (flexible);
+    // hinge 5 RLSE 1 with k (flexible), hinge 6 not listed with k (rigid)
+    let text = "\
+X 1 0 0 0
+X 3 1 0 0
+X 5 2 0 0
+X 7 2 1 0
+BEAM 1 1 2 3 4 0 0 1
+BEAM 2 3 4 5 6 0 0 1
+TRUSS 3 1 7
+TRUSS 4 3 7
+HINGE 5 6 8 0 0 1
+HINGE 6 6 9 0 0 1
+RLSE 5 1
+DYNE 1 3 4
+DYNE 2 2
+RLSE 2 5
+INPUTE 2 1
+DYNE 4 1
+FIX 1
+FIX 2
+FIX 7
+FIX 8
+FIX 9
+END
+HALT
+ESTIFF 1 10 20 30 40
+ESTIFF 2 10 0 30 40
+ESTIFF 3 100
+ESTIFF 4 100
+ESTIFF 5 7
+ESTIFF 6 8
+INPUTE 2 1 0.001
+END
+END
+";
+    let (model, w) = static_model(text);
+    let r = roles(&model);
+    assert_eq!(&r[0..6], [R, R, F, F, R, R]);
+    assert_eq!(&r[6..12], [I, I, R, R, F, R]);
+    assert_eq!(&r[12..14], [R, F]);
+    assert_eq!(&r[14..17], [F, R, R]);
+    assert_eq!(&r[17..20], [R, R, R]);
+    // the prescribed deformation; the warnings for the DYNE without stiffness and for the
+    // initial value of the input (10 steps by default) name their lines
+    assert_eq!(model.loads.prescribed.len(), 1);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert_eq!((w[0].line, w[1].line), (13, 30));
+    assert!(w[0]
+        .message
+        .contains("DYNE 2: deformation(s) 2 have no stiffness"));
+    assert!(w[1].message.contains("INPUTE 2 1: an initial value"));
+    // the kinematic model is unchanged: DYNE is an input
+    let kin = parse(text).to_model().unwrap();
+    assert_eq!(kin.partition.e[2], flexmbd_core::DefKind::Input);
+    // and the TOML says the same as the static model
+    let toml = parse(text).to_toml().unwrap();
+    let back = crate::parse_model(&toml, "c.toml").unwrap_or_else(|e| panic!("{e}\n{toml}"));
+    assert_eq!(roles(&back), r);
+    assert_eq!(back.partition, model.partition);
+    assert!(toml.contains("fixed = [1, 2, 5, 6]"), "{toml}");
+}
+
+#[test]
+fn static_loads_moments_and_inputs() {
+    let base = "\
+X 1 0 0 0
+X 3 1 0 0
+X 5 2 0 0
+BEAM 1 1 2 3 4 0 0 1
+BEAM 2 3 4 5 6 0 0 1
+DYNE 1 1 2 3 4 5 6
+DYNE 2 1 2 3 4 5 6
+FIX 1
+FIX 2
+INPUTX 5 1
+INPUTX 6 4
+END
+HALT
+ESTIFF 1 1 2 3 4
+ESTIFF 2 1 2 3 4
+";
+    let model = |extra: &str| {
+        let text = format!("{base}{extra}END\nEND\n");
+        static_model(&text)
+    };
+    // pre-2017 generalised forces on λ0..λ3 become the moment f/2; λ0 is dropped with a warning
+    let (m, w) = model("DELXF 4 0.5 0 0 0.6\n");
+    assert_eq!(m.loads.nodal[0].moment, [0.0, 0.0, 0.3]);
+    assert_eq!(w.len(), 1);
+    assert_eq!(w[0].line, 16);
+    assert!(w[0].message.contains("on λ0"));
+    let m = parse(&format!("{base}DELXF 4 0 0 0 0.6\nEND\nEND\n"));
+    assert!(m.warnings[0].message.contains("converted to the moment"));
+    // XF + DELXF, one load per node; the initial load is a warning with more than one step only
+    let (m, w) = model("XF 3 0 1 0\nDELXF 3 0 2 0\nITERSTEP 10 1 1e-6\n");
+    assert_eq!(m.loads.nodal.len(), 1);
+    assert_eq!(m.loads.nodal[0].force, [0.0, 3.0, 0.0]);
+    assert!(w.is_empty(), "{w:?}");
+    let (_, w) = model("XF 3 0 1 0\nITERSTEP 10 3 1e-6\n");
+    assert_eq!(w.len(), 1);
+    assert_eq!(w[0].line, 16);
+    assert!(w[0].message.contains("over the 3 steps"));
+    // an absolute input coordinate is a displacement from the reference; an Euler parameter
+    // an angle φ = 2 asin(λ)
+    let (m, w) = model("INPUTX 5 1 2.0\nDELINPX 5 1 0.25\nDELINPX 6 4 0.5\n");
+    assert!(w.is_empty(), "{w:?}");
+    let p = &m.loads.prescribed;
+    assert_eq!(p.len(), 2);
+    assert_eq!(p[0].value, 0.25);
+    assert!((p[1].value - std::f64::consts::PI / 3.0).abs() < 1e-15);
+    // the prescribed angle reaches λ3 = 0.5 exactly at the end
+    let node = m.node_id("5@6").unwrap();
+    let opts = flexmbd_core::statics::StaticOptions {
+        steps: 2,
+        ..Default::default()
+    };
+    let sol = flexmbd_core::statics::solve(&m, &opts, |_, _| {}).unwrap();
+    let r = m.nodes[node].ix_rot.unwrap();
+    let x = &sol.steps[2].x;
+    assert!((x[r + 3] - 0.5).abs() < 1e-12, "{:?}", &x[r..r + 4]);
+    assert!((x[m.nodes[node].ix_pos] - 2.25).abs() < 1e-12);
+    // an initial value that moves the input: a warning (10 steps by default)
+    let (_, w) = model("INPUTX 5 1 2.1\n");
+    assert_eq!(w.len(), 1);
+    assert!(w[0].message.contains("over the 10 steps"));
+}
+
+#[test]
+fn static_mapping_errors_name_the_line() {
+    let base = "\
+X 1 0 0 0
+X 3 1 0 0
+BEAM 1 1 2 3 4 0 0 1
+DYNE 1 3 4
+FIX 1
+FIX 2
+INPUTX 4
+END
+HALT
+ESTIFF 1 1 2 3 4
+";
+    let cases: &[(&str, &str)] = &[
+        (
+            "DELINPX 4 2 0.1\nDELINPX 4 3 0.1\n",
+            "t.dat:12:1: INPUTX/DELINPX 4: several rotational inputs on one node are not supported",
+        ),
+        (
+            "INPUTX 4 3 0.8\nDELINPX 4 3 0.8\n",
+            "t.dat:11:1: INPUTX/DELINPX 4 3: the final Euler parameter λ2 = 1.6 is outside [−1, 1]",
+        ),
+        (
+            "ESTIFF 1 1 -2\n",
+            "t.dat:11:1: ESTIFF 1: the constants of a beam must be ≥ 0",
+        ),
+        ("XM 3 -1\n", "t.dat:11:1: mass on `3`"),
+    ];
+    for (extra, want) in cases {
+        let text = format!("{base}{extra}END\nEND\n");
+        let got = match parse(&text).to_model_file() {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("expected an error for\n{text}"),
+        };
+        assert!(got.starts_with(want), "\n{text}\ngot:  {got}\nwant: {want}");
+        // the kinematic check does not need the static data
+        parse(&text).to_model().unwrap();
+    }
+    // holding the other components at zero is one rotational input
+    let text = format!("{base}INPUTX 4 2 0\nDELINPX 4 4 0.1\nEND\nEND\n");
+    assert_eq!(static_model(&text).0.loads.prescribed.len(), 1);
+}
+
+#[test]
+fn static_masses_gravity_and_dynamic_coordinates() {
+    // a pendulum of an RBEAM on a hinge, a truss with mass; DYNX coordinates are unknowns in
+    // statics (their values ignored, with a warning) and inputs of the kinematic check
+    let text = "\
+X 1 0 0 0
+X 3 1 0 0
+X 5 1 -1 0
+RBEAM 1 1 2 3
+HINGE 2 7 2 0 0 1
+TRUSS 3 3 5
+RLSE 2 1
+FIX 1
+FIX 7
+FIX 5
+DYNX 2 4
+END
+HALT
+ESTIFF 2 5
+EM 1 2
+EM 3 0.5
+XM 3 1.5
+XM 2 1 0 0 1 0 1
+GRAVITY 0 -10 0
+INPUTX 2 4 0.1
+END
+END
+";
+    let m = parse(text);
+    let (file, w) = m.to_model_file().unwrap();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].line, 20);
+    assert!(w[0].message.contains("dynamic degree of freedom (DYNX)"));
+    let model = &file.model;
+    let id = |n: &str| model.node_id(n).unwrap();
+    let mut masses = model.loads.point_masses.clone();
+    masses.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    // RBEAM: 2 kg/m × 1 m, half at each end; truss 0.5 kg/m × 1 m; XM 1.5 kg on node 3
+    let want = {
+        let mut v = vec![
+            (id("1"), 1.0),
+            (id("3"), 1.0),
+            (id("3"), 0.25),
+            (id("5"), 0.25),
+            (id("3"), 1.5),
+        ];
+        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        v
+    };
+    assert_eq!(masses, want);
+    assert_eq!(model.loads.gravity, [0.0, -10.0, 0.0]);
+    let rz = model.nodes[id("1@2")]
+        .x_index(flexmbd_core::model::Dof::Rz)
+        .unwrap();
+    assert_eq!(model.partition.x[rz], flexmbd_core::CoordKind::Free);
+    let kin = m.to_model().unwrap();
+    assert_eq!(kin.partition.x[rz], flexmbd_core::CoordKind::Input);
+    // the TOML keeps DYNX as an input, and says so
+    let (toml, w) = m.to_toml_with_warnings().unwrap();
+    assert!(
+        w.iter().any(|w| w.line == 11 && w.message.contains("DYNX")),
+        "{w:?}"
+    );
+    let back = crate::parse_model(&toml, "c.toml").unwrap();
+    assert_eq!(back.partition, kin.partition);
+    assert_eq!(back.loads.point_masses.len(), 5);
 }
 
 #[test]

@@ -285,7 +285,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
                 (NodeKind::Translational | NodeKind::Rotational, 3) => {}
                 (NodeKind::Rotational, 4) => warnings.push(Warning {
                     line: v.line,
-                    message: format!("{item}: four values on a rotational node are the pre-2017 convention (generalised forces on λ0..λ3, i.e. 0 2Mx 2My 2Mz); kept as given"),
+                    message: format!("{item}: four values on a rotational node are the pre-2017 convention (generalised forces on λ0..λ3, i.e. 0 2Mx 2My 2Mz); converted to the moment (Mx, My, Mz) = (f1, f2, f3)/2, exact at the reference orientation (SPACAR before 2017 kept the generalised forces constant, which differs from a constant moment at large rotations)"),
                 }),
                 (k, n) => {
                     return Err(err(
