@@ -3,6 +3,8 @@
 //! Exit codes: 0 success; 1 numerical failure; 2 invalid input (file, line and item named);
 //! 3 `check --require-exact` on a model that is not exactly constrained.
 
+mod dynamics_cmd;
+
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use flexmbd_core::kinematics::advice::{advise, auto_generalised};
@@ -92,6 +94,11 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Linear state-space model (A, B, C, D) about a static equilibrium with named force/moment
+    /// inputs and displacement/velocity/acceleration outputs; JSON, MATLAB .m, Bode table.
+    Statespace(dynamics_cmd::StatespaceArgs),
+    /// Frequencies and support stiffness at every load step of the static solution.
+    Sweep(dynamics_cmd::SweepArgs),
     /// Convert a SPACAR .dat model to the native TOML format (SPACAR data the TOML format
     /// cannot express yet, such as stiffness, masses and loads, is written as comments).
     Convert {
@@ -174,6 +181,8 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
+        Command::Statespace(args) => dynamics_cmd::run_statespace(args),
+        Command::Sweep(args) => dynamics_cmd::run_sweep(args),
         Command::Modes {
             model,
             count,
@@ -321,13 +330,22 @@ fn run_static(
     let file = match extension(path).as_deref() {
         Some("toml") => flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?,
         Some("dat") => {
+            // stiffness, masses, loads, prescribed values, gravity and ITERSTEP are mapped
+            // (docs/spacar-import.md §6); what the mapping approximates is a warning
+            let m = read_spacar(path)?;
+            let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
+            for w in &warnings {
+                eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+            }
+            file
+        }
+        _ => {
             return Err(BadInput(format!(
-                "{}: statics of SPACAR .dat files is not supported yet (their stiffness and loads are read but not mapped); run `flexmbd convert` and add sections and loads to the TOML model",
+                "{}: unknown model format (expected a .toml file)",
                 path.display()
             ))
             .into())
         }
-        _ => return Err(BadInput(format!("{}: unknown model format (expected a .toml file)", path.display())).into()),
     };
     let (model, settings) = (file.model, file.settings);
     let mut opts = StaticOptions::default();

@@ -12,6 +12,7 @@ pub mod model_toml;
 pub mod modes_report;
 pub mod report;
 pub mod spacar;
+pub mod statespace_report;
 pub mod static_report;
 pub mod toml_writer;
 

@@ -86,18 +86,12 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
         let dtp = d_rotated(lp, ex);
         let dtq = d_rotated(lq, ex);
         let blocks: [(Vec<usize>, Vec<[f64; 3]>); 4] = [
-            (
-                (0..3).map(|k| xm[k]).collect(),
-                (0..3).map(unit).collect(),
-            ),
+            ((0..3).map(|k| xm[k]).collect(), (0..3).map(unit).collect()),
             (
                 (3..7).map(|k| xm[k]).collect(),
                 (0..4).map(|c| col(&dtp, c, b.l0)).collect(),
             ),
-            (
-                (7..10).map(|k| xm[k]).collect(),
-                (0..3).map(unit).collect(),
-            ),
+            ((7..10).map(|k| xm[k]).collect(), (0..3).map(unit).collect()),
             (
                 (10..14).map(|k| xm[k]).collect(),
                 (0..4).map(|c| col(&dtq, c, b.l0)).collect(),

@@ -22,12 +22,14 @@
 //! response of massless coordinates); they are reported.
 
 pub mod mass;
+pub mod state_space;
+pub mod sweep;
 
 use crate::elements::ElementKind;
 use crate::kinematics::columns;
 use crate::linalg::{numerical_rank, svd, sym_def_eigen, EigenError};
 use crate::model::{DefKind, Model, Partition};
-use crate::statics::linear::linearize;
+use crate::statics::linear::{linearize, Linearized};
 use crate::statics::{roles, Role, StepResult};
 use faer::Mat;
 
@@ -121,15 +123,61 @@ pub fn minimal_basis(model: &Model, x: &[f64]) -> Mat<f64> {
     &t * &z2
 }
 
-/// Natural frequencies and modes at a converged static state (at most `count` modes).
-pub fn modes(model: &Model, step: &StepResult, count: usize) -> Result<Modal, ModalError> {
+/// The linearised system at a static state in minimal coordinates, with its massless
+/// directions split off for static condensation.
+///
+/// With M0 = Q diag(m) Qᵀ, the coordinates y = Qᵀ δq split into massive (y_m, Q_m, masses
+/// m_m > 1e-12 max m) and massless ones (y₀, Q₀). The massless ones follow the massive ones
+/// quasi-statically, y₀ = −K₀₀⁻¹ K₀ₘ y_m + K₀₀⁻¹ Q₀ᵀ f, so that the massive ones see the
+/// condensed stiffness K_c = K_mm − K_m0 K₀₀⁻¹ K₀ₘ and the force Rᵀ Qᵀ f, R = [I; −K₀₀⁻¹ K₀ₘ].
+#[derive(Clone, Debug)]
+pub struct Reduced {
+    /// Minimal-coordinate basis Z (nx × ndof): δx = Z δq.
+    pub z: Mat<f64>,
+    /// Mass matrix in x (nx × nx).
+    pub mx: Mat<f64>,
+    /// Reduced mass M0 = Zᵀ M Z (symmetrised).
+    pub m0: Mat<f64>,
+    /// Reduced stiffness K0 + G0 = Zᵀ (K_m + K_g) Z (symmetrised).
+    pub k0: Mat<f64>,
+    /// Massive directions Q_m (ndof × n_m, orthonormal columns).
+    pub qm: Mat<f64>,
+    /// Masses of the massive directions (M0 restricted to Q_m is diagonal).
+    pub mm: Vec<f64>,
+    /// Massless directions Q₀ (ndof × n₀, orthonormal columns).
+    pub q0: Mat<f64>,
+    /// Condensed stiffness K_c (n_m × n_m).
+    pub kc: Mat<f64>,
+    /// K₀₀⁻¹ K₀ₘ (n₀ × n_m) when there are massless directions.
+    pub recover: Option<Mat<f64>>,
+    /// K₀₀ = Q₀ᵀ K0 Q₀ (n₀ × n₀, regular when `recover` is set).
+    pub k00: Mat<f64>,
+    /// Nodes with a free velocity direction without any inertia.
+    pub massless_nodes: Vec<usize>,
+}
+
+fn sym(a: Mat<f64>) -> Mat<f64> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
+/// The reduced matrices (Z, M0, K0 and the massless split) at a converged static state.
+pub fn reduced_matrices(model: &Model, step: &StepResult) -> Result<Reduced, ModalError> {
+    let lin = linearize(model, step);
+    reduced_matrices_with(model, step, &lin)
+}
+
+/// [`reduced_matrices`] with the linearisation of the state already at hand.
+pub fn reduced_matrices_with(
+    model: &Model,
+    step: &StepResult,
+    lin: &Linearized,
+) -> Result<Reduced, ModalError> {
     let z = minimal_basis(model, &step.x);
     let ndof = z.ncols();
     if ndof == 0 {
         return Err(ModalError::NoDof);
     }
     // stiffness on the free coordinates (statics unknown order) lifted to x
-    let lin = linearize(model, step);
     let mut kx = Mat::zeros(model.nx, model.nx);
     for i in 0..model.nx {
         let Some(ui) = lin.unknown[i] else { continue };
@@ -140,8 +188,6 @@ pub fn modes(model: &Model, step: &StepResult, count: usize) -> Result<Modal, Mo
         }
     }
     let mx = mass::mass_matrix(model, &step.x);
-    let sym =
-        |a: Mat<f64>| Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
     let k0 = sym(z.transpose() * &kx * &z);
     let m0 = sym(z.transpose() * &mx * &z);
     // nodes with a free velocity direction (translation or angular velocity) without inertia
@@ -181,18 +227,12 @@ pub fn modes(model: &Model, step: &StepResult, count: usize) -> Result<Modal, Mo
     let qm = Mat::from_fn(ndof, massive.len(), |i, j| q[(i, massive[j])]);
     let q0 = Mat::from_fn(ndof, zero.len(), |i, j| q[(i, zero[j])]);
     let kmm = sym(qm.transpose() * &k0 * &qm);
-    let mmm = Mat::from_fn(massive.len(), massive.len(), |i, j| {
-        if i == j {
-            s[massive[i]]
-        } else {
-            0.0
-        }
-    });
+    let mm: Vec<f64> = massive.iter().map(|&i| s[i]).collect();
     // static condensation: K_c = K_mm − K_m0 K_00⁻¹ K_0m, recover δq₀ = −K_00⁻¹ K_0m δq_m
+    let k00 = sym(q0.transpose() * &k0 * &q0);
     let (kc, recover) = if zero.is_empty() {
         (kmm, None)
     } else {
-        let k00 = sym(q0.transpose() * &k0 * &q0);
         let k0m = q0.transpose() * &k0 * &qm;
         let lu = k00.partial_piv_lu();
         let sol = faer::prelude::Solve::solve(&lu, &k0m);
@@ -210,31 +250,84 @@ pub fn modes(model: &Model, step: &StepResult, count: usize) -> Result<Modal, Mo
         }
         (sym(&kmm - k0m.transpose() * &sol), Some(sol))
     };
-    let (lam, v) = sym_def_eigen(
-        kc.as_ref(),
-        mmm.as_ref(),
-        "reduced mass",
-        "a mass-carrying direction has no inertia",
-    )?;
+    Ok(Reduced {
+        z,
+        mx,
+        m0,
+        k0,
+        qm,
+        mm,
+        q0,
+        kc,
+        recover,
+        k00,
+        massless_nodes,
+    })
+}
+
+impl Reduced {
+    /// Number of minimal coordinates.
+    pub fn ndof(&self) -> usize {
+        self.z.ncols()
+    }
+
+    /// Number of massless directions condensed out.
+    pub fn massless(&self) -> usize {
+        self.q0.ncols()
+    }
+
+    /// All eigenpairs of the condensed problem K_c y = ω² M_mm y: the eigenvalues ω²
+    /// ascending and the mass-normalised modes Φ in the minimal coordinates q (ndof × n_m,
+    /// massless directions recovered), so that Φᵀ M0 Φ = I and Φᵀ K0 Φ = diag(ω²).
+    pub fn eigen(&self) -> Result<(Vec<f64>, Mat<f64>), ModalError> {
+        let n = self.mm.len();
+        let mmm = Mat::from_fn(n, n, |i, j| if i == j { self.mm[i] } else { 0.0 });
+        let (lam, v) = sym_def_eigen(
+            self.kc.as_ref(),
+            mmm.as_ref(),
+            "reduced mass",
+            "a mass-carrying direction has no inertia",
+        )?;
+        let mut phi = &self.qm * &v;
+        if let Some(sol) = &self.recover {
+            let y0 = -(sol * &v);
+            phi += &self.q0 * &y0;
+        }
+        Ok((lam, phi))
+    }
+
+    /// Static flexibility of the massless directions, Q₀ K₀₀⁻¹ Q₀ᵀ (ndof × ndof): the part of
+    /// the static response K0⁻¹ that no mode carries (the massless coordinates respond to forces
+    /// on them instantaneously).
+    pub fn massless_flexibility(&self) -> Mat<f64> {
+        let n = self.ndof();
+        if self.q0.ncols() == 0 {
+            return Mat::zeros(n, n);
+        }
+        let lu = self.k00.partial_piv_lu();
+        let sol = faer::prelude::Solve::solve(&lu, self.q0.transpose());
+        &self.q0 * &sol
+    }
+}
+
+/// Natural frequencies and modes at a converged static state (at most `count` modes).
+pub fn modes(model: &Model, step: &StepResult, count: usize) -> Result<Modal, ModalError> {
+    let red = reduced_matrices(model, step)?;
+    let (lam, phi) = red.eigen()?;
     let nm = count.min(lam.len());
     let mut out = Vec::with_capacity(nm);
     for k in 0..nm {
-        // back to minimal coordinates, then to x
-        let ym = Mat::from_fn(massive.len(), 1, |i, _| v[(i, k)]);
-        let mut dq = &qm * &ym;
-        if let Some(sol) = &recover {
-            let y0 = -(sol * &ym);
-            dq += &q0 * &y0;
-        }
-        let dx = &z * &dq;
+        // back to x
+        let dq = Mat::from_fn(red.ndof(), 1, |i, _| phi[(i, k)]);
+        let dx = &red.z * &dq;
         let shape: Vec<f64> = (0..model.nx).map(|i| dx[(i, 0)]).collect();
-        out.push(describe(model, step, &mx, lam[k], shape));
+        out.push(describe(model, step, &red.mx, lam[k], shape));
     }
     Ok(Modal {
         modes: out,
-        ndof,
-        massless: zero.len(),
-        massless_nodes,
+        ndof: red.ndof(),
+        massless: red.massless(),
+        massless_nodes: red.massless_nodes,
     })
 }
 

@@ -1,0 +1,448 @@
+//! `flexmbd statespace` and `flexmbd sweep` (docs/state-space.md).
+
+use crate::{emit, extension, BadInput};
+use anyhow::Context;
+use flexmbd_core::dynamics::state_space::{
+    log_space, state_space, Input, Output, OutputKind, StateSpaceOptions,
+};
+use flexmbd_core::dynamics::sweep::sweep;
+use flexmbd_core::model::Dof;
+use flexmbd_core::statics::{solve, StaticOptions, StaticSolution};
+use flexmbd_core::Model;
+use flexmbd_io::statespace_report as report;
+use flexmbd_io::Settings;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Arguments of `flexmbd statespace`.
+#[derive(clap::Args)]
+pub struct StatespaceArgs {
+    /// Model file (.toml).
+    model: PathBuf,
+    /// An input: a force along (x, y, z) or a moment about (rx, ry, rz) a global axis on a node.
+    /// `NODE:x:moment` is the moment about x. Repeatable; the order is the column order of B.
+    #[arg(
+        long = "input",
+        value_name = "NODE:DIR[:force|moment]",
+        required = true
+    )]
+    inputs: Vec<String>,
+    /// An output: displacement (default), velocity or acceleration of a node along x, y, z or
+    /// its rotation about rx, ry, rz. Repeatable; the order is the row order of C.
+    #[arg(
+        long = "output",
+        value_name = "NODE:DIR[:disp|vel|acc]",
+        required = true
+    )]
+    outputs: Vec<String>,
+    /// Modal damping ratio ζ of every mode.
+    #[arg(
+        long,
+        default_value_t = 0.01,
+        value_name = "ZETA",
+        allow_negative_numbers = true
+    )]
+    damping: f64,
+    /// Keep only the lowest N modes (default: all modes that carry mass).
+    #[arg(long, value_name = "N")]
+    modes: Option<usize>,
+    /// Add the static flexibility of the dropped modes to D (displacement outputs), so a
+    /// truncated model keeps the exact static gain.
+    #[arg(long)]
+    static_correction: bool,
+    /// Linearise at this load step of the static solution (default: the last).
+    #[arg(long, value_name = "K")]
+    at_step: Option<usize>,
+    /// Number of load steps of the static solution (overrides [static] steps).
+    #[arg(long, value_name = "N")]
+    steps: Option<usize>,
+    /// Print the model as JSON (A, B, C, D as arrays of rows, names, frequencies, ζ).
+    #[arg(long)]
+    json: bool,
+    /// Write the model as a MATLAB/Octave script.
+    #[arg(long = "m", value_name = "FILE.m")]
+    m_file: Option<PathBuf>,
+    /// Write a Bode table (magnitude in output/input units, phase in degrees) as CSV.
+    #[arg(long, value_name = "FILE.csv")]
+    bode: Option<PathBuf>,
+    /// Number of log-spaced frequencies of the Bode table.
+    #[arg(long, default_value_t = 200, value_name = "N")]
+    bode_points: usize,
+    /// Lowest Bode frequency [Hz] (default: 0.1 × the first kept frequency).
+    #[arg(long, value_name = "HZ")]
+    bode_min: Option<f64>,
+    /// Highest Bode frequency [Hz] (default: 10 × the highest kept frequency).
+    #[arg(long, value_name = "HZ")]
+    bode_max: Option<f64>,
+}
+
+/// Arguments of `flexmbd sweep`.
+#[derive(clap::Args)]
+pub struct SweepArgs {
+    /// Model file (.toml).
+    model: PathBuf,
+    /// Number of frequencies per step.
+    #[arg(long, default_value_t = 6, value_name = "N")]
+    count: usize,
+    /// Report the support stiffness of this node at every step (repeatable; adds to
+    /// [static] compliance).
+    #[arg(long, value_name = "NODE")]
+    compliance: Vec<String>,
+    /// Support stiffness in the node's local axes in the table and CSV (default: global).
+    #[arg(long)]
+    local: bool,
+    /// Number of load steps (overrides [static] steps).
+    #[arg(long, value_name = "N")]
+    steps: Option<usize>,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
+    /// Also write the table as CSV.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Read a .toml model with its settings.
+fn read(path: &Path, command: &str) -> anyhow::Result<(Model, Settings)> {
+    match extension(path).as_deref() {
+        Some("toml") => {
+            let f = flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?;
+            Ok((f.model, f.settings))
+        }
+        _ => Err(BadInput(format!(
+            "{}: `{command}` reads .toml models",
+            path.display()
+        ))
+        .into()),
+    }
+}
+
+/// Static options from the file's settings and `--steps` (as `flexmbd static` does).
+fn static_options(settings: &Settings, steps: Option<usize>) -> anyhow::Result<StaticOptions> {
+    let mut opts = StaticOptions::default();
+    opts.steps = steps.or(settings.steps).unwrap_or(opts.steps);
+    if opts.steps == 0 {
+        return Err(BadInput("--steps must be at least 1".into()).into());
+    }
+    opts.max_iterations = settings.max_iterations.unwrap_or(opts.max_iterations);
+    opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
+    opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
+    Ok(opts)
+}
+
+/// `NODE:DIR[:KIND]` → (node, direction, kind). Node names may contain `:` (segments), so the
+/// spec is read from the right.
+fn split_spec<'a>(
+    flag: &str,
+    spec: &'a str,
+    kinds: &[&str],
+) -> Result<(String, Dof, Option<&'a str>), BadInput> {
+    let t: Vec<&str> = spec.split(':').collect();
+    let n = t.len();
+    let usage = || {
+        BadInput(format!(
+            "{flag} `{spec}`: expected NODE:DIR or NODE:DIR:KIND with DIR one of x, y, z, rx, ry, rz and KIND one of {}",
+            kinds.join(", ")
+        ))
+    };
+    if n < 2 || t.iter().any(|s| s.is_empty()) {
+        return Err(usage());
+    }
+    let dof = |s: &str| Dof::parse(&s.to_ascii_lowercase());
+    if let Some(d) = dof(t[n - 1]) {
+        return Ok((t[..n - 1].join(":"), d, None));
+    }
+    if n >= 3 {
+        if let Some(d) = dof(t[n - 2]) {
+            return Ok((t[..n - 2].join(":"), d, Some(t[n - 1])));
+        }
+        if kinds.contains(&t[n - 1].to_ascii_lowercase().as_str()) {
+            return Err(BadInput(format!(
+                "{flag} `{spec}`: unknown direction `{}` (expected x, y, z, rx, ry or rz)",
+                t[n - 2]
+            )));
+        }
+    }
+    Err(BadInput(format!(
+        "{flag} `{spec}`: unknown direction `{}` (expected x, y, z, rx, ry or rz{})",
+        t[n - 1],
+        if n >= 3 {
+            format!(", optionally followed by :{}", kinds.join("|"))
+        } else {
+            String::new()
+        }
+    )))
+}
+
+fn node_of(
+    model: &Model,
+    path: &Path,
+    flag: &str,
+    spec: &str,
+    name: &str,
+) -> Result<usize, BadInput> {
+    model.node_id(name).ok_or_else(|| {
+        BadInput(format!(
+            "{flag} `{spec}`: node `{name}` is not defined in {}",
+            path.display()
+        ))
+    })
+}
+
+fn needs_rotation(
+    model: &Model,
+    flag: &str,
+    spec: &str,
+    node: usize,
+    dof: Dof,
+) -> Result<(), BadInput> {
+    if dof.is_rotation() && !model.nodes[node].rot() {
+        return Err(BadInput(format!(
+            "{flag} `{spec}`: node `{}` has no rotation coordinates (only nodes of beams, hinges, rigid bodies with rotation, or `rot = true` have them)",
+            model.nodes[node].name
+        )));
+    }
+    Ok(())
+}
+
+/// Parse `--input NODE:DIR[:force|moment]`.
+pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<Input, BadInput> {
+    let flag = "--input";
+    let (name, dof, kind) = split_spec(flag, spec, &["force", "moment"])?;
+    let node = node_of(model, path, flag, spec, &name)?;
+    let dof = match kind.map(str::to_ascii_lowercase).as_deref() {
+        None => dof,
+        Some("force") if dof.is_rotation() => {
+            return Err(BadInput(format!(
+                "{flag} `{spec}`: a force acts along x, y or z; for a moment about {} write {name}:{} or {name}:{}:moment",
+                &dof.name()[1..],
+                dof.name(),
+                &dof.name()[1..]
+            )))
+        }
+        Some("force") => dof,
+        Some("moment") if dof.is_rotation() => dof,
+        Some("moment") => Dof::ALL[dof.index() + 3],
+        Some(k) => {
+            return Err(BadInput(format!(
+                "{flag} `{spec}`: unknown input kind `{k}` (expected force or moment)"
+            )))
+        }
+    };
+    needs_rotation(model, flag, spec, node, dof)?;
+    Ok(Input { node, dof })
+}
+
+/// Parse `--output NODE:DIR[:disp|vel|acc]`.
+pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, BadInput> {
+    let flag = "--output";
+    let (name, dof, kind) = split_spec(flag, spec, &["disp", "vel", "acc"])?;
+    let node = node_of(model, path, flag, spec, &name)?;
+    let kind = match kind.map(str::to_ascii_lowercase).as_deref() {
+        None => OutputKind::Disp,
+        Some("displacement" | "rotation") => OutputKind::Disp,
+        Some("velocity") => OutputKind::Vel,
+        Some("acceleration") => OutputKind::Acc,
+        Some(k) => OutputKind::parse(k).ok_or_else(|| {
+            BadInput(format!(
+                "{flag} `{spec}`: unknown output kind `{k}` (expected disp, vel or acc)"
+            ))
+        })?,
+    };
+    needs_rotation(model, flag, spec, node, dof)?;
+    Ok(Output { node, dof, kind })
+}
+
+fn solve_static(
+    model: &Model,
+    opts: &StaticOptions,
+    quiet: bool,
+) -> anyhow::Result<StaticSolution> {
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(opts.steps as u64)
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} step {pos}/{len} {elapsed}")
+            .expect("valid template"),
+    );
+    let sol = solve(model, opts, |k, _| bar.set_position(k as u64))
+        .context("the static equilibrium to linearise about was not found")?;
+    bar.finish_and_clear();
+    Ok(sol)
+}
+
+fn write_file(path: &Path, text: &str) -> anyhow::Result<()> {
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// `flexmbd statespace`.
+pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
+    let (model, settings) = read(&a.model, "statespace")?;
+    let inputs = a
+        .inputs
+        .iter()
+        .map(|s| parse_input(&model, &a.model, s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let outputs = a
+        .outputs
+        .iter()
+        .map(|s| parse_output(&model, &a.model, s))
+        .collect::<Result<Vec<_>, _>>()?;
+    if !(a.damping.is_finite() && a.damping >= 0.0) {
+        return Err(BadInput(format!(
+            "--damping must be a finite number >= 0, found {}",
+            a.damping
+        ))
+        .into());
+    }
+    if a.modes == Some(0) {
+        return Err(BadInput("--modes must be at least 1".into()).into());
+    }
+    if a.bode.is_some() && a.bode_points < 2 {
+        return Err(BadInput(format!(
+            "--bode-points must be at least 2, found {}",
+            a.bode_points
+        ))
+        .into());
+    }
+    for (flag, v) in [("--bode-min", a.bode_min), ("--bode-max", a.bode_max)] {
+        if let Some(v) = v {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(BadInput(format!(
+                    "{flag} must be a positive frequency in Hz, found {v}"
+                ))
+                .into());
+            }
+        }
+    }
+    if let (Some(lo), Some(hi)) = (a.bode_min, a.bode_max) {
+        if lo >= hi {
+            return Err(
+                BadInput(format!("--bode-min ({lo}) must be below --bode-max ({hi})")).into(),
+            );
+        }
+    }
+    let opts = static_options(&settings, a.steps)?;
+    let sol = solve_static(&model, &opts, true)?;
+    let k = a.at_step.unwrap_or(sol.steps.len() - 1);
+    let Some(step) = sol.steps.get(k) else {
+        return Err(BadInput(format!(
+            "--at-step {k}: the static solution has steps 0 to {}",
+            sol.steps.len() - 1
+        ))
+        .into());
+    };
+    let ss = state_space(
+        &model,
+        step,
+        &inputs,
+        &outputs,
+        &StateSpaceOptions {
+            damping: a.damping,
+            modes: a.modes,
+            static_correction: a.static_correction,
+        },
+    )
+    .context("state-space model failed")?;
+    let file = a.model.display().to_string();
+    let origin = report::Origin {
+        file: &file,
+        step: k,
+        load_factor: step.load_factor,
+    };
+    let mut written = Vec::new();
+    if let Some(p) = &a.m_file {
+        write_file(p, &report::statespace_m(&model, origin, &ss))?;
+        written.push(p.display().to_string());
+    }
+    if let Some(p) = &a.bode {
+        let band = ss.default_band(2);
+        let lo = a.bode_min.or(band.as_ref().map(|b| b[0]));
+        let hi = a.bode_max.or(band.as_ref().map(|b| b[1]));
+        let (Some(lo), Some(hi)) = (lo, hi) else {
+            return Err(BadInput(
+                "--bode: no kept mode has a positive frequency; give --bode-min and --bode-max"
+                    .into(),
+            )
+            .into());
+        };
+        if lo >= hi {
+            return Err(BadInput(format!(
+                "--bode: the frequency range {lo} to {hi} Hz is empty; give --bode-min below --bode-max"
+            ))
+            .into());
+        }
+        let freqs = log_space(lo, hi, a.bode_points);
+        write_file(p, &report::bode_csv(&model, &ss, &freqs))?;
+        written.push(p.display().to_string());
+    }
+    if a.json {
+        let mut text = serde_json::to_string_pretty(&report::statespace_json(&model, origin, &ss))?;
+        text.push('\n');
+        emit(&text)?;
+    } else {
+        let mut text = report::statespace_text(&model, origin, &ss);
+        for w in written {
+            text += &format!("\nwritten: {w}");
+        }
+        if !text.ends_with('\n') {
+            text.push('\n');
+        }
+        emit(&text)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `flexmbd sweep`.
+pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
+    let (model, settings) = read(&a.model, "sweep")?;
+    let mut nodes: Vec<String> = Vec::new();
+    for n in settings.compliance.iter().chain(&a.compliance) {
+        if !nodes.contains(n) {
+            nodes.push(n.clone());
+        }
+    }
+    let ids = nodes
+        .iter()
+        .map(|n| {
+            model.node_id(n).ok_or_else(|| {
+                BadInput(format!(
+                    "--compliance: node `{n}` is not defined in {}",
+                    a.model.display()
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let opts = static_options(&settings, a.steps)?;
+    let sol = solve_static(&model, &opts, a.quiet)?;
+    let points = sweep(&model, &sol.steps, a.count, &ids);
+    if a.count > 0 {
+        if let Some(Err(e)) = points
+            .iter()
+            .all(|p| p.eigenvalues.is_err())
+            .then(|| points[0].eigenvalues.clone())
+        {
+            return Err(anyhow::Error::new(e).context("modal analysis failed at every step"));
+        }
+    }
+    let file = a.model.display().to_string();
+    if let Some(p) = &a.csv {
+        write_file(p, &report::sweep_csv(&points, a.count, &nodes, a.local))?;
+    }
+    if a.json {
+        let mut text =
+            serde_json::to_string_pretty(&report::sweep_json(&model, &file, &points, &nodes))?;
+        text.push('\n');
+        emit(&text)?;
+    } else {
+        emit(&report::sweep_text(
+            &model, &file, &points, a.count, &nodes, a.local,
+        ))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}

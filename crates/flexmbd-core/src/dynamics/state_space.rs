@@ -1,0 +1,967 @@
+//! Linear state-space model about a static equilibrium (theory.md §13.5, issue 6 item 5).
+//!
+//! Modal form with mass-normalised modes Φ (Φᵀ M0 Φ = I, Φᵀ K0 Φ = Ω²) of the minimal
+//! coordinates, δq = Φ η, state z = (η, η̇):
+//!
+//! ```text
+//! ż = A z + B u,   y = C z + D u
+//! A = [[0, I], [−Ω², −2ζΩ]],   B = [[0], [Φᵀ Bq]]
+//! displacement:  C = [Cx Φ, 0]               D = Cx F Bq
+//! velocity:      C = [0, Cx Φ]               D = 0
+//! acceleration:  C = [−Cx Φ Ω², −Cx Φ 2ζΩ]   D = Cx Φ Φᵀ Bq
+//! ```
+//!
+//! - Inputs u: a force on a node along a global axis, f_x = e_i on the node's position, or a
+//!   moment about a global axis, f_λ = 2 Λ̄ᵀ e_k on its Euler parameters (the dual of
+//!   ω = 2 Λ̄ λ̇, as in `statics::linear::compliance`); Bq = Zᵀ f_x.
+//! - Outputs y: a translation of a node along a global axis (the row e_iᵀ Z) or its rotation
+//!   about a global axis (2 Λ̄ δλ: the row 2 (Λ̄ Z)_k), as displacement, velocity or acceleration.
+//!   The acceleration follows from ÿ = Cx Φ η̈ with η̈ = −Ω² η − 2ζΩ η̇ + Φᵀ Bq u.
+//! - Damping: modal, ratio ζ for every mode (SPACAR Light's choice). For an unstable mode
+//!   (ω² < 0) the damping term uses √|ω²|.
+//! - F: static flexibility not carried by the kept modes, so that displacement outputs have the
+//!   correct static gain. Always the massless part Q₀ K₀₀⁻¹ Q₀ᵀ (directions without inertia are
+//!   condensed statically and respond to a force on them instantaneously, see [`Reduced`]);
+//!   with `static_correction` also the residual flexibility of the dropped modes,
+//!   Σ_dropped φ_k φ_kᵀ / ω_k². Then the DC gain −C A⁻¹ B + D of a displacement output is
+//!   Cx K0⁻¹ Bq, the static compliance, because K0⁻¹ = Φ Ω⁻² Φᵀ + Q₀ K₀₀⁻¹ Q₀ᵀ (block
+//!   inverse with the Schur complement K_c). Velocity and acceleration outputs cannot contain
+//!   the instantaneous massless response (it would need u̇, ü): where it is non-zero the
+//!   model warns.
+//!
+//! Prescribed-motion inputs are not supported: the prescribed coordinates are held (their
+//! columns are not in Z), like supports.
+
+use super::{reduced_matrices_with, ModalError, Reduced};
+use crate::math::lambda_bar;
+use crate::model::{CoordKind, Dof, Model};
+use crate::statics::linear::linearize;
+use crate::statics::StepResult;
+use faer::{c64, Mat};
+
+/// A force (translational direction) or moment (rotational direction) input on a node, in
+/// global axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Input {
+    /// Node index.
+    pub node: usize,
+    /// x, y, z: force along the axis [N]; rx, ry, rz: moment about it [N·m].
+    pub dof: Dof,
+}
+
+/// What an output measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OutputKind {
+    /// Displacement [m] or rotation [rad].
+    Disp,
+    /// Velocity [m/s] or angular velocity [rad/s].
+    Vel,
+    /// Acceleration [m/s²] or angular acceleration [rad/s²].
+    Acc,
+}
+
+impl OutputKind {
+    /// Name as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            OutputKind::Disp => "disp",
+            OutputKind::Vel => "vel",
+            OutputKind::Acc => "acc",
+        }
+    }
+    /// Parse a command-line name.
+    pub fn parse(s: &str) -> Option<OutputKind> {
+        [OutputKind::Disp, OutputKind::Vel, OutputKind::Acc]
+            .into_iter()
+            .find(|k| k.name() == s)
+    }
+    /// Power of s in the transfer function (0, 1, 2).
+    fn order(self) -> i32 {
+        match self {
+            OutputKind::Disp => 0,
+            OutputKind::Vel => 1,
+            OutputKind::Acc => 2,
+        }
+    }
+}
+
+/// An output: motion of a node along (translations) or about (rotations) a global axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Output {
+    /// Node index.
+    pub node: usize,
+    /// Direction.
+    pub dof: Dof,
+    /// Displacement, velocity or acceleration.
+    pub kind: OutputKind,
+}
+
+impl Input {
+    /// `force` or `moment`.
+    pub fn kind_name(&self) -> &'static str {
+        if self.dof.is_rotation() {
+            "moment"
+        } else {
+            "force"
+        }
+    }
+    /// Name `NODE:DIR:force|moment`.
+    pub fn name(&self, model: &Model) -> String {
+        format!(
+            "{}:{}:{}",
+            model.nodes[self.node].name,
+            self.dof.name(),
+            self.kind_name()
+        )
+    }
+    /// SI unit.
+    pub fn unit(&self) -> &'static str {
+        if self.dof.is_rotation() {
+            "N·m"
+        } else {
+            "N"
+        }
+    }
+    /// Words, e.g. "force on tip along global y".
+    pub fn describe(&self, model: &Model) -> String {
+        let axis = axis_name(self.dof);
+        let node = &model.nodes[self.node].name;
+        if self.dof.is_rotation() {
+            format!("moment on {node} about global {axis}")
+        } else {
+            format!("force on {node} along global {axis}")
+        }
+    }
+}
+
+impl Output {
+    /// Name `NODE:DIR:disp|vel|acc`.
+    pub fn name(&self, model: &Model) -> String {
+        format!(
+            "{}:{}:{}",
+            model.nodes[self.node].name,
+            self.dof.name(),
+            self.kind.name()
+        )
+    }
+    /// SI unit.
+    pub fn unit(&self) -> &'static str {
+        match (self.dof.is_rotation(), self.kind) {
+            (false, OutputKind::Disp) => "m",
+            (false, OutputKind::Vel) => "m/s",
+            (false, OutputKind::Acc) => "m/s²",
+            (true, OutputKind::Disp) => "rad",
+            (true, OutputKind::Vel) => "rad/s",
+            (true, OutputKind::Acc) => "rad/s²",
+        }
+    }
+    /// Words, e.g. "velocity of tip along global y".
+    pub fn describe(&self, model: &Model) -> String {
+        let axis = axis_name(self.dof);
+        let node = &model.nodes[self.node].name;
+        let what = match (self.dof.is_rotation(), self.kind) {
+            (false, OutputKind::Disp) => "displacement",
+            (false, OutputKind::Vel) => "velocity",
+            (false, OutputKind::Acc) => "acceleration",
+            (true, OutputKind::Disp) => "rotation",
+            (true, OutputKind::Vel) => "angular velocity",
+            (true, OutputKind::Acc) => "angular acceleration",
+        };
+        let prep = if self.dof.is_rotation() {
+            "about"
+        } else {
+            "along"
+        };
+        format!("{what} of {node} {prep} global {axis}")
+    }
+}
+
+fn axis_name(d: Dof) -> &'static str {
+    ["x", "y", "z"][d.index() % 3]
+}
+
+/// Options of [`state_space`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StateSpaceOptions {
+    /// Modal damping ratio ζ of every mode (≥ 0).
+    pub damping: f64,
+    /// Keep the lowest N modes (None: all modes that carry mass).
+    pub modes: Option<usize>,
+    /// Add the residual static flexibility of the dropped modes to D (displacement outputs),
+    /// so that a truncated model keeps the exact static gain.
+    pub static_correction: bool,
+}
+
+impl Default for StateSpaceOptions {
+    fn default() -> Self {
+        StateSpaceOptions {
+            damping: 0.01,
+            modes: None,
+            static_correction: false,
+        }
+    }
+}
+
+/// Why a state-space model could not be built or evaluated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StateSpaceError {
+    /// The modal analysis failed.
+    #[error(transparent)]
+    Modal(#[from] ModalError),
+    /// A moment input or rotation output on a node without rotation coordinates.
+    #[error("node `{node}` has no rotation coordinates: a moment or rotation needs a rotational node (give it `rot = true` or connect it to a beam)")]
+    NoRotation {
+        /// Node name.
+        node: String,
+    },
+    /// Damping ratio not finite or negative.
+    #[error("the damping ratio must be a finite number >= 0, found {0}")]
+    BadDamping(f64),
+    /// `modes = Some(0)`.
+    #[error("at least one mode must be kept")]
+    NoModes,
+    /// No input or no output.
+    #[error("the state-space model needs at least one input and one output")]
+    NoInputOutput,
+    /// A kept mode has ω² ≈ 0: A is singular.
+    #[error("a kept mode has zero frequency (a rigid-body motion or mechanism): the static gain is unbounded")]
+    Singular,
+}
+
+/// A state-space model in modal coordinates with named inputs and outputs.
+#[derive(Clone, Debug)]
+pub struct StateSpace {
+    /// A (2n × 2n), state (η₁..ηₙ, η̇₁..η̇ₙ).
+    pub a: Mat<f64>,
+    /// B (2n × inputs).
+    pub b: Mat<f64>,
+    /// C (outputs × 2n).
+    pub c: Mat<f64>,
+    /// D (outputs × inputs).
+    pub d: Mat<f64>,
+    /// Inputs, in the order of the columns of B and D.
+    pub inputs: Vec<Input>,
+    /// Outputs, in the order of the rows of C and D.
+    pub outputs: Vec<Output>,
+    /// ω² [rad²/s²] of the kept modes, ascending (the eigenvalues of `modes`).
+    pub eigenvalues: Vec<f64>,
+    /// Modal damping ratio ζ.
+    pub damping: f64,
+    /// Number of minimal coordinates.
+    pub ndof: usize,
+    /// Number of massless directions condensed out (not states).
+    pub massless: usize,
+    /// Number of modes that carry mass (the most that can be kept).
+    pub available_modes: usize,
+    /// Whether D carries the residual flexibility of the dropped modes.
+    pub static_correction: bool,
+    /// Notes for the user (inputs on held directions, outputs that miss an instantaneous part).
+    pub warnings: Vec<String>,
+    /// Φᵀ Bq (n × inputs).
+    modal_b: Mat<f64>,
+    /// Cx Φ (outputs × n).
+    modal_c: Mat<f64>,
+    /// Static feedthrough of displacement outputs (outputs × inputs, zero rows otherwise).
+    d_static: Mat<f64>,
+}
+
+/// Force vector in x of a unit input; or the row of an output in x (same vector): for a
+/// translation e_i, for a rotation 2 Λ̄ᵀ e_k on the node's λ.
+fn unit_vector(
+    model: &Model,
+    step: &StepResult,
+    node: usize,
+    dof: Dof,
+) -> Result<Vec<f64>, StateSpaceError> {
+    let n = &model.nodes[node];
+    let mut v = vec![0.0; model.nx];
+    if dof.is_rotation() {
+        let Some(r) = n.ix_rot else {
+            return Err(StateSpaceError::NoRotation {
+                node: n.name.clone(),
+            });
+        };
+        let lb = lambda_bar(&[step.x[r], step.x[r + 1], step.x[r + 2], step.x[r + 3]]);
+        let k = dof.index() - 3;
+        for c in 0..4 {
+            v[r + c] = 2.0 * lb[k][c];
+        }
+    } else {
+        v[n.ix_pos + dof.index()] = 1.0;
+    }
+    Ok(v)
+}
+
+/// Whether a direction of a node is held by a support or prescribed input.
+fn held(model: &Model, node: usize, dof: Dof) -> bool {
+    model.nodes[node]
+        .x_index(dof)
+        .is_none_or(|i| model.partition.x[i] != CoordKind::Free)
+}
+
+/// Build the state-space model at a converged static state.
+pub fn state_space(
+    model: &Model,
+    step: &StepResult,
+    inputs: &[Input],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+) -> Result<StateSpace, StateSpaceError> {
+    let lin = linearize(model, step);
+    let red = reduced_matrices_with(model, step, &lin)?;
+    state_space_from(model, step, &red, inputs, outputs, opts)
+}
+
+/// [`state_space`] from reduced matrices already at hand.
+pub fn state_space_from(
+    model: &Model,
+    step: &StepResult,
+    red: &Reduced,
+    inputs: &[Input],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+) -> Result<StateSpace, StateSpaceError> {
+    let zeta = opts.damping;
+    if !(zeta.is_finite() && zeta >= 0.0) {
+        return Err(StateSpaceError::BadDamping(zeta));
+    }
+    if opts.modes == Some(0) {
+        return Err(StateSpaceError::NoModes);
+    }
+    if inputs.is_empty() || outputs.is_empty() {
+        return Err(StateSpaceError::NoInputOutput);
+    }
+    let mut warnings = Vec::new();
+    let (lam, phi) = red.eigen()?;
+    let available = lam.len();
+    let n = opts.modes.unwrap_or(available).min(available);
+    if let Some(k) = opts.modes {
+        if k > available {
+            warnings.push(format!(
+                "--modes {k}: the model has {available} modes that carry mass; all are kept"
+            ));
+        }
+    }
+    let ndof = red.ndof();
+    let (ni, no) = (inputs.len(), outputs.len());
+    // Bq = Zᵀ f (ndof × inputs), Cx = rows of the outputs in q (outputs × ndof)
+    let mut bq = Mat::zeros(ndof, ni);
+    for (j, inp) in inputs.iter().enumerate() {
+        let f = unit_vector(model, step, inp.node, inp.dof)?;
+        if held(model, inp.node, inp.dof) {
+            warnings.push(format!(
+                "input {} acts on a held direction (support or prescribed input): it has no effect",
+                inp.name(model)
+            ));
+        }
+        for r in 0..ndof {
+            bq[(r, j)] = (0..model.nx).map(|i| red.z[(i, r)] * f[i]).sum::<f64>();
+        }
+    }
+    let mut cx = Mat::zeros(no, ndof);
+    for (o, out) in outputs.iter().enumerate() {
+        let w = unit_vector(model, step, out.node, out.dof)?;
+        if held(model, out.node, out.dof) {
+            warnings.push(format!(
+                "output {} is a held direction (support or prescribed input): it is zero",
+                out.name(model)
+            ));
+        }
+        for r in 0..ndof {
+            cx[(o, r)] = (0..model.nx).map(|i| w[i] * red.z[(i, r)]).sum::<f64>();
+        }
+    }
+    let phik = Mat::from_fn(ndof, n, |i, k| phi[(i, k)]);
+    let modal_b = phik.transpose() * &bq; // n × ni
+    let modal_c = &cx * &phik; // no × n
+    let omega: Vec<f64> = lam[..n].iter().map(|l| l.abs().sqrt()).collect();
+    // static flexibility not carried by the kept modes
+    let massless_flex = red.massless_flexibility();
+    let d_massless = &cx * &massless_flex * &bq; // no × ni
+    let mut d_residual = Mat::<f64>::zeros(no, ni);
+    if opts.static_correction && n < available {
+        let phid = Mat::from_fn(ndof, available - n, |i, k| phi[(i, n + k)] / lam[n + k]);
+        let phidt = Mat::from_fn(ndof, available - n, |i, k| phi[(i, n + k)]);
+        d_residual = &cx * &phid * (phidt.transpose() * &bq);
+    }
+    let mut d_static = Mat::zeros(no, ni);
+    let fmax = massless_flex.norm_max();
+    for (o, out) in outputs.iter().enumerate() {
+        let co = cx.row(o).norm_l2();
+        for j in 0..ni {
+            // below this the massless response is round-off
+            let dm = if d_massless[(o, j)].abs() > 1e-9 * co * bq.col(j).norm_l2() * fmax {
+                d_massless[(o, j)]
+            } else {
+                0.0
+            };
+            if out.kind == OutputKind::Disp {
+                d_static[(o, j)] = dm + d_residual[(o, j)];
+            } else if dm != 0.0 {
+                warnings.push(format!(
+                    "{} responds instantaneously to {} through coordinates without inertia; that part (proportional to the input's derivative) is not in the model",
+                    out.name(model),
+                    inputs[j].name(model)
+                ));
+            }
+        }
+    }
+    // assemble A, B, C, D
+    let ns = 2 * n;
+    let mut a = Mat::zeros(ns, ns);
+    for k in 0..n {
+        a[(k, n + k)] = 1.0;
+        a[(n + k, k)] = -lam[k];
+        a[(n + k, n + k)] = -2.0 * zeta * omega[k];
+    }
+    let mut b = Mat::zeros(ns, ni);
+    for k in 0..n {
+        for j in 0..ni {
+            b[(n + k, j)] = modal_b[(k, j)];
+        }
+    }
+    let mut c = Mat::zeros(no, ns);
+    let mut d = Mat::zeros(no, ni);
+    for (o, out) in outputs.iter().enumerate() {
+        for k in 0..n {
+            let ck = modal_c[(o, k)];
+            match out.kind {
+                OutputKind::Disp => c[(o, k)] = ck,
+                OutputKind::Vel => c[(o, n + k)] = ck,
+                OutputKind::Acc => {
+                    c[(o, k)] = -ck * lam[k];
+                    c[(o, n + k)] = -ck * 2.0 * zeta * omega[k];
+                }
+            }
+        }
+        for j in 0..ni {
+            d[(o, j)] = match out.kind {
+                OutputKind::Disp => d_static[(o, j)],
+                OutputKind::Vel => 0.0,
+                OutputKind::Acc => (0..n).map(|k| modal_c[(o, k)] * modal_b[(k, j)]).sum(),
+            };
+        }
+    }
+    Ok(StateSpace {
+        a,
+        b,
+        c,
+        d,
+        inputs: inputs.to_vec(),
+        outputs: outputs.to_vec(),
+        eigenvalues: lam[..n].to_vec(),
+        damping: zeta,
+        ndof,
+        massless: red.massless(),
+        available_modes: available,
+        static_correction: opts.static_correction,
+        warnings,
+        modal_b,
+        modal_c,
+        d_static,
+    })
+}
+
+impl StateSpace {
+    /// Number of kept modes (the state has twice as many entries).
+    pub fn n_modes(&self) -> usize {
+        self.eigenvalues.len()
+    }
+
+    /// Frequencies of the kept modes [Hz] (NaN for ω² < 0).
+    pub fn frequencies(&self) -> Vec<f64> {
+        self.eigenvalues
+            .iter()
+            .map(|&l| {
+                if l >= 0.0 {
+                    l.sqrt() / (2.0 * std::f64::consts::PI)
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    }
+
+    /// Static (DC) gain −C A⁻¹ B + D (outputs × inputs), from a dense LU of A.
+    pub fn dc_gain(&self) -> Result<Mat<f64>, StateSpaceError> {
+        let amax = self.a.norm_max();
+        if self
+            .eigenvalues
+            .iter()
+            .any(|l| l.abs() <= 1e-12 * amax.max(1.0))
+        {
+            return Err(StateSpaceError::Singular);
+        }
+        let lu = self.a.partial_piv_lu();
+        let sol = faer::prelude::Solve::solve(&lu, &self.b);
+        let res = &self.a * &sol - &self.b;
+        if !sol.norm_max().is_finite()
+            || res.norm_max() > 1e-8 * (amax * sol.norm_max() + self.b.norm_max())
+        {
+            return Err(StateSpaceError::Singular);
+        }
+        Ok(&self.d - &self.c * &sol)
+    }
+
+    /// Frequency response G(i2πf) = C (i2πf I − A)⁻¹ B + D (outputs × inputs), evaluated mode
+    /// by mode: Σₖ cₖ bₖ sᵖ / (s² + 2ζωₖ s + ωₖ²) plus the static feedthrough, with p = 0, 1, 2
+    /// for displacement, velocity and acceleration outputs.
+    pub fn frequency_response(&self, f_hz: f64) -> Vec<Vec<c64>> {
+        let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f_hz);
+        let n = self.n_modes();
+        let den: Vec<c64> = (0..n)
+            .map(|k| {
+                let w = self.eigenvalues[k].abs().sqrt();
+                s * s + s * (2.0 * self.damping * w) + self.eigenvalues[k]
+            })
+            .collect();
+        self.outputs
+            .iter()
+            .enumerate()
+            .map(|(o, out)| {
+                let sp = s.powi(out.kind.order());
+                (0..self.inputs.len())
+                    .map(|j| {
+                        let mut g = c64::new(self.d_static[(o, j)], 0.0);
+                        for k in 0..n {
+                            g += sp * (self.modal_c[(o, k)] * self.modal_b[(k, j)]) / den[k];
+                        }
+                        g
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// `count` log-spaced frequencies [Hz] from 0.1 × the lowest positive to 10 × the highest
+    /// kept frequency (None when no kept mode has a positive frequency).
+    pub fn default_band(&self, count: usize) -> Option<Vec<f64>> {
+        let f: Vec<f64> = self
+            .frequencies()
+            .into_iter()
+            .filter(|f| f.is_finite() && *f > 0.0)
+            .collect();
+        let lo = f.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = f.iter().copied().fold(0.0f64, f64::max);
+        if f.is_empty() {
+            return None;
+        }
+        Some(log_space(0.1 * lo, 10.0 * hi, count))
+    }
+}
+
+/// A dense matrix as a vector of rows (row-major), for reports.
+pub fn to_rows(m: &Mat<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+        .collect()
+}
+
+/// `count` log-spaced values from `lo` to `hi` (both included; `lo` alone for count 1).
+pub fn log_space(lo: f64, hi: f64, count: usize) -> Vec<f64> {
+    if count <= 1 {
+        return vec![lo; count];
+    }
+    let (a, b) = (lo.ln(), hi.ln());
+    (0..count)
+        .map(|i| (a + (b - a) * i as f64 / (count - 1) as f64).exp())
+        .collect()
+}
+
+/// Bode magnitude (absolute, output units per input unit) and phase [deg] of a response
+/// sequence, the phase unwrapped along the sequence (continuous, starting in (−180, 180]).
+pub fn magnitude_phase(g: &[c64]) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(g.len());
+    let mut prev: Option<f64> = None;
+    for z in g {
+        let mut p = z.arg().to_degrees();
+        if let Some(q) = prev {
+            p += 360.0 * ((q - p) / 360.0).round();
+        }
+        prev = Some(p);
+        out.push((z.norm(), p));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::modes;
+    use crate::model::{ElementSpec, ModelBuilder};
+    use crate::section::BeamProps;
+    use crate::statics::linear::compliance;
+    use crate::statics::{solve, StaticOptions};
+
+    /// Cantilever of `n` beams along x, clamped at n0, tip mass at the free end. With
+    /// `rotary` the beams carry rotary inertia; without it the twist of every node is massless
+    /// (the Hermite translational mass sees bending rotations through the end tangents, but not
+    /// the twist about the beam axis), so those directions are condensed.
+    fn cantilever(n: usize, rotary: bool, axial_load: f64) -> Model {
+        let l = 0.1;
+        let mut b = ModelBuilder::new("cantilever");
+        for i in 0..=n {
+            b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
+                .unwrap();
+        }
+        let props = BeamProps {
+            ea: 2e6,
+            gj: 0.7,
+            eiy: 1.0,
+            eiz: 3.0,
+            rho_a: 0.1,
+            rho_i: if rotary { [2e-6, 1e-6, 1e-6] } else { [0.0; 3] },
+            ..Default::default()
+        };
+        for i in 0..n {
+            let name = format!("b{i}");
+            b.add_element(
+                &name,
+                &[&format!("n{i}"), &format!("n{}", i + 1)],
+                ElementSpec::Beam {
+                    orient: Some([0.0, 0.0, 1.0]),
+                    ct: 0.0,
+                },
+                &[],
+                &[],
+            )
+            .unwrap();
+            b.set_beam_props(&name, props).unwrap();
+        }
+        b.fix("n0", None).unwrap();
+        let tip = format!("n{n}");
+        b.add_point_mass(&tip, 0.05).unwrap();
+        if axial_load != 0.0 {
+            b.add_load(&tip, [axial_load, 0.0, 0.0], [0.0; 3]).unwrap();
+        }
+        b.build().unwrap()
+    }
+
+    fn last_step(model: &Model) -> StepResult {
+        let mut sol = solve(
+            model,
+            &StaticOptions {
+                steps: 2,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        sol.steps.pop().unwrap()
+    }
+
+    fn all_io(model: &Model, node: usize) -> (Vec<Input>, Vec<Output>) {
+        let _ = model;
+        let inputs = Dof::ALL.iter().map(|&dof| Input { node, dof }).collect();
+        let outputs = Dof::ALL
+            .iter()
+            .map(|&dof| Output {
+                node,
+                dof,
+                kind: OutputKind::Disp,
+            })
+            .collect();
+        (inputs, outputs)
+    }
+
+    /// max |a − b| / max |b| over the 6 × 6 block.
+    fn rel_err(a: &Mat<f64>, b: &[[f64; 6]; 6]) -> f64 {
+        let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let mut e = 0.0f64;
+        for i in 0..6 {
+            for j in 0..6 {
+                // entries are compared relative to their row and column scale (translations
+                // and rotations differ by orders of magnitude)
+                let s = (b[i][i].abs() * b[j][j].abs()).sqrt().max(1e-14 * scale);
+                e = e.max((a[(i, j)] - b[i][j]).abs() / s);
+            }
+        }
+        e
+    }
+
+    fn check_dc_gain(model: &Model, opts: &StateSpaceOptions) -> (StateSpace, f64) {
+        let step = last_step(model);
+        let tip = model
+            .node_id(&format!("n{}", model.nodes.len() - 1))
+            .unwrap();
+        let (inputs, outputs) = all_io(model, tip);
+        let ss = state_space(model, &step, &inputs, &outputs, opts).unwrap();
+        let lin = linearize(model, &step);
+        let c = compliance(model, &lin, &step, tip).unwrap();
+        let dc = ss.dc_gain().unwrap();
+        (ss.clone(), rel_err(&dc, &c.global))
+    }
+
+    #[test]
+    fn dc_gain_equals_static_compliance_all_modes() {
+        // (a) force/moment inputs and displacement/rotation outputs on the tip, all modes
+        for rotary in [true, false] {
+            for load in [0.0, -20.0, 50.0] {
+                let model = cantilever(4, rotary, load);
+                let (ss, err) = check_dc_gain(&model, &StateSpaceOptions::default());
+                assert!(err < 1e-6, "rotary {rotary}, load {load}: {err}");
+                assert_eq!(ss.massless > 0, !rotary);
+                assert_eq!(ss.n_modes(), ss.ndof - ss.massless);
+            }
+        }
+    }
+
+    #[test]
+    fn condensed_model_needs_the_massless_feedthrough() {
+        // without rotary inertia the twist is massless: the tip rotation about x responds to a
+        // moment about x only through D (no mode carries it)
+        let model = cantilever(4, false, 0.0);
+        let (ss, _) = check_dc_gain(&model, &StateSpaceOptions::default());
+        let (rx, ry) = (3, 4);
+        assert!(ss.d[(rx, rx)] > 0.0);
+        let dc = ss.dc_gain().unwrap();
+        assert!((dc[(rx, rx)] - ss.d[(rx, rx)]).abs() < 1e-9 * dc[(rx, rx)]);
+        // a force on the (massive) tip translation has no feedthrough
+        for o in 0..6 {
+            for j in 0..3 {
+                assert!(ss.d[(o, j)].abs() < 1e-12 * dc[(1, 1)], "D[{o}, {j}]");
+            }
+        }
+        // bending rotations carry mass through the Hermite tangents: no feedthrough there
+        assert!(ss.d[(ry, ry)].abs() < 1e-9 * dc[(ry, ry)]);
+    }
+
+    #[test]
+    fn truncated_model_keeps_dc_gain_with_static_correction() {
+        for rotary in [true, false] {
+            let model = cantilever(4, rotary, -20.0);
+            let opts = StateSpaceOptions {
+                modes: Some(3),
+                static_correction: true,
+                ..Default::default()
+            };
+            let (ss, err) = check_dc_gain(&model, &opts);
+            assert_eq!(ss.n_modes(), 3);
+            assert!(err < 1e-6, "rotary {rotary}: {err}");
+            // without the correction a truncated model misses the static part of higher modes
+            let opts = StateSpaceOptions {
+                modes: Some(3),
+                ..Default::default()
+            };
+            let (_, err) = check_dc_gain(&model, &opts);
+            assert!(err > 1e-6, "rotary {rotary}: {err}");
+        }
+    }
+
+    #[test]
+    fn eigenvalues_of_a_are_the_damped_modal_poles() {
+        // (b) eig(A) = −ζω ± iω√(1 − ζ²) for the frequencies of `modes`
+        let model = cantilever(4, true, 30.0);
+        let step = last_step(&model);
+        let tip = model.node_id("n4").unwrap();
+        let zeta = 0.05;
+        let ss = state_space(
+            &model,
+            &step,
+            &[Input {
+                node: tip,
+                dof: Dof::Y,
+            }],
+            &[Output {
+                node: tip,
+                dof: Dof::Y,
+                kind: OutputKind::Disp,
+            }],
+            &StateSpaceOptions {
+                damping: zeta,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let modal = modes(&model, &step, usize::MAX).unwrap();
+        assert_eq!(modal.modes.len(), ss.n_modes());
+        let mut poles = ss.a.eigenvalues().unwrap();
+        poles.sort_by(|a, b| {
+            a.im.abs()
+                .total_cmp(&b.im.abs())
+                .then(a.im.total_cmp(&b.im))
+        });
+        for (k, m) in modal.modes.iter().enumerate() {
+            let w = 2.0 * std::f64::consts::PI * m.frequency;
+            let re = -zeta * w;
+            let im = w * (1.0 - zeta * zeta).sqrt();
+            for (p, sign) in [(poles[2 * k], -1.0), (poles[2 * k + 1], 1.0)] {
+                assert!(
+                    (p.re - re).abs() < 1e-9 * w && (p.im - sign * im).abs() < 1e-9 * w,
+                    "mode {k}: pole {p} vs {re} ± {im}i"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn bode_far_below_resonance_is_the_dc_gain() {
+        // (c) |G| and phase at f ≪ f1 equal the DC gain: the magnitude error is ~ (f/f1)², the
+        // phase ~ 2ζ f/f1 rad, so at f = 1e-5 f1 both are below 1e-6
+        for rotary in [true, false] {
+            let model = cantilever(4, rotary, 0.0);
+            let step = last_step(&model);
+            let tip = model.node_id("n4").unwrap();
+            let (inputs, outputs) = all_io(&model, tip);
+            let ss = state_space(
+                &model,
+                &step,
+                &inputs,
+                &outputs,
+                &StateSpaceOptions::default(),
+            )
+            .unwrap();
+            let dc = ss.dc_gain().unwrap();
+            let f = 1e-5 * ss.frequencies()[0];
+            let g = ss.frequency_response(f);
+            for o in 0..6 {
+                for j in 0..6 {
+                    let s = (dc[(o, o)].abs() * dc[(j, j)].abs()).sqrt();
+                    assert!(
+                        (g[o][j] - c64::new(dc[(o, j)], 0.0)).norm() < 1e-6 * s,
+                        "({o}, {j}): {} vs {}",
+                        g[o][j],
+                        dc[(o, j)]
+                    );
+                }
+            }
+            // collocated displacement/force: magnitude = compliance, phase 0
+            let mp = magnitude_phase(&[g[1][1]]);
+            assert!((mp[0].0 - dc[(1, 1)]).abs() < 1e-6 * dc[(1, 1)]);
+            assert!(mp[0].1.abs() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn frequency_response_matches_dense_resolvent() {
+        // the modal evaluation equals C (sI − A)⁻¹ B + D for every output kind
+        let model = cantilever(3, true, 10.0);
+        let step = last_step(&model);
+        let tip = model.node_id("n3").unwrap();
+        let mid = model.node_id("n2").unwrap();
+        let inputs = [
+            Input {
+                node: tip,
+                dof: Dof::Y,
+            },
+            Input {
+                node: mid,
+                dof: Dof::Rz,
+            },
+        ];
+        let outputs: Vec<Output> = [OutputKind::Disp, OutputKind::Vel, OutputKind::Acc]
+            .into_iter()
+            .flat_map(|kind| {
+                [
+                    Output {
+                        node: tip,
+                        dof: Dof::Y,
+                        kind,
+                    },
+                    Output {
+                        node: mid,
+                        dof: Dof::Rz,
+                        kind,
+                    },
+                ]
+            })
+            .collect();
+        let ss = state_space(
+            &model,
+            &step,
+            &inputs,
+            &outputs,
+            &StateSpaceOptions {
+                damping: 0.02,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        for f in [0.3 * ss.frequencies()[0], 1.7 * ss.frequencies()[1]] {
+            let w = 2.0 * std::f64::consts::PI * f;
+            let ns = ss.a.nrows();
+            let m = Mat::<c64>::from_fn(ns, ns, |i, j| {
+                let d = if i == j {
+                    c64::new(0.0, w)
+                } else {
+                    c64::new(0.0, 0.0)
+                };
+                d - c64::new(ss.a[(i, j)], 0.0)
+            });
+            let bc = Mat::<c64>::from_fn(ns, 2, |i, j| c64::new(ss.b[(i, j)], 0.0));
+            let x = faer::prelude::Solve::solve(&m.partial_piv_lu(), &bc);
+            let g = ss.frequency_response(f);
+            for o in 0..outputs.len() {
+                for j in 0..2 {
+                    let mut want = c64::new(ss.d[(o, j)], 0.0);
+                    for i in 0..ns {
+                        want += x[(i, j)] * ss.c[(o, i)];
+                    }
+                    assert!(
+                        (g[o][j] - want).norm() < 1e-9 * want.norm().max(1e-30),
+                        "f {f}, output {o}, input {j}: {} vs {want}",
+                        g[o][j]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn names_and_errors() {
+        let model = cantilever(2, true, 0.0);
+        let tip = model.node_id("n2").unwrap();
+        let i = Input {
+            node: tip,
+            dof: Dof::Rz,
+        };
+        assert_eq!(i.name(&model), "n2:rz:moment");
+        assert_eq!(i.describe(&model), "moment on n2 about global z");
+        let o = Output {
+            node: tip,
+            dof: Dof::X,
+            kind: OutputKind::Acc,
+        };
+        assert_eq!(o.name(&model), "n2:x:acc");
+        assert_eq!(o.unit(), "m/s²");
+        let step = last_step(&model);
+        let bad = StateSpaceOptions {
+            damping: -0.1,
+            ..Default::default()
+        };
+        assert_eq!(
+            state_space(&model, &step, &[i], &[o], &bad).unwrap_err(),
+            StateSpaceError::BadDamping(-0.1)
+        );
+        // an input on the clamped node is held: warning, zero column
+        let g = model.node_id("n0").unwrap();
+        let ss = state_space(
+            &model,
+            &step,
+            &[Input {
+                node: g,
+                dof: Dof::X,
+            }],
+            &[o],
+            &StateSpaceOptions::default(),
+        )
+        .unwrap();
+        assert!(ss.warnings[0].contains("held"), "{:?}", ss.warnings);
+        assert_eq!(ss.b.norm_max(), 0.0);
+    }
+
+    #[test]
+    fn log_space_and_phase_unwrap() {
+        let f = log_space(1.0, 100.0, 3);
+        assert!((f[1] - 10.0).abs() < 1e-12 && (f[2] - 100.0).abs() < 1e-12);
+        let g = [
+            c64::new(1.0, 0.0),
+            c64::new(0.0, -1.0),
+            c64::new(-1.0, -1e-9),
+            c64::new(-1.0, 1e-9),
+        ];
+        let mp = magnitude_phase(&g);
+        assert!((mp[3].1 + 180.0).abs() < 1e-6, "{mp:?}");
+    }
+}

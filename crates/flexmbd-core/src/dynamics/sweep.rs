@@ -1,0 +1,162 @@
+//! Stroke sweep (issue 6 item 4): the lowest natural frequencies and the support stiffness of
+//! chosen nodes at every load step of a static solution.
+//!
+//! Once the static solution exists the steps are independent, so they are linearised in
+//! parallel (rayon); faer's own parallelism inside a worker nests in the same rayon pool.
+//! The values are those of `dynamics::modes` and `statics::linear::compliance` at the step.
+
+use super::{reduced_matrices_with, ModalError};
+use crate::model::Model;
+use crate::statics::linear::{compliance, linearize, Compliance, LinearError};
+use crate::statics::StepResult;
+use rayon::prelude::*;
+
+/// The linearised results of one load step.
+#[derive(Clone, Debug)]
+pub struct SweepPoint {
+    /// Step index (0: unloaded).
+    pub step: usize,
+    /// Load factor of the step.
+    pub load_factor: f64,
+    /// ω² [rad²/s²] of the lowest modes, ascending, or why the modal analysis failed here.
+    pub eigenvalues: Result<Vec<f64>, ModalError>,
+    /// Compliance of each requested node, or why it is unbounded here.
+    pub compliance: Vec<Result<Compliance, LinearError>>,
+}
+
+impl SweepPoint {
+    /// Frequencies [Hz] (NaN for ω² < 0: unstable), if the modal analysis succeeded.
+    pub fn frequencies(&self) -> Option<Vec<f64>> {
+        self.eigenvalues.as_ref().ok().map(|l| {
+            l.iter()
+                .map(|&l| {
+                    if l >= 0.0 {
+                        l.sqrt() / (2.0 * std::f64::consts::PI)
+                    } else {
+                        f64::NAN
+                    }
+                })
+                .collect()
+        })
+    }
+}
+
+/// Frequencies (lowest `count`) and compliances of `nodes` at every step, in step order.
+pub fn sweep(
+    model: &Model,
+    steps: &[StepResult],
+    count: usize,
+    nodes: &[usize],
+) -> Vec<SweepPoint> {
+    steps
+        .par_iter()
+        .enumerate()
+        .map(|(k, st)| {
+            let lin = linearize(model, st);
+            let eigenvalues = if count == 0 {
+                Ok(Vec::new())
+            } else {
+                reduced_matrices_with(model, st, &lin)
+                    .and_then(|r| r.eigen())
+                    .map(|(lam, _)| lam.into_iter().take(count).collect())
+            };
+            let compliance = nodes
+                .iter()
+                .map(|&n| compliance(model, &lin, st, n))
+                .collect();
+            SweepPoint {
+                step: k,
+                load_factor: st.load_factor,
+                eigenvalues,
+                compliance,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::modes;
+    use crate::model::{ElementSpec, ModelBuilder};
+    use crate::section::BeamProps;
+    use crate::statics::{solve, StaticOptions};
+
+    #[test]
+    fn sweep_equals_modes_and_compliance_at_every_step() {
+        // a cantilever with a tip mass under a growing compressive and lateral tip load
+        let mut b = ModelBuilder::new("c");
+        for i in 0..=4 {
+            b.add_node(&format!("n{i}"), [0.025 * i as f64, 0.0, 0.0], false)
+                .unwrap();
+        }
+        for i in 0..4 {
+            let name = format!("b{i}");
+            b.add_element(
+                &name,
+                &[&format!("n{i}"), &format!("n{}", i + 1)],
+                ElementSpec::Beam {
+                    orient: Some([0.0, 0.0, 1.0]),
+                    ct: 0.0,
+                },
+                &[],
+                &[],
+            )
+            .unwrap();
+            b.set_beam_props(
+                &name,
+                BeamProps {
+                    ea: 1e6,
+                    gj: 1.0,
+                    eiy: 1.0,
+                    eiz: 2.0,
+                    rho_a: 0.1,
+                    rho_i: [1e-6, 5e-7, 5e-7],
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+        }
+        b.fix("n0", None).unwrap();
+        b.add_point_mass("n4", 0.02).unwrap();
+        b.add_load("n4", [-100.0, 0.0, 5.0], [0.0; 3]).unwrap();
+        let model = b.build().unwrap();
+        let sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 4,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let tip = model.node_id("n4").unwrap();
+        let mid = model.node_id("n2").unwrap();
+        let pts = sweep(&model, &sol.steps, 3, &[tip, mid]);
+        assert_eq!(pts.len(), 5);
+        for (k, (p, st)) in pts.iter().zip(&sol.steps).enumerate() {
+            assert_eq!(p.step, k);
+            let f = p.frequencies().unwrap();
+            let m = modes(&model, st, 3).unwrap();
+            for (a, b) in f.iter().zip(&m.modes) {
+                assert!(
+                    (a - b.frequency).abs() < 1e-10 * b.frequency,
+                    "{a} {}",
+                    b.frequency
+                );
+            }
+            let lin = linearize(&model, st);
+            for (c, &n) in p.compliance.iter().zip(&[tip, mid]) {
+                let want = compliance(&model, &lin, st, n).unwrap().stiffness_global();
+                let got = c.as_ref().unwrap().stiffness_global();
+                for i in 0..6 {
+                    assert!((got[i] - want[i]).abs() <= 1e-10 * want[i].abs());
+                }
+            }
+        }
+        // the compression lowers the first frequency along the stroke
+        let f0 = pts[0].frequencies().unwrap()[0];
+        let f4 = pts[4].frequencies().unwrap()[0];
+        assert!(f4 < f0, "{f4} vs {f0}");
+    }
+}
