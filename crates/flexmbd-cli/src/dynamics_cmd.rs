@@ -1,6 +1,6 @@
 //! `flexmbd statespace` and `flexmbd sweep` (docs/state-space.md).
 
-use crate::{emit, extension, BadInput};
+use crate::{emit, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
     log_space, state_space, Input, Output, OutputKind, StateSpaceOptions,
@@ -17,7 +17,7 @@ use std::process::ExitCode;
 /// Arguments of `flexmbd statespace`.
 #[derive(clap::Args)]
 pub struct StatespaceArgs {
-    /// Model file (.toml).
+    /// Model file (.toml, or a SPACAR .dat file).
     model: PathBuf,
     /// An input: a force along (x, y, z) or a moment about (rx, ry, rz) a global axis on a node.
     /// `NODE:x:moment` is the moment about x. Repeatable; the order is the column order of B.
@@ -79,7 +79,7 @@ pub struct StatespaceArgs {
 /// Arguments of `flexmbd sweep`.
 #[derive(clap::Args)]
 pub struct SweepArgs {
-    /// Model file (.toml).
+    /// Model file (.toml, or a SPACAR .dat file).
     model: PathBuf,
     /// Number of frequencies per step.
     #[arg(long, default_value_t = 6, value_name = "N")]
@@ -105,23 +105,11 @@ pub struct SweepArgs {
     quiet: bool,
 }
 
-/// Read a .toml model with its settings.
-fn read(path: &Path, command: &str) -> anyhow::Result<(Model, Settings)> {
-    match extension(path).as_deref() {
-        Some("toml") => {
-            let f = flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?;
-            Ok((f.model, f.settings))
-        }
-        _ => Err(BadInput(format!(
-            "{}: `{command}` reads .toml models",
-            path.display()
-        ))
-        .into()),
-    }
-}
-
 /// Static options from the file's settings and `--steps` (as `flexmbd static` does).
-fn static_options(settings: &Settings, steps: Option<usize>) -> anyhow::Result<StaticOptions> {
+pub(crate) fn static_options(
+    settings: &Settings,
+    steps: Option<usize>,
+) -> anyhow::Result<StaticOptions> {
     let mut opts = StaticOptions::default();
     opts.steps = steps.or(settings.steps).unwrap_or(opts.steps);
     if opts.steps == 0 {
@@ -130,6 +118,7 @@ fn static_options(settings: &Settings, steps: Option<usize>) -> anyhow::Result<S
     opts.max_iterations = settings.max_iterations.unwrap_or(opts.max_iterations);
     opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
     opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
+    opts.line_search = settings.line_search;
     Ok(opts)
 }
 
@@ -282,7 +271,7 @@ fn write_file(path: &Path, text: &str) -> anyhow::Result<()> {
 
 /// `flexmbd statespace`.
 pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
-    let (model, settings) = read(&a.model, "statespace")?;
+    let (model, settings) = crate::load_with_settings(&a.model)?;
     let inputs = a
         .inputs
         .iter()
@@ -400,7 +389,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
 
 /// `flexmbd sweep`.
 pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
-    let (model, settings) = read(&a.model, "sweep")?;
+    let (model, settings) = crate::load_with_settings(&a.model)?;
     let mut nodes: Vec<String> = Vec::new();
     for n in settings.compliance.iter().chain(&a.compliance) {
         if !nodes.contains(n) {

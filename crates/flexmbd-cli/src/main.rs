@@ -48,7 +48,7 @@ enum Command {
     },
     /// Nonlinear statics: load steps, reactions, stress resultants, support stiffness, buckling.
     Static {
-        /// Model file (.toml).
+        /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Number of load steps (overrides [static] steps; default 10).
         #[arg(long, value_name = "N")]
@@ -75,11 +75,14 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Backtracking line search in Newton (off by default; step halving is always on).
+        #[arg(long)]
+        line_search: bool,
     },
     /// Natural frequencies and mode shapes, linearised about a static equilibrium (with
     /// pre-stress) of the model's loads and strokes.
     Modes {
-        /// Model file (.toml).
+        /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Number of modes.
         #[arg(long, default_value_t = 10, value_name = "N")]
@@ -99,8 +102,8 @@ enum Command {
     Statespace(dynamics_cmd::StatespaceArgs),
     /// Frequencies and support stiffness at every load step of the static solution.
     Sweep(dynamics_cmd::SweepArgs),
-    /// Convert a SPACAR .dat model to the native TOML format (SPACAR data the TOML format
-    /// cannot express yet, such as stiffness, masses and loads, is written as comments).
+    /// Convert a SPACAR .dat model to the native TOML format (stiffness, masses, loads and
+    /// strokes included; what TOML cannot express, e.g. shear columns, is written as comments).
     Convert {
         /// SPACAR model file (.dat).
         input: PathBuf,
@@ -147,6 +150,31 @@ fn read_spacar(path: &Path) -> anyhow::Result<flexmbd_io::SpacarModel> {
         eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
     }
     Ok(m)
+}
+
+/// Read a model with its analysis settings: TOML with `[static]`, or a SPACAR `.dat` file with
+/// its stiffness, masses, loads, prescribed values, gravity and `ITERSTEP` mapped
+/// (docs/spacar-import.md §6; what the mapping approximates is printed as a warning).
+fn load_with_settings(path: &Path) -> anyhow::Result<(flexmbd_core::Model, flexmbd_io::Settings)> {
+    match extension(path).as_deref() {
+        Some("toml") => {
+            let f = flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?;
+            Ok((f.model, f.settings))
+        }
+        Some("dat") => {
+            let m = read_spacar(path)?;
+            let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
+            for w in &warnings {
+                eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+            }
+            Ok((file.model, file.settings))
+        }
+        _ => Err(BadInput(format!(
+            "{}: unknown model format (expected a .toml file or a SPACAR .dat file)",
+            path.display()
+        ))
+        .into()),
+    }
 }
 
 /// Write to stdout; a closed pipe (`flexmbd check … | head`) is not an error.
@@ -200,8 +228,18 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             csv,
             quiet,
+            line_search,
         } => run_static(
-            &model, steps, compliance, buckling, tol_force, tol_disp, json, csv, quiet,
+            &model,
+            steps,
+            compliance,
+            buckling,
+            tol_force,
+            tol_disp,
+            json,
+            csv,
+            quiet,
+            line_search,
         ),
         Command::Check {
             model,
@@ -223,7 +261,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 .into());
             }
             let x = m.x0();
-            let before = check(&m, &m.partition, &x, &opts).context("kinematic analysis failed")?;
+            let before = check(&m, &m.partition, &x, &opts).context("kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)")?;
             let (partition, analysis, chosen) = if auto {
                 let c = auto_generalised(&m, &m.partition, &x, &opts)
                     .context("automatic choice of generalised coordinates failed")?;
@@ -269,16 +307,9 @@ fn run_modes(
     json: bool,
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::dynamics::modes;
-    use flexmbd_core::statics::{solve, StaticOptions};
-    let file = match extension(path).as_deref() {
-        Some("toml") => flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?,
-        _ => {
-            return Err(BadInput(format!("{}: `modes` reads .toml models", path.display())).into())
-        }
-    };
-    let (model, settings) = (file.model, file.settings);
-    let mut opts = StaticOptions::default();
-    opts.steps = steps.or(settings.steps).unwrap_or(opts.steps).max(1);
+    use flexmbd_core::statics::solve;
+    let (model, settings) = load_with_settings(path)?;
+    let opts = dynamics_cmd::static_options(&settings, steps)?;
     let sol = solve(&model, &opts, |_, _| {})
         .context("the static equilibrium to linearise about was not found")?;
     let k = at_step.unwrap_or(sol.steps.len() - 1);
@@ -292,20 +323,21 @@ fn run_modes(
     let modal = modes(&model, step, count).context("modal analysis failed")?;
     let fname = path.display().to_string();
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&flexmbd_io::modes_report::modes_json(
+        emit(
+            &(serde_json::to_string_pretty(&flexmbd_io::modes_report::modes_json(
                 &model,
                 &fname,
                 step.load_factor,
-                &modal
-            ))?
-        );
+                &modal,
+            ))? + "\n"),
+        )?;
     } else {
-        print!(
-            "{}",
-            flexmbd_io::modes_report::modes_text(&model, &fname, step.load_factor, &modal)
-        );
+        emit(&flexmbd_io::modes_report::modes_text(
+            &model,
+            &fname,
+            step.load_factor,
+            &modal,
+        ))?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -321,47 +353,18 @@ fn run_static(
     json: bool,
     csv: Option<PathBuf>,
     quiet: bool,
+    line_search: bool,
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::statics::linear::{
         buckling as buckle, compliance as comply, linearize, unstable_directions,
     };
-    use flexmbd_core::statics::{solve, StaticOptions};
+    use flexmbd_core::statics::solve;
     use flexmbd_io::static_report::{static_json, static_text, write_csv, StepExtras};
-    let file = match extension(path).as_deref() {
-        Some("toml") => flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?,
-        Some("dat") => {
-            // stiffness, masses, loads, prescribed values, gravity and ITERSTEP are mapped
-            // (docs/spacar-import.md §6); what the mapping approximates is a warning
-            let m = read_spacar(path)?;
-            let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
-            for w in &warnings {
-                eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
-            }
-            file
-        }
-        _ => {
-            return Err(BadInput(format!(
-                "{}: unknown model format (expected a .toml file)",
-                path.display()
-            ))
-            .into())
-        }
-    };
-    let (model, settings) = (file.model, file.settings);
-    let mut opts = StaticOptions::default();
-    opts.steps = steps.or(settings.steps).unwrap_or(opts.steps);
-    opts.max_iterations = settings.max_iterations.unwrap_or(opts.max_iterations);
+    let (model, settings) = load_with_settings(path)?;
+    let mut opts = dynamics_cmd::static_options(&settings, steps)?;
     for (name, v, target) in [
-        (
-            "--tol-force",
-            tol_force.or(settings.tol_force),
-            &mut opts.tol_force,
-        ),
-        (
-            "--tol-disp",
-            tol_disp.or(settings.tol_disp),
-            &mut opts.tol_disp,
-        ),
+        ("--tol-force", tol_force, &mut opts.tol_force),
+        ("--tol-disp", tol_disp, &mut opts.tol_disp),
     ] {
         if let Some(v) = v {
             if !(v.is_finite() && v > 0.0) {
@@ -372,9 +375,7 @@ fn run_static(
             *target = v;
         }
     }
-    if opts.steps == 0 {
-        return Err(BadInput("--steps must be at least 1".into()).into());
-    }
+    opts.line_search = line_search || settings.line_search;
     let mut nodes = settings.compliance.clone();
     nodes.extend(compliance);
     let node_ids = nodes
@@ -440,12 +441,9 @@ fn run_static(
             .with_context(|| format!("cannot write CSV files into {}", dir.display()))?;
     }
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&static_json(&model, &fname, &sol, &extras))?
-        );
+        emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, &sol, &extras))? + "\n"))?;
     } else {
-        print!("{}", static_text(&model, &fname, &sol, &extras));
+        emit(&static_text(&model, &fname, &sol, &extras))?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -457,9 +455,6 @@ fn main() -> ExitCode {
         Err(e) => {
             let bad_input = e.downcast_ref::<BadInput>().is_some();
             eprintln!("error: {e:#}");
-            if !bad_input {
-                eprintln!("hint: try a looser --rank-tol, or check the model for NaN coordinates");
-            }
             ExitCode::from(if bad_input { 2 } else { 1 })
         }
     }

@@ -188,6 +188,8 @@ struct StaticSpec {
     compliance: Vec<String>,
     #[serde(default)]
     buckling: usize,
+    #[serde(default)]
+    line_search: bool,
 }
 
 /// Analysis settings read from the model file (`[static]`).
@@ -205,6 +207,8 @@ pub struct Settings {
     pub compliance: Vec<String>,
     /// Number of buckling multipliers reported at every step.
     pub buckling: usize,
+    /// Backtracking line search in Newton.
+    pub line_search: bool,
 }
 
 /// A model file: the model and its analysis settings.
@@ -611,6 +615,7 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         tol_disp: st.tol_disp,
         compliance: st.compliance,
         buckling: st.buckling,
+        line_search: st.line_search,
     };
 
     let model = b.build().map_err(|e| match spans.get(&e.item()) {
@@ -866,9 +871,7 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
             if header.is_some_and(|h| !h.trim_start().starts_with("[["))
                 && msg.contains("expected a sequence") =>
         {
-            return format!(
-                "`[{section}]` must be written `[[{section}]]` (one table per entry)"
-            );
+            return format!("`[{section}]` must be written `[[{section}]]` (one table per entry)");
         }
         "truss" | "beam" | "hinge" | "rigid" => {
             // the element's id: a `id = "..."` line in the table body below the header

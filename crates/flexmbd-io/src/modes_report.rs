@@ -30,8 +30,12 @@ fn kinetic_text(model: &Model, m: &flexmbd_core::dynamics::Mode, count: usize) -
         .iter()
         .take(count)
         .map(|(n, t, r)| {
-            let what = if r.abs() > t.abs() { "rot" } else { "transl" };
-            format!("{} {} {:.0}%", model.nodes[*n].name, what, 100.0 * (t + r))
+            let name = &model.nodes[*n].name;
+            match (t.abs() >= 0.005, r.abs() >= 0.005) {
+                (true, true) => format!("{name} transl {:.0}% rot {:.0}%", 100.0 * t, 100.0 * r),
+                (false, true) => format!("{name} rot {:.0}%", 100.0 * r),
+                _ => format!("{name} transl {:.0}%", 100.0 * t),
+            }
         })
         .collect::<Vec<_>>()
         .join("; ")
@@ -84,6 +88,14 @@ pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
     if modal.modes.iter().any(|m| m.eigenvalue < 0.0) {
         s += "\nwarning: negative eigenvalues: the equilibrium is unstable (the structure may have buckled)\n";
     }
+    let held = held_inputs(model);
+    if !held.is_empty() {
+        let _ = writeln!(
+            s,
+            "\ninputs held at their (prescribed) values during the vibration: {}\n(remove an input from the model to let the mechanism move in that coordinate)",
+            held.join(", ")
+        );
+    }
     if !modal.massless_nodes.is_empty() {
         let names: Vec<&str> = modal
             .massless_nodes
@@ -97,6 +109,11 @@ pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
         );
     }
     s
+}
+
+/// Generalised coordinates (inputs) of the model: they are held during a vibration.
+fn held_inputs(model: &Model) -> Vec<String> {
+    crate::report::generalised_names(model, &model.partition.x, &model.partition.e)
 }
 
 /// JSON document of a modal analysis.
@@ -130,6 +147,8 @@ pub fn modes_json(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
         "load_factor": load_factor,
         "ndof": modal.ndof,
         "massless_directions": modal.massless,
+        "massless_nodes": modal.massless_nodes.iter().map(|&n| model.nodes[n].name.clone()).collect::<Vec<_>>(),
+        "held_inputs": held_inputs(model),
         "modes": modes,
     })
 }
