@@ -564,3 +564,52 @@ mod toggle {
         assert!((d_max - 0.2325).abs() < 0.03 * 0.2325, "δ at P_max {d_max}");
     }
 }
+
+mod cross_spring {
+    use super::super::linear::{compliance, linearize};
+    use super::*;
+    use crate::section::{Material, Shape};
+
+    #[test]
+    fn symmetric_cross_spring_pivot_rotational_stiffness_is_2ei_over_l() {
+        // Two leaves of length L crossing at their midpoints (validation.md K04 geometry),
+        // clamped at the bottom, joined by a rigid platform at the top. A platform rotation θ
+        // about the pivot axis (y, through the crossing point) moves each leaf end by θL/2
+        // sideways and turns it by θ: the clamped cubic through these end values is
+        // w = θ s²/(2L), a constant curvature θ/L, energy EIθ²/(2L) per leaf: k = 2 EI/L for
+        // the pivot (small rotations; shear-rigid leaves).
+        let l = 0.04;
+        let steel = Material { e: 200e9, g: 200e9 / 2.6, rho: 7800.0 };
+        let props = BeamProps::from_section(&steel, &Shape::Rectangle { w: 0.02, t: 0.3e-3 }, true);
+        let n = 4;
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let mut b = ModelBuilder::new("cross-spring pivot");
+        b.add_node("c", [0.0, 0.0, 0.0], true).unwrap();
+        for (k, dir) in [[s, 0.0, s], [-s, 0.0, s]].iter().enumerate() {
+            // leaf from -L/2 dir to +L/2 dir; width along y (the pivot axis)
+            let p = [-0.5 * l * dir[0], 0.0, -0.5 * l * dir[2]];
+            let names: Vec<String> = (0..=n).map(|i| format!("l{k}n{i}")).collect();
+            for (i, name) in names.iter().enumerate() {
+                let f = i as f64 / n as f64;
+                b.add_node(name, [p[0] + f * l * dir[0], 0.0, p[2] + f * l * dir[2]], false).unwrap();
+            }
+            for i in 0..n {
+                let id = format!("l{k}b{i}");
+                b.add_element(&id, &[&names[i], &names[i + 1]], ElementSpec::Beam { orient: Some([0.0, 1.0, 0.0]), ct: 0.0 }, &[], &[])
+                    .unwrap();
+                b.set_beam_props(&id, props).unwrap();
+            }
+            b.fix(&names[0], None).unwrap();
+        }
+        b.add_element("platform", &["c", "l0n4", "l1n4"], ElementSpec::Rigid, &[], &[]).unwrap();
+        let model = b.build().unwrap();
+        let sol = solve(&model, &StaticOptions { steps: 1, ..Default::default() }, |_, _| {}).unwrap();
+        let step = &sol.steps[1];
+        let c = compliance(&model, &linearize(&model, step), step, 0).unwrap();
+        let k = 1.0 / c.global[4][4];
+        let want = 2.0 * props.eiy / l;
+        assert!((k - want).abs() < 1e-6 * want, "k = {k} vs 2EI/L = {want}");
+        // and the pivot point does not move under a pure moment about the axis (to first order)
+        assert!(c.global[0][4].abs() < 1e-9 * c.global[4][4] * l && c.global[2][4].abs() < 1e-9 * c.global[4][4] * l);
+    }
+}
