@@ -4,6 +4,7 @@
 //! 3 `check --require-exact` on a model that is not exactly constrained.
 
 mod dynamics_cmd;
+mod output_cmd;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -102,6 +103,8 @@ enum Command {
     Statespace(dynamics_cmd::StatespaceArgs),
     /// Frequencies and support stiffness at every load step of the static solution.
     Sweep(dynamics_cmd::SweepArgs),
+    /// Export results for ParaView (.vtu, .pvd) and as PNG/SVG plots (docs/visualisation.md).
+    Export(output_cmd::ExportArgs),
     /// Convert a SPACAR .dat model to the native TOML format (stiffness, masses, loads and
     /// strokes included; what TOML cannot express, e.g. shear columns, is written as comments).
     Convert {
@@ -211,6 +214,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Convert { input, output } => convert(&input, &output),
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
         Command::Sweep(args) => dynamics_cmd::run_sweep(args),
+        Command::Export(args) => output_cmd::run_export(args),
         Command::Modes {
             model,
             count,

@@ -3,6 +3,7 @@
 //! - [`model_toml`]: the native TOML model format (docs/model-format.md) → `flexmbd_core::Model`.
 //! - [`report`]: the kinematic analysis as JSON and as aligned text tables.
 //! - [`spacar`]: SPACAR `.dat` models (docs/spacar-import.md) → `SpacarModel` → `Model`.
+//! - [`vtk`]: ParaView `.vtu`/`.pvd` files; [`plots`]: PNG/SVG plots (docs/visualisation.md).
 //! - [`toml_writer`]: a neutral [`ModelSpec`] → `Model` or native TOML (`flexmbd convert`).
 //!
 //! Every input error is a [`InputError`] naming file, line and item.
@@ -10,11 +11,13 @@
 pub mod error;
 pub mod model_toml;
 pub mod modes_report;
+pub mod plots;
 pub mod report;
 pub mod spacar;
 pub mod statespace_report;
 pub mod static_report;
 pub mod toml_writer;
+pub mod vtk;
 
 pub use error::InputError;
 pub use model_toml::{

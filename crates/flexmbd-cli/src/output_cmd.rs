@@ -1,0 +1,382 @@
+//! `flexmbd export`: ParaView files (.vtu/.pvd) and PNG/SVG plots (docs/visualisation.md).
+
+use crate::{emit, load_with_settings, BadInput};
+use anyhow::Context;
+use flexmbd_core::dynamics::modes;
+use flexmbd_core::dynamics::sweep::{sweep, SweepPoint};
+use flexmbd_core::kinematics::{check, CheckOptions, ConstraintAnalysis};
+use flexmbd_core::model::{Dof, Model, Target};
+use flexmbd_core::statics::{solve, StaticSolution};
+use flexmbd_io::plots::{Plot, Series};
+use flexmbd_io::static_report::node_results;
+use flexmbd_io::vtk::{check_grid, mode_grid, pvd, step_grid};
+use flexmbd_io::Settings;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Which analysis to export.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Analysis {
+    /// Kinematic analysis: reference geometry with motions and self-stress states.
+    Check,
+    /// Nonlinear statics: one file per load step and a .pvd collection.
+    Static,
+    /// Natural modes: one file per mode and a .pvd collection.
+    Modes,
+}
+
+/// Arguments of `flexmbd export`.
+#[derive(clap::Args)]
+pub struct ExportArgs {
+    /// Model file (.toml, or a SPACAR .dat file).
+    model: PathBuf,
+    /// The analysis whose results are exported.
+    #[arg(long, value_enum)]
+    analysis: Analysis,
+    /// Write ParaView files (.vtu, .pvd) into this directory.
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
+    /// Write PNG and SVG plots into this directory.
+    #[arg(long, value_name = "DIR")]
+    plots: Option<PathBuf>,
+    /// Number of modes (modes) or of frequencies per step in the frequency plot.
+    #[arg(long, default_value_t = 6, value_name = "N")]
+    count: usize,
+    /// Number of load steps (overrides [static] steps).
+    #[arg(long, value_name = "N")]
+    steps: Option<usize>,
+    /// Plot size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x500", value_name = "WxH")]
+    plot_size: String,
+}
+
+/// `flexmbd export`.
+pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
+    if args.vtk.is_none() && args.plots.is_none() {
+        return Err(BadInput("export: give --vtk DIR and/or --plots DIR".into()).into());
+    }
+    let size = parse_size(&args.plot_size)?;
+    let (model, settings) = load_with_settings(&args.model)?;
+    for dir in [&args.vtk, &args.plots].into_iter().flatten() {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    }
+    let mut written: Vec<PathBuf> = Vec::new();
+    match args.analysis {
+        Analysis::Check => {
+            let x = model.x0();
+            let a = check(&model, &model.partition, &x, &CheckOptions::default())
+                .context("kinematic analysis failed")?;
+            if let Some(dir) = &args.vtk {
+                let p = dir.join("check.vtu");
+                write(&p, &check_grid(&model, &a).to_vtu())?;
+                written.push(p);
+            }
+            if let Some(dir) = &args.plots {
+                written.extend(singular_plot(&a).write(&dir.join("singular_values"), size)?);
+            }
+        }
+        Analysis::Static => {
+            let sol = static_solution(&model, &settings, args.steps)?;
+            if let Some(dir) = &args.vtk {
+                let mut entries = Vec::new();
+                for (k, st) in sol.steps.iter().enumerate() {
+                    let name = format!("static_{k:04}.vtu");
+                    let p = dir.join(&name);
+                    write(&p, &step_grid(&model, st).to_vtu())?;
+                    written.push(p);
+                    entries.push((st.load_factor, name));
+                }
+                let p = dir.join("static.pvd");
+                write(&p, &pvd(&entries))?;
+                written.push(p);
+            }
+            if let Some(dir) = &args.plots {
+                written.extend(stroke_plots(
+                    &model, &settings, &sol, args.count, dir, size,
+                )?);
+            }
+        }
+        Analysis::Modes => {
+            let sol = static_solution(&model, &settings, args.steps)?;
+            let step = sol.steps.last().expect("the unloaded step exists");
+            let modal = modes(&model, step, args.count).context("modal analysis failed")?;
+            if let Some(dir) = &args.vtk {
+                let mut entries = Vec::new();
+                for (k, mode) in modal.modes.iter().enumerate() {
+                    let name = format!("mode_{:03}.vtu", k + 1);
+                    let p = dir.join(&name);
+                    write(&p, &mode_grid(&model, step, mode).to_vtu())?;
+                    written.push(p);
+                    entries.push(((k + 1) as f64, name));
+                }
+                let p = dir.join("modes.pvd");
+                write(&p, &pvd(&entries))?;
+                written.push(p);
+            }
+            if let Some(dir) = &args.plots {
+                let (stroke, x_label) = stroke_axis(&model, &sol);
+                let points = sweep(&model, &sol.steps, args.count, &[]);
+                if let Some(p) = frequency_plot(&points, &stroke, &x_label) {
+                    written.extend(p.write(&dir.join("frequency_stroke"), size)?);
+                }
+            }
+        }
+    }
+    let mut text = String::new();
+    for p in &written {
+        text += &format!("wrote {}\n", p.display());
+    }
+    emit(&text)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write(path: &Path, text: &str) -> anyhow::Result<()> {
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}
+
+fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
+    let bad = || {
+        BadInput(format!(
+            "--plot-size: expected WIDTHxHEIGHT such as 800x500, found `{s}`"
+        ))
+    };
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    if !(100..=8000).contains(&w) || !(100..=8000).contains(&h) {
+        return Err(bad().into());
+    }
+    Ok((w, h))
+}
+
+fn static_solution(
+    model: &Model,
+    settings: &Settings,
+    steps: Option<usize>,
+) -> anyhow::Result<StaticSolution> {
+    let mut opts = crate::dynamics_cmd::static_options(settings, steps)?;
+    opts.line_search = settings.line_search;
+    solve(model, &opts, |_, _| {}).context("static analysis failed")
+}
+
+/// (a) Singular values of Dcc on a log axis with the rank threshold.
+fn singular_plot(a: &ConstraintAnalysis) -> Plot {
+    let s1 = a.singular_values.first().copied().unwrap_or(1.0);
+    let floor = (s1 * 1e-17).max(1e-300);
+    Plot {
+        title: format!(
+            "Singular values of Dcc ({} × {}, rank {})",
+            a.m(),
+            a.n(),
+            a.rank
+        ),
+        x_label: "index i".into(),
+        y_label: "singular value s_i".into(),
+        log_y: true,
+        series: vec![Series {
+            label: "s_i (zeros drawn at 1e-17 s_1)".into(),
+            points: a
+                .singular_values
+                .iter()
+                .enumerate()
+                .map(|(i, &s)| ((i + 1) as f64, s.max(floor)))
+                .collect(),
+        }],
+        hlines: vec![(format!("rank threshold {:.3e}", a.tol), a.tol.max(floor))],
+        markers: true,
+    }
+}
+
+/// The x axis of stroke plots: load factor × the first prescribed value, or the load factor.
+fn stroke_axis(model: &Model, sol: &StaticSolution) -> (Vec<f64>, String) {
+    match model.loads.prescribed.first() {
+        Some(p) => {
+            let (name, unit) = target_name(model, p.target);
+            (
+                sol.steps.iter().map(|s| s.load_factor * p.value).collect(),
+                format!("stroke {name} [{unit}]"),
+            )
+        }
+        None => (
+            sol.steps.iter().map(|s| s.load_factor).collect(),
+            "load factor [-]".into(),
+        ),
+    }
+}
+
+/// Name and unit of a prescribed target.
+fn target_name(model: &Model, t: Target) -> (String, &'static str) {
+    match t {
+        Target::Coordinate(i) => {
+            let (node, label) = model.coordinate_owner(i);
+            let (dof, unit) = match label {
+                "lambda1" => ("rx", "rad"),
+                "lambda2" => ("ry", "rad"),
+                "lambda3" => ("rz", "rad"),
+                "lambda0" => ("lambda0", "-"),
+                d => (d, "m"),
+            };
+            (format!("{}:{dof}", model.nodes[node].name), unit)
+        }
+        Target::Deformation(k) => {
+            let (el, m) = model.deformation_owner(k);
+            (
+                format!("{} mode {}", model.elements[el].name, m + 1),
+                "m or rad",
+            )
+        }
+    }
+}
+
+/// Reaction at a prescribed target in a step: (value, unit).
+fn reaction(
+    model: &Model,
+    step: &flexmbd_core::statics::StepResult,
+    t: Target,
+) -> (f64, &'static str) {
+    match t {
+        Target::Coordinate(i) => {
+            let nodes = node_results(model, step);
+            for (id, n) in model.nodes.iter().enumerate() {
+                for d in Dof::ALL {
+                    if (n.host.is_none() || d.is_rotation()) && n.x_index(d) == Some(i) {
+                        let r = &nodes[id];
+                        return if d.is_rotation() {
+                            (
+                                r.reaction_moment.map_or(f64::NAN, |m| m[d.index() - 3]),
+                                "N·m",
+                            )
+                        } else {
+                            (r.reaction_force.map_or(f64::NAN, |f| f[d.index()]), "N")
+                        };
+                    }
+                }
+            }
+            (step.reactions[i], "N")
+        }
+        Target::Deformation(k) => (step.sigma[k], "N or N·m"),
+    }
+}
+
+/// (b) force–stroke, (c) support stiffness vs stroke, (d) frequency vs stroke.
+fn stroke_plots(
+    model: &Model,
+    settings: &Settings,
+    sol: &StaticSolution,
+    count: usize,
+    dir: &Path,
+    size: (u32, u32),
+) -> anyhow::Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let (stroke, x_label) = stroke_axis(model, sol);
+    if let Some(p) = model.loads.prescribed.first() {
+        let (name, _) = target_name(model, p.target);
+        let unit = reaction(model, &sol.steps[0], p.target).1;
+        let plot = Plot {
+            title: format!("Force–stroke: reaction at the prescribed input {name}"),
+            x_label: x_label.clone(),
+            y_label: format!("reaction at {name} [{unit}]"),
+            log_y: false,
+            series: vec![Series {
+                label: format!("reaction {name}"),
+                points: sol
+                    .steps
+                    .iter()
+                    .zip(&stroke)
+                    .map(|(st, &s)| (s, reaction(model, st, p.target).0))
+                    .collect(),
+            }],
+            hlines: vec![],
+            markers: true,
+        };
+        written.extend(plot.write(&dir.join("force_stroke"), size)?);
+    }
+    let node_ids = settings
+        .compliance
+        .iter()
+        .map(|n| {
+            model
+                .node_id(n)
+                .ok_or_else(|| BadInput(format!("[static] compliance: node `{n}` is not defined")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let points = sweep(model, &sol.steps, count, &node_ids);
+    for (j, name) in settings.compliance.iter().enumerate() {
+        let series: Vec<Series> = ["x", "y", "z"]
+            .iter()
+            .enumerate()
+            .map(|(d, dn)| Series {
+                label: format!("k_{dn}"),
+                points: points
+                    .iter()
+                    .zip(&stroke)
+                    .map(|(pt, &s)| {
+                        let k = pt.compliance[j]
+                            .as_ref()
+                            .ok()
+                            .filter(|c| !c.held[d])
+                            .map_or(f64::NAN, |c| c.stiffness_global()[d]);
+                        (s, k)
+                    })
+                    .collect(),
+            })
+            .collect();
+        let plot = Plot {
+            title: format!("Support stiffness of {name} (global axes)"),
+            x_label: x_label.clone(),
+            y_label: "support stiffness 1/C_ii [N/m]".into(),
+            log_y: true,
+            series,
+            hlines: vec![],
+            markers: true,
+        };
+        if plot
+            .series
+            .iter()
+            .any(|s| s.points.iter().any(|p| p.1.is_finite() && p.1 > 0.0))
+        {
+            written.extend(plot.write(&dir.join(format!("stiffness_{name}")), size)?);
+        }
+    }
+    if let Some(p) = frequency_plot(&points, &stroke, &x_label) {
+        written.extend(p.write(&dir.join("frequency_stroke"), size)?);
+    }
+    Ok(written)
+}
+
+/// (d) The lowest frequencies at every step, if any step has them.
+fn frequency_plot(points: &[SweepPoint], stroke: &[f64], x_label: &str) -> Option<Plot> {
+    let freqs: Vec<Option<Vec<f64>>> = points.iter().map(|p| p.frequencies()).collect();
+    let n = freqs.iter().flatten().map(Vec::len).max().unwrap_or(0);
+    if n == 0 {
+        return None;
+    }
+    Some(Plot {
+        title: "Natural frequencies along the stroke".into(),
+        x_label: x_label.into(),
+        y_label: "frequency [Hz]".into(),
+        log_y: false,
+        series: (0..n)
+            .map(|i| Series {
+                label: format!("mode {}", i + 1),
+                points: freqs
+                    .iter()
+                    .zip(stroke)
+                    .map(|(f, &s)| {
+                        (
+                            s,
+                            f.as_ref()
+                                .and_then(|f| f.get(i).copied())
+                                .unwrap_or(f64::NAN),
+                        )
+                    })
+                    .collect(),
+            })
+            .collect(),
+        hlines: vec![],
+        markers: true,
+    })
+}
