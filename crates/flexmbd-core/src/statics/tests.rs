@@ -517,28 +517,54 @@ mod toggle {
         // held (symmetry), vertical deflection δ prescribed (displacement control passes the
         // limit point); the load is P = −2 × the reaction at the apex. 20 elements.
         let n = 20;
-        let mat = Material { e: 10.3e6, g: 10.3e6 / 2.6, rho: 0.0 };
+        let mat = Material {
+            e: 10.3e6,
+            g: 10.3e6 / 2.6,
+            rho: 0.0,
+        };
         let props = BeamProps::from_section(&mat, &Shape::Rectangle { w: 0.753, t: 0.243 }, true);
         assert!((props.eiy / mat.e - 9.00394e-4).abs() < 1e-8);
         let (clamp, apex) = ([12.943, 0.0, 0.0], [0.0, 0.386, 0.0]);
         let mut b = ModelBuilder::new("toggle");
         for i in 0..=n {
             let f = i as f64 / n as f64;
-            let p = [clamp[0] + f * (apex[0] - clamp[0]), clamp[1] + f * (apex[1] - clamp[1]), 0.0];
+            let p = [
+                clamp[0] + f * (apex[0] - clamp[0]),
+                clamp[1] + f * (apex[1] - clamp[1]),
+                0.0,
+            ];
             b.add_node(&format!("n{i}"), p, false).unwrap();
         }
         for i in 0..n {
             let name = format!("b{i}");
-            b.add_element(&name, &[&format!("n{i}"), &format!("n{}", i + 1)], ElementSpec::Beam { orient: Some([0.0, 0.0, 1.0]), ct: 0.0 }, &[], &[])
-                .unwrap();
+            b.add_element(
+                &name,
+                &[&format!("n{i}"), &format!("n{}", i + 1)],
+                ElementSpec::Beam {
+                    orient: Some([0.0, 0.0, 1.0]),
+                    ct: 0.0,
+                },
+                &[],
+                &[],
+            )
+            .unwrap();
             b.set_beam_props(&name, props).unwrap();
         }
         b.fix("n0", None).unwrap();
         let top = format!("n{n}");
-        b.fix(&top, Some(&[Dof::X, Dof::Z, Dof::Rx, Dof::Ry, Dof::Rz])).unwrap();
+        b.fix(&top, Some(&[Dof::X, Dof::Z, Dof::Rx, Dof::Ry, Dof::Rz]))
+            .unwrap();
         b.prescribe_coordinate(&top, Dof::Y, -0.7).unwrap();
         let model = b.build().unwrap();
-        let sol = solve(&model, &StaticOptions { steps: 14, ..Default::default() }, |_, _| {}).unwrap();
+        let sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 14,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
         let iy = model.nodes[n].ix_pos + 1;
         for (k, (delta, p_ref)) in S05.iter().enumerate() {
             let step = &sol.steps[k + 1];
@@ -546,16 +572,33 @@ mod toggle {
             let p = -2.0 * step.reactions[iy];
             if p_ref.is_finite() {
                 // path points ±0.5 %
-                assert!((p - p_ref).abs() < 5e-3 * p_ref, "δ = {delta}: P = {p} vs {p_ref}");
+                assert!(
+                    (p - p_ref).abs() < 5e-3 * p_ref,
+                    "δ = {delta}: P = {p} vs {p_ref}"
+                );
             }
         }
         // limit load under load control: P_max = 33.870 lbf at δ = 0.2325 in (±0.5 %, ±3 %);
         // sampled every 0.0025 in up to 0.35 in, refined by a parabola through the top three
         let mut fine = model.clone();
         fine.loads.prescribed[0].value = -0.35;
-        let sol = solve(&fine, &StaticOptions { steps: 140, ..Default::default() }, |_, _| {}).unwrap();
-        let curve: Vec<(f64, f64)> = sol.steps.iter().map(|s| (0.386 - s.x[iy], -2.0 * s.reactions[iy])).collect();
-        let k = (1..curve.len() - 1).max_by(|&a, &b| curve[a].1.total_cmp(&curve[b].1)).unwrap();
+        let sol = solve(
+            &fine,
+            &StaticOptions {
+                steps: 140,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let curve: Vec<(f64, f64)> = sol
+            .steps
+            .iter()
+            .map(|s| (0.386 - s.x[iy], -2.0 * s.reactions[iy]))
+            .collect();
+        let k = (1..curve.len() - 1)
+            .max_by(|&a, &b| curve[a].1.total_cmp(&curve[b].1))
+            .unwrap();
         let ((d0, p0), (d1, p1), (_, p2)) = (curve[k - 1], curve[k], curve[k + 1]);
         let h = d1 - d0;
         let (a, bq) = ((p0 - 2.0 * p1 + p2) / (2.0 * h * h), (p2 - p0) / (2.0 * h));
@@ -579,7 +622,11 @@ mod cross_spring {
         // w = θ s²/(2L), a constant curvature θ/L, energy EIθ²/(2L) per leaf: k = 2 EI/L for
         // the pivot (small rotations; shear-rigid leaves).
         let l = 0.04;
-        let steel = Material { e: 200e9, g: 200e9 / 2.6, rho: 7800.0 };
+        let steel = Material {
+            e: 200e9,
+            g: 200e9 / 2.6,
+            rho: 7800.0,
+        };
         let props = BeamProps::from_section(&steel, &Shape::Rectangle { w: 0.02, t: 0.3e-3 }, true);
         let n = 4;
         let s = std::f64::consts::FRAC_1_SQRT_2;
@@ -591,25 +638,57 @@ mod cross_spring {
             let names: Vec<String> = (0..=n).map(|i| format!("l{k}n{i}")).collect();
             for (i, name) in names.iter().enumerate() {
                 let f = i as f64 / n as f64;
-                b.add_node(name, [p[0] + f * l * dir[0], 0.0, p[2] + f * l * dir[2]], false).unwrap();
+                b.add_node(
+                    name,
+                    [p[0] + f * l * dir[0], 0.0, p[2] + f * l * dir[2]],
+                    false,
+                )
+                .unwrap();
             }
             for i in 0..n {
                 let id = format!("l{k}b{i}");
-                b.add_element(&id, &[&names[i], &names[i + 1]], ElementSpec::Beam { orient: Some([0.0, 1.0, 0.0]), ct: 0.0 }, &[], &[])
-                    .unwrap();
+                b.add_element(
+                    &id,
+                    &[&names[i], &names[i + 1]],
+                    ElementSpec::Beam {
+                        orient: Some([0.0, 1.0, 0.0]),
+                        ct: 0.0,
+                    },
+                    &[],
+                    &[],
+                )
+                .unwrap();
                 b.set_beam_props(&id, props).unwrap();
             }
             b.fix(&names[0], None).unwrap();
         }
-        b.add_element("platform", &["c", "l0n4", "l1n4"], ElementSpec::Rigid, &[], &[]).unwrap();
+        b.add_element(
+            "platform",
+            &["c", "l0n4", "l1n4"],
+            ElementSpec::Rigid,
+            &[],
+            &[],
+        )
+        .unwrap();
         let model = b.build().unwrap();
-        let sol = solve(&model, &StaticOptions { steps: 1, ..Default::default() }, |_, _| {}).unwrap();
+        let sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 1,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
         let step = &sol.steps[1];
         let c = compliance(&model, &linearize(&model, step), step, 0).unwrap();
         let k = 1.0 / c.global[4][4];
         let want = 2.0 * props.eiy / l;
         assert!((k - want).abs() < 1e-6 * want, "k = {k} vs 2EI/L = {want}");
         // and the pivot point does not move under a pure moment about the axis (to first order)
-        assert!(c.global[0][4].abs() < 1e-9 * c.global[4][4] * l && c.global[2][4].abs() < 1e-9 * c.global[4][4] * l);
+        assert!(
+            c.global[0][4].abs() < 1e-9 * c.global[4][4] * l
+                && c.global[2][4].abs() < 1e-9 * c.global[4][4] * l
+        );
     }
 }
