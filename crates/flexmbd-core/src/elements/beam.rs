@@ -30,10 +30,7 @@
 //! Stiffness (theory.md §11.2, SPACAR's storage): S11 = EA/l0, S22 = GJ/l0³, bending blocks
 //! EI/(l0³ (1 + Φ)) [[4 + Φ, −(2 − Φ)], [−(2 − Φ), 4 + Φ]], Φ = 12 EI/(kGA l0²).
 
-use super::{
-    fixed_hessian, fixed_jacobian, fixed_values, local_frame, ElementKind, FrameError, NodeId,
-    NodeUse,
-};
+use super::{fixed_values, local_frame, ElementKind, FrameError, NodeId, NodeUse};
 use crate::math::{cst3, dot, mul, norm, rotate, sub, Scalar, SmoothMap, V3};
 use crate::section::BeamProps;
 use faer::Mat;
@@ -146,6 +143,17 @@ impl SmoothMap<14, 6> for Beam {
     }
 }
 
+/// The 14 local coordinates as an array.
+fn local14(xk: &[f64]) -> [f64; 14] {
+    assert_eq!(
+        xk.len(),
+        14,
+        "beam: local vector has length {} instead of 14",
+        xk.len()
+    );
+    std::array::from_fn(|i| xk[i])
+}
+
 const BEAM_MODES: [&str; 6] = [
     "elongation",
     "torsion",
@@ -176,10 +184,14 @@ impl ElementKind for Beam {
         fixed_values(self, xk)
     }
     fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
-        fixed_jacobian(self, xk)
+        // closed form (beam_fast.rs); the jet version (SmoothMap) is its reference in the tests
+        let d = self.first(&local14(xk)).d;
+        Mat::from_fn(6, 14, |i, k| d[i][k])
     }
     fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64> {
-        fixed_hessian(self, xk, w)
+        let w: [f64; 6] = std::array::from_fn(|i| w[i]);
+        let h = self.first(&local14(xk)).hessian(&w, None);
+        Mat::from_fn(14, 14, |i, k| h[i][k])
     }
     fn stiffness(&self) -> Mat<f64> {
         let [ea, gj, eiy, eiz] = self.stiffness;
@@ -229,6 +241,109 @@ mod tests {
             &[[0.1, 0.2, -0.3], [0.9, -0.1, 0.4]],
             Contract::default(),
         );
+    }
+
+    #[test]
+    fn closed_form_derivatives_match_jets() {
+        // the closed forms of beam_fast.rs against the jet evaluation of eq. (2) (SmoothMap):
+        // random frames, c_t ≠ 0, large rotations, λ of non-unit length, stretched chords
+        use crate::elements::testing::Rng;
+        let mut rng = Rng(0x5eed_beef);
+        let close = |a: f64, b: f64, scale: f64, what: &str| {
+            assert!(
+                (a - b).abs() <= 1e-12 * scale,
+                "{what}: closed form {a} vs jet {b} (scale {scale})"
+            );
+        };
+        for sample in 0..200 {
+            let xp = [rng.next(), rng.next(), rng.next()];
+            let axis = rng.unit();
+            let len = 0.05 + 2.0 * rng.next().abs();
+            let xq = std::array::from_fn(|i| xp[i] + len * axis[i]);
+            let mut b = Beam::new([0, 1], xp, xq, Some(rng.unit())).expect("valid frame");
+            b.ct = if sample % 3 == 0 {
+                0.0
+            } else {
+                0.05 * rng.next()
+            };
+            let rp: [f64; 3] = std::array::from_fn(|i| xp[i] + 0.3 * rng.next());
+            let rq: [f64; 3] = std::array::from_fn(|i| xq[i] + 0.3 * len * rng.next());
+            let sp = 0.3 + 2.0 * rng.next().abs();
+            let sq = 0.3 + 2.0 * rng.next().abs();
+            let lp = rng.rotation(3.0).map(|v| sp * v);
+            let lq = rng.rotation(3.0).map(|v| sq * v);
+            let x = x_of(rp, lp, rq, lq);
+            let w: [f64; 6] = std::array::from_fn(|_| rng.next() * 10f64.powf(2.0 * rng.next()));
+            let (ej, dj) = SmoothMap::jacobian(&b, &x);
+            let hj = SmoothMap::hessian_weighted(&b, &x, &w);
+            let f = b.first(&x);
+            let hf = f.hessian(&w, None);
+            let es = ej.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(len);
+            let ds = dj.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+            let hs = hj.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+            for i in 0..6 {
+                close(f.e[i], ej[i], es, "e");
+                for k in 0..14 {
+                    close(f.d[i][k], dj[i][k], ds, "D");
+                }
+            }
+            for i in 0..14 {
+                for k in 0..14 {
+                    close(hf[i][k], hj[i][k], hs, "Σ w ∂²e");
+                }
+            }
+            // with a matrix A: Σ w ∂²e + Dᵀ A D
+            let mut s = [[0.0; 6]; 6];
+            for i in 0..6 {
+                for k in 0..=i {
+                    s[i][k] = 1e3 * rng.next();
+                    s[k][i] = s[i][k];
+                }
+            }
+            let ha = f.hessian(&w, Some(&s));
+            let mut dsd = [[0.0; 14]; 14];
+            for i in 0..14 {
+                for k in 0..14 {
+                    for a in 0..6 {
+                        for c in 0..6 {
+                            dsd[i][k] += dj[a][i] * s[a][c] * dj[c][k];
+                        }
+                    }
+                }
+            }
+            let ks = dsd.iter().flatten().fold(hs, |m, v| m.max(v.abs()));
+            for i in 0..14 {
+                for k in 0..14 {
+                    close(ha[i][k], hj[i][k] + dsd[i][k], ks, "Σ w ∂²e + Dᵀ S D");
+                }
+            }
+            // in tangent coordinates: Tᵀ (Σ w ∂²e + Dᵀ S D) T, T = diag(I, B_p, I, B_q)
+            let bp: [[f64; 3]; 4] = std::array::from_fn(|_| std::array::from_fn(|_| rng.next()));
+            let bq: [[f64; 3]; 4] = std::array::from_fn(|_| std::array::from_fn(|_| rng.next()));
+            let mut t = [[0.0; 12]; 14];
+            for i in 0..3 {
+                t[i][i] = 1.0;
+                t[7 + i][6 + i] = 1.0;
+            }
+            for i in 0..4 {
+                for j in 0..3 {
+                    t[3 + i][3 + j] = bp[i][j];
+                    t[10 + i][9 + j] = bq[i][j];
+                }
+            }
+            let ht = f.hessian_tangent(&w, Some(&s), &bp, &bq);
+            for r in 0..12 {
+                for c in 0..12 {
+                    let mut v = 0.0;
+                    for i in 0..14 {
+                        for k in 0..14 {
+                            v += t[i][r] * (hj[i][k] + dsd[i][k]) * t[k][c];
+                        }
+                    }
+                    close(ht[r][c], v, 16.0 * ks, "Tᵀ (Σ w ∂²e + Dᵀ S D) T");
+                }
+            }
+        }
     }
 
     #[test]

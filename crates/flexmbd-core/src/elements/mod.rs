@@ -9,6 +9,7 @@
 //! order, its position r (3, if `pos`) then its Euler parameters λ (4, if `rot`).
 
 pub mod beam;
+pub mod beam_fast;
 pub mod hinge;
 pub mod rigid;
 pub mod truss;

@@ -28,14 +28,23 @@
 //! derivative gives a load stiffness), gravity on point masses and on the beams' mass (ρA l0/2
 //! lumped at each end). All loads and prescribed values grow linearly with the load factor t
 //! from 0 to 1 over the load steps (SPACAR's `DELXF`/`DELINPX`); a step that does not converge
-//! is halved automatically.
+//! (or whose residual grows a thousandfold, `DIVERGENCE`) is halved automatically.
+//!
+//! Implementation of the Newton iteration (none of it changes the equations or the tolerances):
+//! the system is solved in reduced unknowns (`Reduction`: three rotation increments per free
+//! node instead of four Euler parameters and a normalisation row), with a sparse LU whose
+//! structure and ordering are computed once per solve and which is refactored with the previous
+//! pivots (L D Lᵀ for symmetric systems, `math::sparse_lu`); beams use closed-form derivatives
+//! (`elements::beam_fast`); the Euler parameters are updated so that node triads turn with the
+//! chords (`chord_consistent_scale`); a load step starts from the last converged state (a
+//! secant predictor only with prescribed coordinates).
 
 use crate::assembly::gather;
 use crate::elements::{Element, ElementKind};
 use crate::math::lambda_bar;
+use crate::math::sparse_lu::SparseLu;
 use crate::model::{CoordKind, DefKind, Model, Target};
-use faer::prelude::Solve;
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::Triplet;
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -186,6 +195,10 @@ struct Setup {
     l_ref: f64,
     /// Whether x index i is a rotation parameter.
     is_lambda: Vec<bool>,
+    /// Order of the KKT entries written by the element assembly.
+    pattern: Pattern,
+    /// The reduced Newton system (rotations of fully free nodes in tangent coordinates).
+    red: Reduction,
 }
 
 fn setup(model: &Model) -> Setup {
@@ -206,6 +219,7 @@ fn setup(model: &Model) -> Setup {
             nk += 1;
         }
     }
+    let pattern = Pattern::new(model, &unknown, &constraint, nf);
     let s_eff = model
         .elements
         .iter()
@@ -283,6 +297,7 @@ fn setup(model: &Model) -> Setup {
         }
     }
     let l_ref = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max).max(1e-12);
+    let red = Reduction::new(model, &unknown, &constraint, nf, nk, &norm);
     Setup {
         roles,
         unknown,
@@ -298,7 +313,423 @@ fn setup(model: &Model) -> Setup {
         norm,
         l_ref,
         is_lambda,
+        pattern,
+        red,
     }
+}
+
+/// Fixed order of the KKT matrix entries written by the assembly (the "triplets" without
+/// values). It depends only on the model, so the sparse structure, the map to its value slots
+/// and the symbolic factorisation are computed once per solve.
+///
+/// Order: per element (contiguous block, so that elements write in parallel) the tangent on its
+/// free coordinates (row-major over the free local coordinates), then for each constrained mode
+/// the pairs (G, Gᵀ) over the free local coordinates; after all elements the load stiffness of
+/// the moments, then the Euler normalisations (diagonal, G, Gᵀ).
+struct Pattern {
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    /// Start of each element's block in `rows`/`cols` (elements + 1 entries).
+    elem_start: Vec<usize>,
+    /// Free local coordinates of each element: (local index, unknown index).
+    elem_free: Vec<Vec<(usize, usize)>>,
+    /// Start of each element's internal forces in the per-element force buffer.
+    f_start: Vec<usize>,
+}
+
+impl Pattern {
+    fn new(
+        model: &Model,
+        unknown: &[Option<usize>],
+        constraint: &[Option<usize>],
+        nf: usize,
+    ) -> Self {
+        let (mut rows, mut cols) = (Vec::new(), Vec::new());
+        let mut elem_start = Vec::with_capacity(model.elements.len() + 1);
+        let mut elem_free = Vec::with_capacity(model.elements.len());
+        let mut f_start = Vec::with_capacity(model.elements.len() + 1);
+        f_start.push(0);
+        for entry in &model.elements {
+            elem_start.push(rows.len());
+            let free: Vec<(usize, usize)> = entry
+                .xmap
+                .iter()
+                .enumerate()
+                .filter_map(|(a, &xa)| unknown[xa].map(|u| (a, u)))
+                .collect();
+            for &(_, ua) in &free {
+                for &(_, ub) in &free {
+                    rows.push(ua);
+                    cols.push(ub);
+                }
+            }
+            for m in 0..entry.element.ne() {
+                if let Some(kc) = constraint[entry.ie + m] {
+                    for &(_, ub) in &free {
+                        rows.extend([nf + kc, ub]);
+                        cols.extend([ub, nf + kc]);
+                    }
+                }
+            }
+            elem_free.push(free);
+            f_start.push(f_start.last().copied().unwrap_or(0) + entry.xmap.len());
+        }
+        elem_start.push(rows.len());
+        Self {
+            rows,
+            cols,
+            elem_start,
+            elem_free,
+            f_start,
+        }
+    }
+}
+
+/// A reduced local coordinate of an element: a column of the map T from reduced to original
+/// local coordinates.
+#[derive(Clone, Copy, Debug)]
+enum RCol {
+    /// The local coordinate itself.
+    Plain(usize),
+    /// Rotation increment j of the node whose λ0 is local coordinate `a0`: Δλ = N(λ) δ.
+    Rot { a0: usize, j: usize },
+}
+
+/// The Newton system in reduced unknowns. A rotational node whose four Euler parameters are
+/// all free is described by three increments δ with Δλ = N(λ) δ, N = Λ̄(λ)ᵀ/‖λ‖ (an
+/// orthonormal basis of λ⊥, docs/rotations.md), instead of four parameters plus its
+/// normalisation constraint and multiplier: the KKT matrix loses two rows and columns per node
+/// and its zero diagonal there, and for a model without constraints and moments it is the
+/// symmetric tangent stiffness itself (factored as L D Lᵀ). Since λᵀλ = 1 holds at every
+/// iterate (`normalise_lambda`), the normalisation row gives Δλ ⟂ λ; the multiplier's term
+/// 2μ I becomes 2μ I₃ and the multiplier's update follows from its row of the full system
+/// (in `newton`): the direction is that of the full system. Nodes with a single free Euler
+/// parameter are eliminated as well (`singles`).
+struct Reduction {
+    /// Reduced index of every original unknown (free coordinates, then constraints); `None`
+    /// for the Euler parameters and normalisations of reduced nodes.
+    map: Vec<Option<usize>>,
+    /// Reduced nodes: (λ0 x index, first of its three reduced indices, normalisation index).
+    nodes: Vec<(usize, usize, usize)>,
+    /// Nodes with a single free Euler parameter (a clamped or rotation-driven node): it follows
+    /// from the normalisation alone, so neither it nor the normalisation enters the Newton
+    /// system; its multiplier solves its row of the equilibrium at every state
+    /// (`solve_single_multipliers`). (λ0 x index, x index of that parameter, normalisation
+    /// index).
+    singles: Vec<(usize, usize, usize)>,
+    /// x index of λ0 → index into `nodes`.
+    node_at: Vec<Option<usize>>,
+    /// Reduced coordinate unknowns (the constraints follow).
+    nfr: usize,
+    /// Size of the reduced system.
+    n: usize,
+    /// Whether reduced coordinate unknown u is a translation.
+    is_trans: Vec<bool>,
+    /// Reduced local coordinates of each element with their reduced unknown.
+    elem_cols: Vec<Vec<(RCol, usize)>>,
+    /// Beams with all 14 coordinates free, both nodes reduced and no constrained mode: their
+    /// reduced entries come directly from `BeamFirst::hessian_tangent`.
+    beam_full: Vec<bool>,
+    /// KKT entries written by the element assembly (as [`Pattern`]).
+    rows: Vec<usize>,
+    /// The diagonal entries of translations among them.
+    diag_trans: Vec<usize>,
+    cols: Vec<usize>,
+    elem_start: Vec<usize>,
+}
+
+impl Reduction {
+    fn new(
+        model: &Model,
+        unknown: &[Option<usize>],
+        constraint: &[Option<usize>],
+        nf: usize,
+        nk: usize,
+        norm: &[(usize, usize)],
+    ) -> Self {
+        // candidates: all four λ free; every element uses them as one block λ0..λ3
+        let mut node_ok = vec![false; model.nx];
+        for &(r, _) in norm {
+            node_ok[r] = (r..r + 4).all(|i| unknown[i].is_some());
+        }
+        let mut lambda0 = vec![usize::MAX; model.nx];
+        for &(r, _) in norm {
+            for i in r..r + 4 {
+                lambda0[i] = r;
+            }
+        }
+        for entry in &model.elements {
+            let mut a = 0;
+            while a < entry.xmap.len() {
+                let xi = entry.xmap[a];
+                let r = lambda0[xi];
+                if r != usize::MAX && node_ok[r] {
+                    let block = xi == r
+                        && a + 4 <= entry.xmap.len()
+                        && (0..4).all(|i| entry.xmap[a + i] == r + i);
+                    if !block {
+                        node_ok[r] = false;
+                    } else {
+                        a += 4;
+                        continue;
+                    }
+                }
+                a += 1;
+            }
+        }
+        // single free parameter: determined by the normalisation
+        let mut singles = Vec::new();
+        for &(r, kc) in norm {
+            let free: Vec<usize> = (r..r + 4).filter(|&i| unknown[i].is_some()).collect();
+            if free.len() == 1 {
+                singles.push((r, free[0], kc));
+            }
+        }
+        // numbering: coordinates in x order (three per reduced node), then the constraints
+        let mut map = vec![None; nf + nk];
+        let single_x: std::collections::HashSet<usize> = singles.iter().map(|v| v.1).collect();
+        let mut nodes = Vec::new();
+        let mut node_at = vec![None; model.nx];
+        let mut is_trans = Vec::new();
+        let mut is_lambda = vec![false; model.nx];
+        for n in &model.nodes {
+            if let Some(r) = n.ix_rot {
+                is_lambda[r..r + 4].iter_mut().for_each(|v| *v = true);
+            }
+        }
+        let mut nfr = 0;
+        let norm_of: std::collections::HashMap<usize, usize> = norm.iter().cloned().collect();
+        let mut i = 0;
+        while i < model.nx {
+            if node_ok[i] && lambda0[i] == i {
+                node_at[i] = Some(nodes.len());
+                nodes.push((i, nfr, norm_of[&i]));
+                nfr += 3;
+                is_trans.extend([false; 3]);
+                i += 4;
+                continue;
+            }
+            if let (Some(u), false) = (unknown[i], single_x.contains(&i)) {
+                map[u] = Some(nfr);
+                is_trans.push(!is_lambda[i]);
+                nfr += 1;
+            }
+            i += 1;
+        }
+        let mut n = nfr;
+        let eliminated: std::collections::HashSet<usize> = nodes
+            .iter()
+            .map(|v| v.2)
+            .chain(singles.iter().map(|v| v.2))
+            .collect();
+        for kc in 0..nk {
+            if !eliminated.contains(&kc) {
+                map[nf + kc] = Some(n);
+                n += 1;
+            }
+        }
+        // element columns and entry order
+        let (mut rows, mut cols) = (Vec::new(), Vec::new());
+        let mut elem_start = Vec::with_capacity(model.elements.len() + 1);
+        let mut elem_cols = Vec::with_capacity(model.elements.len());
+        let mut beam_full = Vec::with_capacity(model.elements.len());
+        for entry in &model.elements {
+            elem_start.push(rows.len());
+            let mut ec = Vec::new();
+            let mut a = 0;
+            while a < entry.xmap.len() {
+                let xi = entry.xmap[a];
+                if let Some(k) = node_at[xi] {
+                    let d0 = nodes[k].1;
+                    for j in 0..3 {
+                        ec.push((RCol::Rot { a0: a, j }, d0 + j));
+                    }
+                    a += 4;
+                    continue;
+                }
+                if let Some(m) = unknown[xi].and_then(|u| map[u]) {
+                    ec.push((RCol::Plain(a), m));
+                }
+                a += 1;
+            }
+            for &(_, ua) in &ec {
+                for &(_, ub) in &ec {
+                    rows.push(ua);
+                    cols.push(ub);
+                }
+            }
+            for m in 0..entry.element.ne() {
+                if let Some(kc) = constraint[entry.ie + m] {
+                    let kr = map[nf + kc].expect("element constraints are kept");
+                    for &(_, ub) in &ec {
+                        rows.extend([kr, ub]);
+                        cols.extend([ub, kr]);
+                    }
+                }
+            }
+            let full = matches!(entry.element, Element::Beam(_))
+                && ec.len() == 12
+                && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
+                && ec.iter().enumerate().all(|(c, (col, _))| match (c, *col) {
+                    (0..=2, RCol::Plain(a)) => a == c,
+                    (3..=5, RCol::Rot { a0, j }) => a0 == 3 && j == c - 3,
+                    (6..=8, RCol::Plain(a)) => a == c + 1,
+                    (9..=11, RCol::Rot { a0, j }) => a0 == 10 && j == c - 9,
+                    _ => false,
+                });
+            beam_full.push(full);
+            elem_cols.push(ec);
+        }
+        elem_start.push(rows.len());
+        let diag_trans = (0..rows.len())
+            .filter(|&i| rows[i] == cols[i] && rows[i] < nfr && is_trans[rows[i]])
+            .collect();
+        Self {
+            map,
+            nodes,
+            singles,
+            diag_trans,
+            node_at,
+            nfr,
+            n,
+            is_trans,
+            elem_cols,
+            beam_full,
+            rows,
+            cols,
+            elem_start,
+        }
+    }
+}
+
+/// Scale of the Euler-parameter increment N δ of a reduced node (|λ| = 1, ‖δ‖² = `d2`) so that
+/// the node turns by atan ‖ω‖ instead of 2 atan(‖ω‖/2), ω = 2 Λ̄ N δ the linearised rotation:
+/// s = tan(atan(2‖δ‖)/2)/‖δ‖ = 2/(1 + √(1 + 4‖δ‖²)).
+///
+/// Under the linear update of the positions a chord whose end moves across it by θ times its
+/// length turns by atan θ. With this update a node triad that turns with the chord in the
+/// linearised step (ω ⟂ chord, ‖ω‖ = θ) also turns by atan θ, whereas the plain update turns it
+/// by 2 atan(θ/2): a mismatch of θ³/4 that loads the element's bending modes. On fine meshes
+/// that mismatch, times the bending stiffness EI/l0³ of the short elements, dominates the
+/// residual after a Newton step and makes Newton diverge (the straight cantilever at
+/// N = 10,000). The update agrees with the plain one to first order (s = 1 − ‖δ‖² + …), so it
+/// is still Newton's method with its local quadratic convergence, and the converged equilibria
+/// are the same.
+fn chord_consistent_scale(d2: f64) -> f64 {
+    2.0 / (1.0 + (1.0 + 4.0 * d2).sqrt())
+}
+
+/// The multiplier of the normalisation of each node with a single free Euler parameter λ_i
+/// ([`Reduction`]): the value that makes the equilibrium row of λ_i hold at the current state,
+/// r_i + 2 Δμ λ_i = 0; the residual and the generalised forces of the node are updated with it.
+/// (The full Newton system gives the same value up to the linearisation error, and at the
+/// solution exactly.)
+fn solve_single_multipliers(su: &Setup, x: &[f64], mu: &mut [f64], a: &mut Assembled) {
+    for &(r, xi, kc) in &su.red.singles {
+        let (Some(u), l) = (su.unknown[xi], x[xi]) else {
+            continue;
+        };
+        if l == 0.0 {
+            continue;
+        }
+        let dmu = -a.r[u] / (2.0 * l);
+        mu[kc] += dmu;
+        for c in r..r + 4 {
+            a.balance[c] += 2.0 * dmu * x[c];
+            if let Some(uc) = su.unknown[c] {
+                a.r[uc] = a.balance[c];
+            }
+        }
+    }
+}
+
+/// N(λ) = Λ̄(λ)ᵀ/‖λ‖ (4 × 3): Δλ = N δ spans λ⊥ with orthonormal columns.
+fn rot_basis(l: &[f64]) -> [[f64; 3]; 4] {
+    let l4 = [l[0], l[1], l[2], l[3]];
+    let inv = 1.0 / l4.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let lb = lambda_bar(&l4);
+    std::array::from_fn(|i| std::array::from_fn(|j| lb[j][i] * inv))
+}
+
+/// The reduced element entries Tᵀ K T and G T (see [`Reduction`]), written in its order.
+/// `kt` is scratch of at least nx_k × (number of reduced columns).
+#[allow(clippy::too_many_arguments)]
+fn write_reduced(
+    su: &Setup,
+    el: usize,
+    ie: usize,
+    ne: usize,
+    xk: &dyn Fn(usize) -> f64,
+    nxk: usize,
+    k: &dyn Fn(usize, usize) -> f64,
+    d: &dyn Fn(usize, usize) -> f64,
+    vals: &mut [f64],
+    kt: &mut [f64],
+) {
+    let cols = &su.red.elem_cols[el];
+    let nc = cols.len();
+    // the columns of T: up to four (local coordinate, coefficient) pairs each
+    let mut bases: [[[f64; 3]; 4]; 4] = [[[0.0; 3]; 4]; 4];
+    let mut base_a0 = [usize::MAX; 4];
+    let mut nb = 0;
+    let mut tcol = |c: &RCol| -> ([(usize, f64); 4], usize) {
+        match *c {
+            RCol::Plain(a) => ([(a, 1.0), (0, 0.0), (0, 0.0), (0, 0.0)], 1),
+            RCol::Rot { a0, j } => {
+                let slot = match base_a0[..nb].iter().position(|&v| v == a0) {
+                    Some(s) => s,
+                    None => {
+                        let l = [xk(a0), xk(a0 + 1), xk(a0 + 2), xk(a0 + 3)];
+                        if nb == bases.len() {
+                            // more than four rotational nodes in one element: no cache
+                            let nm = rot_basis(&l);
+                            return (std::array::from_fn(|i| (a0 + i, nm[i][j])), 4);
+                        }
+                        bases[nb] = rot_basis(&l);
+                        base_a0[nb] = a0;
+                        nb += 1;
+                        nb - 1
+                    }
+                };
+                (std::array::from_fn(|i| (a0 + i, bases[slot][i][j])), 4)
+            }
+        }
+    };
+    let mut ts_buf = [([(0usize, 0.0f64); 4], 0usize); 16];
+    let mut ts_vec;
+    let ts: &mut [([(usize, f64); 4], usize)] = if nc <= ts_buf.len() {
+        &mut ts_buf[..nc]
+    } else {
+        ts_vec = vec![([(0usize, 0.0f64); 4], 0usize); nc];
+        &mut ts_vec
+    };
+    for (t, (c, _)) in ts.iter_mut().zip(cols) {
+        *t = tcol(c);
+    }
+    // K T
+    for a in 0..nxk {
+        for (c, (t, len)) in ts.iter().enumerate() {
+            kt[a * nc + c] = t[..*len].iter().map(|&(b, w)| w * k(a, b)).sum();
+        }
+    }
+    let mut i = 0;
+    for (t1, l1) in ts.iter() {
+        for c2 in 0..nc {
+            vals[i] = t1[..*l1].iter().map(|&(a, w)| w * kt[a * nc + c2]).sum();
+            i += 1;
+        }
+    }
+    for m in 0..ne {
+        if su.constraint[ie + m].is_some() {
+            for (t, len) in ts.iter() {
+                let v: f64 = t[..*len].iter().map(|&(b, w)| w * d(m, b)).sum();
+                vals[i] = v;
+                vals[i + 1] = v;
+                i += 2;
+            }
+        }
+    }
+    debug_assert_eq!(i, vals.len());
 }
 
 /// Everything assembled at one state.
@@ -307,24 +738,28 @@ struct Assembled {
     r: Vec<f64>,
     /// Constraint violations.
     g: Vec<f64>,
-    /// KKT matrix entries.
+    /// KKT matrix entries, in the order of [`Pattern`] (or of [`Reduction`] for the reduced
+    /// system) followed by the tail entries (moments, normalisations) whose row and column are
+    /// in `tail`.
+    vals: Vec<f64>,
+    /// Number of element entries at the start of `vals`.
+    n_el: usize,
+    /// Row and column of the entries after the element blocks.
+    tail: Vec<(usize, usize)>,
+    /// KKT matrix entries as triplets (only from [`assemble_part`], for the linearisation).
     triplets: Vec<Triplet<usize, usize, f64>>,
     /// Force scale for the convergence test.
     f_scale: f64,
     /// Full generalised force balance f_int − f_ext + ∇p on all of x (reactions).
     balance: Vec<f64>,
+    /// Element part of `balance` (internal forces Dᵀσ) and the sums of their magnitudes.
+    int_force: Vec<f64>,
+    int_abs: Vec<f64>,
     e: Vec<f64>,
     sigma: Vec<f64>,
     energy: f64,
-}
-
-/// Per-element evaluation (parallel part).
-struct Local {
-    e: Vec<f64>,
-    sigma: Vec<f64>,
-    d: Mat<f64>,
-    k: Mat<f64>,
-    energy: f64,
+    /// Whether `vals` holds the reduced system ([`Reduction`]).
+    reduced: bool,
 }
 
 /// Which part of the tangent to assemble.
@@ -339,9 +774,10 @@ enum Part {
 }
 
 fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembled {
-    assemble_part(model, su, x, mu, t, Part::Full)
+    assemble_values(model, su, x, mu, t, Part::Full, false, Vec::new())
 }
 
+/// [`assemble_values`] with the KKT entries as triplets.
 fn assemble_part(
     model: &Model,
     su: &Setup,
@@ -350,98 +786,293 @@ fn assemble_part(
     t: f64,
     part: Part,
 ) -> Assembled {
-    let locals: Vec<Local> = model
-        .elements
-        .par_iter()
-        .enumerate()
-        .map(|(el, entry)| {
-            let xk = gather(entry, x);
-            let e = entry.element.deformations(&xk);
-            let d = entry.element.jacobian(&xk);
-            let s = &su.s_eff[el];
-            let ne = e.len();
-            // σ = S_eff e, plus multipliers on constrained modes
-            let mut sigma = vec![0.0; ne];
-            let mut energy = 0.0;
-            for a in 0..ne {
-                for b in 0..ne {
-                    sigma[a] += s[(a, b)] * e[b];
-                }
-                energy += 0.5 * sigma[a] * e[a];
-                if let Some(c) = su.constraint[entry.ie + a] {
-                    sigma[a] += mu[c];
-                }
-            }
-            // K_k = Dᵀ S D + Σ σᵢ ∂²eᵢ/∂x²
-            let nxk = xk.len();
-            let mut k = if part == Part::Material {
-                Mat::zeros(nxk, nxk)
-            } else {
-                entry.element.hessian_weighted(&xk, &sigma)
-            };
-            if part != Part::Geometric {
-                let sd = s * &d;
-                k += d.transpose() * &sd;
-            }
-            Local {
-                e,
-                sigma,
-                d,
-                k,
-                energy,
-            }
-        })
+    let mut a = assemble_values(model, su, x, mu, t, part, false, Vec::new());
+    let pat = &su.pattern;
+    let n_el = pat.rows.len();
+    a.triplets = (0..n_el)
+        .map(|i| Triplet::new(pat.rows[i], pat.cols[i], a.vals[i]))
+        .chain(
+            a.tail
+                .iter()
+                .zip(&a.vals[n_el..])
+                .map(|(&(r, c), &v)| Triplet::new(r, c, v)),
+        )
         .collect();
+    a
+}
 
-    let (nf, nk) = (su.nf, su.nk);
-    let mut balance = vec![0.0; model.nx];
-    let mut f_abs = vec![0.0; model.nx];
-    let mut g = vec![0.0; nk];
-    let mut e = vec![0.0; model.ne];
-    let mut sigma = vec![0.0; model.ne];
-    let mut energy = 0.0;
-    let mut triplets = Vec::new();
-    for (entry, loc) in model.elements.iter().zip(&locals) {
-        let ne = loc.e.len();
-        e[entry.ie..entry.ie + ne].copy_from_slice(&loc.e);
-        sigma[entry.ie..entry.ie + ne].copy_from_slice(&loc.sigma);
-        energy += loc.energy;
-        // internal forces Dᵀσ
-        for (c, &xi) in entry.xmap.iter().enumerate() {
-            let f: f64 = (0..ne).map(|a| loc.d[(a, c)] * loc.sigma[a]).sum();
-            balance[xi] += f;
-            f_abs[xi] += f.abs();
-        }
-        // tangent stiffness on free coordinates
-        for (a, &xa) in entry.xmap.iter().enumerate() {
-            let Some(ua) = su.unknown[xa] else { continue };
-            for (b, &xb) in entry.xmap.iter().enumerate() {
-                if let Some(ub) = su.unknown[xb] {
-                    triplets.push(Triplet::new(ua, ub, loc.k[(a, b)]));
-                }
+/// One element's contribution, written into its own slices (parallel part): deformations,
+/// stress resultants, internal forces Dᵀσ on its local coordinates, and its block of KKT
+/// entries in [`Pattern`] order (with `reduced`, [`Reduction`] order). Returns the elastic
+/// energy.
+#[allow(clippy::too_many_arguments)]
+fn element_local(
+    su: &Setup,
+    el: usize,
+    entry: &crate::model::ElementEntry,
+    x: &[f64],
+    mu: &[f64],
+    part: Part,
+    reduced: bool,
+    e_out: &mut [f64],
+    sigma_out: &mut [f64],
+    f_out: &mut [f64],
+    vals: &mut [f64],
+) -> f64 {
+    let s = &su.s_eff[el];
+    let ne = e_out.len();
+    let free = &su.pattern.elem_free[el];
+    // σ = S_eff e, plus multipliers on constrained modes
+    let stress = |e: &[f64], sigma: &mut [f64]| -> f64 {
+        let mut energy = 0.0;
+        for a in 0..ne {
+            sigma[a] = (0..ne).map(|b| s[(a, b)] * e[b]).sum();
+            energy += 0.5 * sigma[a] * e[a];
+            if let Some(c) = su.constraint[entry.ie + a] {
+                sigma[a] += mu[c];
             }
         }
-        // constraint rows G and columns Gᵀ
-        for m in 0..ne {
-            let Some(kc) = su.constraint[entry.ie + m] else {
-                continue;
-            };
-            let target = match su.roles[entry.ie + m] {
-                Role::Input => t * su.e_targets[entry.ie + m],
-                _ => 0.0,
-            };
-            g[kc] = loc.e[m] - target;
-            for (b, &xb) in entry.xmap.iter().enumerate() {
-                if let Some(ub) = su.unknown[xb] {
-                    let v = loc.d[(m, b)];
-                    if v != 0.0 {
-                        triplets.push(Triplet::new(nf + kc, ub, v));
-                        triplets.push(Triplet::new(ub, nf + kc, v));
+        energy
+    };
+    // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
+    let write =
+        |vals: &mut [f64], k: &dyn Fn(usize, usize) -> f64, d: &dyn Fn(usize, usize) -> f64| {
+            let mut i = 0;
+            for &(a, _) in free {
+                for &(b, _) in free {
+                    vals[i] = k(a, b);
+                    i += 1;
+                }
+            }
+            for m in 0..ne {
+                if su.constraint[entry.ie + m].is_some() {
+                    for &(b, _) in free {
+                        let v = d(m, b);
+                        vals[i] = v;
+                        vals[i + 1] = v;
+                        i += 2;
                     }
                 }
             }
+            debug_assert_eq!(i, vals.len());
+        };
+    if let Element::Beam(beam) = &entry.element {
+        // closed-form derivatives in fixed-size arrays (elements/beam_fast.rs)
+        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+        let first = beam.first(&xk);
+        e_out.copy_from_slice(&first.e);
+        let energy = stress(&first.e, sigma_out);
+        let d = &first.d;
+        for (c, f) in f_out.iter_mut().enumerate() {
+            *f = (0..6).map(|a| d[a][c] * sigma_out[a]).sum();
+        }
+        let s6: [[f64; 6]; 6] = std::array::from_fn(|a| std::array::from_fn(|b| s[(a, b)]));
+        let w: [f64; 6] = std::array::from_fn(|a| sigma_out[a]);
+        if reduced && su.red.beam_full[el] && part == Part::Full {
+            // Tᵀ K T directly in the tangent coordinates of both rotations
+            let (bp, bq) = (rot_basis(&xk[3..7]), rot_basis(&xk[10..14]));
+            let k = first.hessian_tangent(&w, Some(&s6), &bp, &bq);
+            for (o, v) in vals.chunks_exact_mut(12).zip(&k) {
+                o.copy_from_slice(v);
+            }
+            return energy;
+        }
+        let k = match part {
+            Part::Full => first.hessian(&w, Some(&s6)),
+            Part::Material => first.hessian(&[0.0; 6], Some(&s6)),
+            Part::Geometric => first.hessian(&w, None),
+        };
+        if reduced {
+            // at most 14 reduced columns
+            let mut kt = [0.0; 14 * 14];
+            write_reduced(
+                su,
+                el,
+                entry.ie,
+                ne,
+                &|a| xk[a],
+                14,
+                &|a, b| k[a][b],
+                &|m, b| d[m][b],
+                vals,
+                &mut kt,
+            );
+        } else {
+            write(vals, &|a, b| k[a][b], &|m, b| d[m][b]);
+        }
+        return energy;
+    }
+    let xk = gather(entry, x);
+    let e = entry.element.deformations(&xk);
+    let d = entry.element.jacobian(&xk);
+    e_out.copy_from_slice(&e);
+    let energy = stress(&e, sigma_out);
+    for (c, f) in f_out.iter_mut().enumerate() {
+        *f = (0..ne).map(|a| d[(a, c)] * sigma_out[a]).sum();
+    }
+    // K_k = Dᵀ S D + Σ σᵢ ∂²eᵢ/∂x²
+    let nxk = xk.len();
+    let mut k = if part == Part::Material {
+        Mat::zeros(nxk, nxk)
+    } else {
+        entry.element.hessian_weighted(&xk, sigma_out)
+    };
+    if part != Part::Geometric {
+        let sd = s * &d;
+        k += d.transpose() * &sd;
+    }
+    if reduced {
+        let mut kt = vec![0.0; nxk * su.red.elem_cols[el].len()];
+        write_reduced(
+            su,
+            el,
+            entry.ie,
+            ne,
+            &|a| xk[a],
+            nxk,
+            &|a, b| k[(a, b)],
+            &|m, b| d[(m, b)],
+            vals,
+            &mut kt,
+        );
+    } else {
+        write(vals, &|a, b| k[(a, b)], &|m, b| d[(m, b)]);
+    }
+    energy
+}
+
+/// Split `v` into consecutive pieces at the given offsets (`starts` ascending, first 0).
+fn split_at_starts<'a>(mut v: &'a mut [f64], starts: &[usize]) -> Vec<&'a mut [f64]> {
+    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
+    for w in starts.windows(2) {
+        let (head, rest) = v.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        v = rest;
+    }
+    out
+}
+
+/// Assemble at (x, μ, t): the KKT entries of the full system (order of [`Pattern`]) or, with
+/// `reduced`, of the reduced one ([`Reduction`]); `spare` is a buffer to reuse for them.
+#[allow(clippy::too_many_arguments)]
+fn assemble_values(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+    reduced: bool,
+    spare: Vec<f64>,
+) -> Assembled {
+    let pat = &su.pattern;
+    let (n_el, elem_start) = if reduced {
+        (su.red.rows.len(), &su.red.elem_start)
+    } else {
+        (pat.rows.len(), &pat.elem_start)
+    };
+    // every element entry is written by its element: no need to clear a reused buffer
+    let mut vals = spare;
+    vals.truncate(n_el);
+    vals.resize(n_el, 0.0);
+    let mut e = vec![0.0; model.ne];
+    let mut sigma = vec![0.0; model.ne];
+    let mut fbuf = vec![0.0; *pat.f_start.last().unwrap_or(&0)];
+    let e_starts: Vec<usize> = model
+        .elements
+        .iter()
+        .map(|en| en.ie)
+        .chain(std::iter::once(model.ne))
+        .collect();
+    let energy: f64 = {
+        let vals_k = split_at_starts(&mut vals, elem_start);
+        let e_k = split_at_starts(&mut e, &e_starts);
+        let sigma_k = split_at_starts(&mut sigma, &e_starts);
+        let f_k = split_at_starts(&mut fbuf, &pat.f_start);
+        vals_k
+            .into_par_iter()
+            .zip(e_k)
+            .zip(sigma_k)
+            .zip(f_k)
+            .enumerate()
+            .with_min_len(64)
+            .map(|(el, (((v, ek), sk), fk))| {
+                element_local(
+                    su,
+                    el,
+                    &model.elements[el],
+                    x,
+                    mu,
+                    part,
+                    reduced,
+                    ek,
+                    sk,
+                    fk,
+                    v,
+                )
+            })
+            .sum()
+    };
+
+    let mut int_force = vec![0.0; model.nx];
+    let mut int_abs = vec![0.0; model.nx];
+    for (el, entry) in model.elements.iter().enumerate() {
+        // internal forces Dᵀσ
+        let f = &fbuf[pat.f_start[el]..pat.f_start[el + 1]];
+        for (&xi, &fi) in entry.xmap.iter().zip(f) {
+            int_force[xi] += fi;
+            int_abs[xi] += fi.abs();
         }
     }
+    let n_el = vals.len();
+    let mut a = Assembled {
+        r: Vec::new(),
+        g: Vec::new(),
+        vals,
+        n_el,
+        tail: Vec::new(),
+        triplets: Vec::new(),
+        f_scale: 0.0,
+        balance: Vec::new(),
+        int_force,
+        int_abs,
+        e,
+        sigma,
+        energy,
+        reduced,
+    };
+    apply_loads(model, su, x, mu, t, &mut a);
+    a
+}
+
+/// The parts of an assembly that depend on the load factor t, the multipliers of the
+/// normalisations and the prescribed deformations, on top of its element part: external
+/// forces and load stiffness, normalisation terms, constraint violations, residual and force
+/// scale. Replaces those of an earlier call, so an assembly at the same state can be reused
+/// for another t.
+fn apply_loads(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64, a: &mut Assembled) {
+    let (nf, nk) = (su.nf, su.nk);
+    let reduced = a.reduced;
+    let mut balance = a.int_force.clone();
+    let mut f_abs = a.int_abs.clone();
+    let mut g = vec![0.0; nk];
+    a.vals.truncate(a.n_el);
+    let vals = &mut a.vals;
+    // constraint violations of the elements
+    for entry in &model.elements {
+        for m in 0..entry.element.ne() {
+            let i = entry.ie + m;
+            let Some(kc) = su.constraint[i] else {
+                continue;
+            };
+            let target = match su.roles[i] {
+                Role::Input => t * su.e_targets[i],
+                _ => 0.0,
+            };
+            g[kc] = a.e[i] - target;
+        }
+    }
+    let mut tail = Vec::new();
     // external dead forces
     for i in 0..model.nx {
         balance[i] -= t * su.f_dead[i];
@@ -456,19 +1087,39 @@ fn assemble_part(
             balance[r + c] -= f;
             f_abs[r + c] += f.abs();
         }
-        let a = [
+        let am = [
             [0.0, -m[0], -m[1], -m[2]],
             [m[0], 0.0, -m[2], m[1]],
             [m[1], m[2], 0.0, -m[0]],
             [m[2], -m[1], m[0], 0.0],
         ];
+        if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
+            // Nᵀ (−2 t A) N on the node's rotation increments
+            let nb = rot_basis(&x[r..r + 4]);
+            let d0 = su.red.nodes[k].1;
+            for p in 0..3 {
+                for q in 0..3 {
+                    let mut v = 0.0;
+                    for i in 0..4 {
+                        for j in 0..4 {
+                            v += nb[i][p] * am[i][j] * nb[j][q];
+                        }
+                    }
+                    tail.push((d0 + p, d0 + q));
+                    vals.push(-2.0 * t * v);
+                }
+            }
+            continue;
+        }
+        let idx = |u: usize| if reduced { su.red.map[u] } else { Some(u) };
         for i in 0..4 {
-            let Some(ui) = su.unknown[r + i] else {
+            let Some(ui) = su.unknown[r + i].and_then(idx) else {
                 continue;
             };
             for j in 0..4 {
-                if let Some(uj) = su.unknown[r + j] {
-                    triplets.push(Triplet::new(ui, uj, -2.0 * t * a[i][j]));
+                if let Some(uj) = su.unknown[r + j].and_then(idx) {
+                    tail.push((ui, uj));
+                    vals.push(-2.0 * t * am[i][j]);
                 }
             }
         }
@@ -479,12 +1130,26 @@ fn assemble_part(
         g[kc] = l.iter().map(|v| v * v).sum::<f64>() - 1.0;
         for i in 0..4 {
             balance[r + i] += 2.0 * mu[kc] * l[i];
-            let Some(ui) = su.unknown[r + i] else {
+        }
+        if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
+            // Nᵀ (2μ I) N = 2μ I on the rotation increments (N orthonormal)
+            let d0 = su.red.nodes[k].1;
+            for j in 0..3 {
+                tail.push((d0 + j, d0 + j));
+                vals.push(2.0 * mu[kc]);
+            }
+            continue;
+        }
+        let idx = |u: usize| if reduced { su.red.map[u] } else { Some(u) };
+        let Some(kr) = idx(nf + kc) else {
+            continue;
+        };
+        for i in 0..4 {
+            let Some(ui) = su.unknown[r + i].and_then(idx) else {
                 continue;
             };
-            triplets.push(Triplet::new(ui, ui, 2.0 * mu[kc]));
-            triplets.push(Triplet::new(nf + kc, ui, 2.0 * l[i]));
-            triplets.push(Triplet::new(ui, nf + kc, 2.0 * l[i]));
+            tail.extend([(ui, ui), (kr, ui), (ui, kr)]);
+            vals.extend([2.0 * mu[kc], 2.0 * l[i], 2.0 * l[i]]);
         }
     }
     let mut r = vec![0.0; nf];
@@ -493,17 +1158,11 @@ fn assemble_part(
             r[u] = balance[i];
         }
     }
-    let f_scale = f_abs.iter().cloned().fold(0.0, f64::max);
-    Assembled {
-        r,
-        g,
-        triplets,
-        f_scale,
-        balance,
-        e,
-        sigma,
-        energy,
-    }
+    a.f_scale = f_abs.iter().cloned().fold(0.0, f64::max);
+    a.r = r;
+    a.g = g;
+    a.tail = tail;
+    a.balance = balance;
 }
 
 fn inf_norm(v: &[f64]) -> f64 {
@@ -547,13 +1206,263 @@ fn apply_prescribed(model: &Model, su: &Setup, x: &mut [f64], t: f64) {
     }
 }
 
+/// The sparse (reduced) Newton matrix of one solve with its fixed structure: the CSC
+/// structure, the map from the assembly's entry order to the value slots, the fill-reducing
+/// ordering and the structure of the factors are computed once; each Newton iteration gathers
+/// the values and refactors numerically (see [`KktSolver::solve`] and [`SparseLu`]).
+struct KktSolver {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// The assembled entries summed into CSC value slot k: `src[src_ptr[k]..src_ptr[k + 1]]`
+    /// (indices into the assembly order: element blocks, then the tail).
+    src_ptr: Vec<usize>,
+    src: Vec<u32>,
+    values: Vec<f64>,
+    lu: SparseLu,
+    /// Whether `lu` holds a factorisation whose pivot order can be reused.
+    have_pivots: bool,
+    /// Symmetric strategy: the same ordering with all pivots on the diagonal (the structure of
+    /// a Cholesky factorisation), tried first; `lu` then pivots where it is not good enough.
+    diag: Option<SparseLu>,
+    /// The matrix is symmetric (no load stiffness of moments): `diag` factors it as L D Lᵀ
+    /// from the lower triangle in pivot order, gathered as `lower` from the assembled entries
+    /// `lower_src[lower_ptr[e]..lower_ptr[e + 1]]`.
+    symmetric: bool,
+    lower_ptr: Vec<usize>,
+    lower_src: Vec<u32>,
+    lower: Vec<f64>,
+    /// Whether `values` (CSC) holds the current matrix.
+    csc_current: bool,
+}
+
+impl KktSolver {
+    fn new(su: &Setup, tail: &[(usize, usize)]) -> Result<Self, String> {
+        let n = su.red.n;
+        let pat = &su.red;
+        // CSC structure of the entries (rows sorted, duplicates summed) and the entries summed
+        // into each value slot: bucket the entries by column, sort each column by row
+        let ne_el = pat.rows.len();
+        let entry = |i: usize| -> (usize, usize) {
+            if i < ne_el {
+                (pat.rows[i], pat.cols[i])
+            } else {
+                tail[i - ne_el]
+            }
+        };
+        let m = ne_el + tail.len();
+        if m > u32::MAX as usize {
+            return Err("too many matrix entries".into());
+        }
+        let mut by_col_ptr = vec![0usize; n + 1];
+        for i in 0..m {
+            by_col_ptr[entry(i).1 + 1] += 1;
+        }
+        for c in 0..n {
+            by_col_ptr[c + 1] += by_col_ptr[c];
+        }
+        let mut fill = by_col_ptr.clone();
+        let mut by_col = vec![(0u32, 0u32); m];
+        for i in 0..m {
+            let (r, c) = entry(i);
+            by_col[fill[c]] = (r as u32, i as u32);
+            fill[c] += 1;
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        let mut src_ptr = vec![0usize];
+        let mut src = Vec::with_capacity(m);
+        col_ptr.push(0);
+        for c in 0..n {
+            let list = &mut by_col[by_col_ptr[c]..by_col_ptr[c + 1]];
+            // by row, and by entry index within a row (the summation order of the assembly)
+            list.sort_unstable();
+            for (k, &(r, i)) in list.iter().enumerate() {
+                if k == 0 || list[k - 1].0 != r {
+                    if k > 0 {
+                        src_ptr.push(src.len());
+                    }
+                    row_idx.push(r as usize);
+                }
+                src.push(i);
+            }
+            if !list.is_empty() {
+                src_ptr.push(src.len());
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let nnz = row_idx.len();
+        let lu = SparseLu::new(n, &col_ptr, &row_idx)?;
+        let mut diag = lu.clone();
+        let mut diag = diag.set_diagonal_pivots(&col_ptr, &row_idx).then_some(diag);
+        let symmetric = su.moments.is_empty() && diag.is_some();
+        let (mut lower_ptr, mut lower_src) = (vec![0], Vec::new());
+        if let (true, Some(d)) = (symmetric, &mut diag) {
+            for p in d.lower_layout(&col_ptr, &row_idx) {
+                lower_src.extend_from_slice(&src[src_ptr[p]..src_ptr[p + 1]]);
+                lower_ptr.push(lower_src.len());
+            }
+        }
+        let lower = vec![0.0; lower_ptr.len() - 1];
+        let values = vec![0.0; nnz];
+        Ok(Self {
+            col_ptr,
+            row_idx,
+            src_ptr,
+            src,
+            values,
+            lu,
+            have_pivots: false,
+            diag,
+            symmetric,
+            lower_ptr,
+            lower_src,
+            lower,
+            csc_current: false,
+        })
+    }
+
+    /// Solve K z = rhs in place for the KKT matrix with entries `vals` (assembly order).
+    ///
+    /// Order of attempts: L D Lᵀ with the diagonal pivot order (symmetric matrices; any other
+    /// matrix with a full diagonal: LU with that order), then LU with the pivot order of the
+    /// last factorisation with pivoting, then a new factorisation with pivoting. A
+    /// refactorisation is accepted when its pivots are not small ([`MIN_PIVOT_RATIO`], or all
+    /// positive for L D Lᵀ) or else when its solution is accurate ([`MAX_LINEAR_RESIDUAL`]).
+    fn solve(&mut self, vals: &[f64], rhs: &mut [f64]) -> Result<(), ()> {
+        debug_assert_eq!(vals.len(), self.src.len());
+        self.csc_current = false;
+        let b = rhs.to_vec();
+        let bn = norm2(&b);
+        for try_diag in [true, false] {
+            let sym = try_diag && self.symmetric;
+            if sym {
+                gather_sum(&mut self.lower, &self.lower_ptr, &self.lower_src, vals);
+            } else {
+                self.gather_csc(vals);
+            }
+            let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
+            let lu = if try_diag {
+                match &mut self.diag {
+                    Some(d) => d,
+                    None => continue,
+                }
+            } else if self.have_pivots {
+                &mut self.lu
+            } else {
+                continue;
+            };
+            let r = if sym {
+                lu.refactor_symmetric(&self.lower)
+            } else {
+                lu.refactor(cp, ri, v)
+            };
+            let Ok(ratio) = r else {
+                continue;
+            };
+            rhs.copy_from_slice(&b);
+            lu.solve(rhs);
+            if ratio >= MIN_PIVOT_RATIO {
+                return Ok(());
+            }
+            // small pivots: accept an accurate solution
+            if !self.csc_current {
+                self.gather_csc(vals);
+            }
+            let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
+            let (res, _) = residual(cp, ri, v, rhs, &b);
+            if norm2(&res) <= MAX_LINEAR_RESIDUAL * bn {
+                return Ok(());
+            }
+        }
+        // factor with pivoting again
+        if !self.csc_current {
+            self.gather_csc(vals);
+        }
+        let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
+        self.have_pivots = false;
+        if self.lu.factor(cp, ri, v).is_err() {
+            return Err(());
+        }
+        self.have_pivots = true;
+        rhs.copy_from_slice(&b);
+        self.lu.solve(rhs);
+        Ok(())
+    }
+
+    /// The CSC values of the matrix with entries `vals`.
+    fn gather_csc(&mut self, vals: &[f64]) {
+        gather_sum(&mut self.values, &self.src_ptr, &self.src, vals);
+        self.csc_current = true;
+    }
+}
+
+/// out[k] = Σ vals[src[ptr[k]..ptr[k + 1]]] (in parallel).
+fn gather_sum(out: &mut [f64], ptr: &[usize], src: &[u32], vals: &[f64]) {
+    const CHUNK: usize = 4096;
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            for (o, v) in chunk.iter_mut().enumerate() {
+                let k = c * CHUNK + o;
+                *v = src[ptr[k]..ptr[k + 1]]
+                    .iter()
+                    .map(|&i| vals[i as usize])
+                    .sum();
+            }
+        });
+}
+
+fn norm2(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Residual b − A z and the componentwise backward error max_i |b − A z|_i / (|A| |z| + |b|)_i.
+fn residual(cp: &[usize], ri: &[usize], v: &[f64], z: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
+    let mut res = b.to_vec();
+    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
+    for (j, &zj) in z.iter().enumerate() {
+        for p in cp[j]..cp[j + 1] {
+            res[ri[p]] -= v[p] * zj;
+            scale[ri[p]] += (v[p] * zj).abs();
+        }
+    }
+    let be = res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
+        let e = if *s > 0.0 { r.abs() / s } else { r.abs() };
+        if e.is_nan() {
+            f64::INFINITY
+        } else {
+            m.max(e)
+        }
+    });
+    (res, be)
+}
+
+/// Largest accepted ‖K z − b‖/‖b‖ of a solution from a refactorisation with small pivots.
+const MAX_LINEAR_RESIDUAL: f64 = 1e-6;
+
+/// Refactoring with the previous pivots is accepted when every pivot is at least this fraction
+/// of the largest entry of its column (threshold partial pivoting); otherwise the matrix is
+/// factored with pivoting again.
+const MIN_PIVOT_RATIO: f64 = 1e-3;
+
+/// A Newton solve is abandoned (and the load step halved) when the residual exceeds this factor
+/// times the largest of its initial residual and the residual after the first iteration.
+const DIVERGENCE: f64 = 1e3;
+
 /// Smallest line-search step before a step is taken anyway.
 const MIN_STEP: f64 = 1.0 / 16.0;
 
 /// Outcome of one Newton solve.
 enum Newton {
-    Converged { iterations: usize, residual: f64 },
-    Failed { reason: String },
+    /// Converged; `state` is the assembly at the solution.
+    Converged {
+        iterations: usize,
+        residual: f64,
+        state: Box<Assembled>,
+    },
+    Failed {
+        reason: String,
+    },
 }
 
 fn newton(
@@ -563,25 +1472,38 @@ fn newton(
     x: &mut [f64],
     mu: &mut [f64],
     t: f64,
+    kkt: &mut Option<KktSolver>,
+    prev: Option<Box<Assembled>>,
 ) -> Newton {
     let (nf, nk) = (su.nf, su.nk);
-    let n = nf + nk;
+    let red = &su.red;
     normalise_lambda(su, x);
-    let mut a = assemble(model, su, x, mu, t);
+    // `prev`: the reduced assembly at this x and μ for another load factor (the last
+    // converged state): only its load part changes
+    let mut a = match prev {
+        Some(mut p) if p.reduced => {
+            apply_loads(model, su, x, mu, t, &mut p);
+            *p
+        }
+        _ => assemble_values(model, su, x, mu, t, Part::Full, true, Vec::new()),
+    };
+    solve_single_multipliers(su, x, mu, &mut a);
     let mut last_inc = f64::INFINITY;
     // reference stiffness: the largest diagonal entry of the tangent (translations only: the
     // Euler-parameter entries are in other units)
-    let mut is_trans = vec![false; nf];
-    for i in 0..model.nx {
-        if let (Some(u), false) = (su.unknown[i], su.is_lambda[i]) {
-            is_trans[u] = true;
-        }
-    }
-    let k_ref = a
-        .triplets
+    let n_el = red.rows.len();
+    let k_ref = red
+        .diag_trans
         .iter()
-        .filter(|t| t.row == t.col && t.row < nf && is_trans[t.row])
-        .fold(0.0f64, |m, t| m.max(t.val.abs()));
+        .map(|&i| a.vals[i])
+        .chain(
+            a.tail
+                .iter()
+                .zip(&a.vals[n_el..])
+                .filter(|((r, c), _)| r == c && *r < red.nfr && red.is_trans[*r])
+                .map(|(_, v)| *v),
+        )
+        .fold(0.0f64, |m, v| m.max(v.abs()));
     let scale_inc = |dx: &[f64]| -> f64 {
         let mut m: f64 = 0.0;
         for i in 0..model.nx {
@@ -596,6 +1518,7 @@ fn newton(
         }
         m
     };
+    let mut r_start: f64 = 0.0;
     for it in 0..=opts.max_iterations {
         let (rn, gn) = (inf_norm(&a.r), inf_norm(&a.g));
         if std::env::var("FLEXMBD_DEBUG_NEWTON").is_ok() {
@@ -618,6 +1541,7 @@ fn newton(
             return Newton::Converged {
                 iterations: it,
                 residual: rn,
+                state: Box::new(a),
             };
         }
         if it == opts.max_iterations {
@@ -625,31 +1549,68 @@ fn newton(
                 reason: format!("{it} iterations, residual {rn:.3e} N, constraint error {gn:.3e}"),
             };
         }
-        // Newton direction from the KKT system
-        let kkt = match SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &a.triplets) {
-            Ok(m) => m,
-            Err(e) => {
-                return Newton::Failed {
-                    reason: format!("sparse assembly failed: {e:?}"),
-                }
+        // divergence: the residual grew far beyond those of the start and of the first Newton
+        // step (the first step may raise it a lot, e.g. by stretching axially stiff elements);
+        // give up early so that the step is halved instead of spending all iterations
+        if it <= 1 {
+            r_start = r_start.max(rn);
+        } else if rn > DIVERGENCE * r_start.max(floor) {
+            return Newton::Failed {
+                reason: format!(
+                    "diverging: residual {rn:.3e} N after {it} iterations (at most {r_start:.3e} N at the start)"
+                ),
+            };
+        }
+        // Newton direction from the KKT system (structure and symbolic LU reused)
+        if kkt.is_none() {
+            match KktSolver::new(su, &a.tail) {
+                Ok(k) => *kkt = Some(k),
+                Err(reason) => return Newton::Failed { reason },
             }
-        };
-        let lu = match kkt.sp_lu() {
-            Ok(lu) => lu,
-            Err(_) => {
-                return Newton::Failed {
-                    reason: "the tangent matrix is singular (a mechanism, or a buckled state)"
-                        .into(),
-                }
+        }
+        let solver = kkt.as_mut().expect("created above");
+        // reduced right-hand side: −r on kept unknowns, −Nᵀ r_λ on the rotations of reduced
+        // nodes, −g on kept constraints
+        let mut dr = vec![0.0; red.n];
+        for (u, m) in red.map.iter().enumerate() {
+            if let Some(m) = *m {
+                dr[m] = if u < nf { -a.r[u] } else { -a.g[u - nf] };
             }
-        };
-        let rhs = Mat::from_fn(n, 1, |i, _| if i < nf { -a.r[i] } else { -a.g[i - nf] });
-        let dz = lu.solve(&rhs);
-        let dz: Vec<f64> = (0..n).map(|i| dz[(i, 0)]).collect();
-        if dz.iter().any(|v| !v.is_finite()) {
+        }
+        for &(r, d0, _) in &red.nodes {
+            let nb = rot_basis(&x[r..r + 4]);
+            let rl: [f64; 4] = std::array::from_fn(|i| a.r[su.unknown[r + i].expect("free λ")]);
+            for j in 0..3 {
+                dr[d0 + j] = -(0..4).map(|i| nb[i][j] * rl[i]).sum::<f64>();
+            }
+        }
+        if solver.solve(&a.vals, &mut dr).is_err() || dr.iter().any(|v| !v.is_finite()) {
             return Newton::Failed {
                 reason: "the tangent matrix is singular (a mechanism, or a buckled state)".into(),
             };
+        }
+        // back to the full increment: Δλ = N δ, and the multiplier of the normalisation from
+        // its row of the full system, λᵀ(K Δx + 2 λ Δμ + r)_λ = 0, which by the invariance of
+        // the deformations and of the moment loads under scaling of λ reads
+        // μ + Δμ = (r_λ − 2μλ)·Δλ / (2 λᵀλ)
+        let mut dz = vec![0.0; nf + nk];
+        for (u, m) in red.map.iter().enumerate() {
+            if let Some(m) = *m {
+                dz[u] = dr[m];
+            }
+        }
+        for &(r, d0, kc) in &red.nodes {
+            let nb = rot_basis(&x[r..r + 4]);
+            let (mut work, mut l2) = (0.0, 0.0);
+            let sc = chord_consistent_scale((0..3).map(|j| dr[d0 + j] * dr[d0 + j]).sum());
+            for i in 0..4 {
+                let u = su.unknown[r + i].expect("free λ");
+                let dl: f64 = (0..3).map(|j| nb[i][j] * dr[d0 + j]).sum();
+                dz[u] = sc * dl;
+                work += (a.r[u] - 2.0 * mu[kc] * x[r + i]) * dl;
+                l2 += x[r + i] * x[r + i];
+            }
+            dz[nf + kc] = work / (2.0 * l2) - mu[kc];
         }
         // backtracking line search on the merit ‖r‖² + (k_ref ‖g‖)², k_ref a stiffness that
         // gives the constraint violation force units
@@ -659,6 +1620,7 @@ fn newton(
             r2 + k_ref * k_ref * g2
         };
         let m0 = merit(&a);
+        let mut spare = std::mem::take(&mut a.vals);
         let mut alpha = 1.0;
         let (x_old, mu_old) = (x.to_vec(), mu.to_vec());
         loop {
@@ -671,13 +1633,15 @@ fn newton(
                 mu[k] = mu_old[k] + alpha * dz[nf + k];
             }
             normalise_lambda(su, x);
-            let trial = assemble(model, su, x, mu, t);
+            let mut trial = assemble_values(model, su, x, mu, t, Part::Full, true, spare);
+            solve_single_multipliers(su, x, mu, &mut trial);
             let m = merit(&trial);
             // accept a decrease, or the smallest step tried
             if !opts.line_search || (m.is_finite() && m < m0) || alpha < MIN_STEP {
                 a = trial;
                 break;
             }
+            spare = std::mem::take(&mut trial.vals);
             alpha *= 0.5;
         }
         last_inc = alpha * scale_inc(&dz[..nf]);
@@ -697,10 +1661,18 @@ pub fn solve(
     }
     let mut x = model.x0();
     let mut mu = vec![0.0; su.nk];
+    let mut kkt = None;
     let steps = opts.steps.max(1);
     let mut out = Vec::with_capacity(steps + 1);
-    let record = |x: &[f64], mu: &[f64], t: f64, iterations, substeps, residual| -> StepResult {
-        let a = assemble(model, &su, x, mu, t);
+    // the step results from the assembly at the converged state
+    let record = |x: &[f64],
+                  mu: &[f64],
+                  a: &Assembled,
+                  t: f64,
+                  iterations,
+                  substeps,
+                  residual|
+     -> StepResult {
         let mut reactions = vec![0.0; model.nx];
         for i in 0..model.nx {
             if model.partition.x[i] != CoordKind::Free {
@@ -710,8 +1682,8 @@ pub fn solve(
         StepResult {
             load_factor: t,
             x: x.to_vec(),
-            e: a.e,
-            sigma: a.sigma,
+            e: a.e.clone(),
+            sigma: a.sigma.clone(),
             reactions,
             energy: a.energy,
             iterations,
@@ -721,12 +1693,19 @@ pub fn solve(
         }
     };
     // step 0: the unloaded state (with prescribed values at t = 0)
+    // the assembly at the last converged state, reused by the next Newton solve when the
+    // prescribed coordinates leave x unchanged
+    let reuse = su.x_targets.is_empty();
     apply_prescribed(model, &su, &mut x, 0.0);
-    match newton(model, &su, opts, &mut x, &mut mu, 0.0) {
+    let mut last = match newton(model, &su, opts, &mut x, &mut mu, 0.0, &mut kkt, None) {
         Newton::Converged {
             iterations,
             residual,
-        } => out.push(record(&x, &mu, 0.0, iterations, 1, residual)),
+            state,
+        } => {
+            out.push(record(&x, &mu, &state, 0.0, iterations, 1, residual));
+            Some(state)
+        }
         Newton::Failed { reason } => {
             return Err(SolveError::NoConvergence {
                 step: 0,
@@ -736,12 +1715,12 @@ pub fn solve(
                 reason,
             })
         }
-    }
+    };
     progress(0, steps);
     let dt_nominal = 1.0 / steps as f64;
     let mut t = 0.0;
     let mut dt = dt_nominal;
-    let mut prev: Option<(Vec<f64>, f64)> = None; // previous converged x and its step size
+    let mut prev_x: Option<(Vec<f64>, f64)> = None; // previous converged x and its step size
     for step in 1..=steps {
         let t_end = step as f64 * dt_nominal;
         let (mut iterations, mut substeps, mut halvings) = (0, 0, 0);
@@ -749,8 +1728,13 @@ pub fn solve(
         while t < t_end - 1e-14 {
             let t_try = (t + dt).min(t_end);
             let (x_save, mu_save) = (x.clone(), mu.clone());
-            // predictor: secant extrapolation of the free coordinates
-            if let Some((xp, dtp)) = &prev {
+            // predictor: secant extrapolation of the free coordinates, only when coordinates
+            // are prescribed (otherwise the prescribed ones would move alone). Under loads
+            // alone the first Newton step from the converged state is the tangent predictor,
+            // and extrapolating positions and Euler parameters along straight lines would turn
+            // chords and node triads by different angles (third order in the step): on fine
+            // meshes the resulting spurious bending (∝ EI/l0³) makes Newton diverge.
+            if let (Some((xp, dtp)), false) = (&prev_x, su.x_targets.is_empty()) {
                 let s = (t_try - t) / dtp;
                 for i in 0..model.nx {
                     if su.unknown[i].is_some() {
@@ -759,15 +1743,18 @@ pub fn solve(
                 }
             }
             apply_prescribed(model, &su, &mut x, t_try);
-            match newton(model, &su, opts, &mut x, &mut mu, t_try) {
+            let prev = if reuse { last.take() } else { None };
+            match newton(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev) {
                 Newton::Converged {
                     iterations: it,
                     residual: r,
+                    state: a,
                 } => {
                     iterations += it;
                     substeps += 1;
                     residual = r;
-                    prev = Some((x_save, t_try - t));
+                    last = Some(a);
+                    prev_x = Some((x_save, t_try - t));
                     t = t_try;
                     dt = (2.0 * dt).min(dt_nominal);
                 }
@@ -788,7 +1775,12 @@ pub fn solve(
                 }
             }
         }
-        out.push(record(&x, &mu, t_end, iterations, substeps, residual));
+        let a = match last.take() {
+            Some(a) => a,
+            None => Box::new(assemble(model, &su, &x, &mu, t_end)),
+        };
+        out.push(record(&x, &mu, &a, t_end, iterations, substeps, residual));
+        last = Some(a);
         progress(step, steps);
     }
     Ok(StaticSolution {

@@ -1,0 +1,804 @@
+//! Sparse LU with partial pivoting for a sequence of matrices with one sparsity structure
+//! (the Newton matrices of one static solve), with fast refactorisation.
+//!
+//! - Column order, computed once per structure: when every diagonal entry is structurally
+//!   present, AMD on the pattern of A + Aᵀ with a preference for diagonal pivots (UMFPACK's
+//!   symmetric strategy: a stiffness-like matrix then factors like a Cholesky factorisation,
+//!   with little fill); otherwise COLAMD with plain partial pivoting.
+//! - [`SparseLu::factor`]: left-looking Gilbert–Peierls LU with partial pivoting (the largest
+//!   entry of each column, or the diagonal entry when it is at least [`DIAG_TOL`] times the
+//!   largest); it records the row pivot order and the structure of L and U.
+//! - [`SparseLu::refactor`]: the next matrix with the same row pivot order and therefore the
+//!   same structure of L and U: no graph search, only the arithmetic over precomputed index
+//!   lists (the "refactor" of KLU). Each pivot is checked against the other entries of its
+//!   column (threshold [`PIVOT_TOL`]); when a pivot became too small, the refactorisation
+//!   reports it and the caller factors with pivoting again.
+//!
+//! Indices: `A` is n × n in CSC form. Steps k = 0 … n−1 are the columns in COLAMD order;
+//! row `i` of A is eliminated at step `pinv[i]`. L and U are stored by columns in step
+//! numbering (L unit lower triangular without its diagonal, U strictly upper with the diagonal
+//! apart).
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::{amd, colamd};
+use faer::sparse::SymbolicSparseColMatRef;
+
+/// Symmetric strategy: the diagonal entry is the pivot when |a_kk| ≥ DIAG_TOL max |column|.
+pub const DIAG_TOL: f64 = 1e-3;
+
+/// Smallest accepted |pivot| / max |column entry| when refactoring with the previous pivots.
+/// Refactoring reports the smallest ratio it met; the caller should check the accuracy of the
+/// solution (e.g. its backward error) when that is well below 1.
+pub const PIVOT_TOL: f64 = 1e-10;
+
+/// Why a factorisation failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LuFailure {
+    /// A column has no nonzero candidate pivot (singular matrix).
+    Singular,
+    /// Refactorisation only: a pivot fell below the threshold; factor with pivoting instead.
+    PivotTooSmall,
+}
+
+/// LU factors of one sparsity structure (see the module docs).
+#[derive(Debug, Clone)]
+pub struct SparseLu {
+    n: usize,
+    /// Column order: step k factors column `q[k]` of A.
+    q: Vec<usize>,
+    /// Symmetric strategy: prefer the diagonal entry as pivot.
+    diag_pref: bool,
+    /// Row i of A is pivot row of step `pinv[i]` (valid after a successful factorisation).
+    pinv: Vec<usize>,
+    l_ptr: Vec<usize>,
+    l_idx: Vec<usize>,
+    l_val: Vec<f64>,
+    u_ptr: Vec<usize>,
+    /// Strictly upper entries, ascending step order within each column.
+    u_idx: Vec<usize>,
+    u_val: Vec<f64>,
+    u_diag: Vec<f64>,
+    /// Dense work vector (kept zero between uses) and DFS work.
+    work: Vec<f64>,
+    mark: Vec<usize>,
+    stack: Vec<usize>,
+    pstack: Vec<usize>,
+    reach: Vec<usize>,
+    factored: bool,
+    /// The factors are L D Lᵀ (from [`SparseLu::refactor_symmetric`]): U is not stored.
+    symmetric_factors: bool,
+    /// Symmetric refactorisation work: next entry of each column of L.
+    next: Vec<usize>,
+    /// Lower triangle of A in pivot order (see [`SparseLu::lower_layout`]): entries of step k
+    /// are `lower_row[lower_ptr[k]..lower_ptr[k + 1]]` (pivot numbering, ≥ k).
+    lower_ptr: Vec<usize>,
+    lower_row: Vec<u32>,
+}
+
+impl SparseLu {
+    /// Analyse the structure (COLAMD column order) of an n × n CSC matrix.
+    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, String> {
+        let nnz = col_ptr[n];
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &row_idx[..nnz]);
+        let mut q = vec![0usize; n];
+        let mut q_inv = vec![0usize; n];
+        let diag_pref = (0..n).all(|j| {
+            row_idx[col_ptr[j]..col_ptr[j + 1]]
+                .binary_search(&j)
+                .is_ok()
+        });
+        if diag_pref {
+            let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, nnz))
+                .map_err(|e| format!("out of memory: {e:?}"))?;
+            amd::order(
+                &mut q,
+                &mut q_inv,
+                sym,
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| format!("ordering failed: {e:?}"))?;
+        } else {
+            let mut mem = MemBuffer::try_new(colamd::order_scratch::<usize>(n, n, nnz))
+                .map_err(|e| format!("out of memory: {e:?}"))?;
+            colamd::order(
+                &mut q,
+                &mut q_inv,
+                sym,
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| format!("column ordering failed: {e:?}"))?;
+        }
+        Ok(Self {
+            n,
+            q,
+            diag_pref,
+            pinv: vec![usize::MAX; n],
+            l_ptr: vec![0; n + 1],
+            l_idx: Vec::new(),
+            l_val: Vec::new(),
+            u_ptr: vec![0; n + 1],
+            u_idx: Vec::new(),
+            u_val: Vec::new(),
+            u_diag: vec![0.0; n],
+            work: vec![0.0; n],
+            mark: vec![usize::MAX; n],
+            stack: Vec::with_capacity(n),
+            pstack: Vec::with_capacity(n),
+            reach: Vec::with_capacity(n),
+            factored: false,
+            symmetric_factors: false,
+            next: Vec::new(),
+            lower_ptr: Vec::new(),
+            lower_row: Vec::new(),
+        })
+    }
+
+    /// Whether the symmetric strategy (AMD, diagonal pivots preferred) is in use.
+    pub fn symmetric(&self) -> bool {
+        self.diag_pref
+    }
+
+    /// Symmetric strategy: set up the pivot order "all pivots on the diagonal" and its
+    /// structure (that of a Cholesky factorisation), for [`refactor`] to take the values.
+    /// It is the order that factor chooses for a column diagonally dominant matrix.
+    ///
+    /// [`refactor`]: SparseLu::refactor
+    pub fn set_diagonal_pivots(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> bool {
+        if !self.diag_pref {
+            return false;
+        }
+        let n = self.n;
+        let symmetric_pattern = (0..n).all(|j| {
+            row_idx[col_ptr[j]..col_ptr[j + 1]].iter().all(|&i| {
+                row_idx[col_ptr[i]..col_ptr[i + 1]]
+                    .binary_search(&j)
+                    .is_ok()
+            })
+        });
+        if symmetric_pattern {
+            self.symbolic_cholesky(col_ptr, row_idx);
+            return true;
+        }
+        let mut v = vec![1.0; col_ptr[n]];
+        for j in 0..n {
+            let (lo, hi) = (col_ptr[j], col_ptr[j + 1]);
+            for p in lo..hi {
+                if row_idx[p] == j {
+                    v[p] = (hi - lo + 1) as f64;
+                }
+            }
+        }
+        let r = self.factor(col_ptr, row_idx, &v);
+        if r.is_err() || (0..n).any(|k| self.pinv[self.q[k]] != k) {
+            return false;
+        }
+        // L columns by ascending row (for the symmetric refactorisation)
+        let mut pairs: Vec<(usize, f64)> = Vec::new();
+        for k in 0..n {
+            let (lo, hi) = (self.l_ptr[k], self.l_ptr[k + 1]);
+            pairs.clear();
+            pairs.extend((lo..hi).map(|p| (self.l_idx[p], self.l_val[p])));
+            pairs.sort_unstable_by_key(|p| p.0);
+            for (o, (i, v)) in pairs.iter().enumerate() {
+                self.l_idx[lo + o] = *i;
+                self.l_val[lo + o] = *v;
+            }
+        }
+        true
+    }
+
+    /// The structure of L and U for diagonal pivots of a structurally symmetric matrix: that
+    /// of its Cholesky factor, from the elimination tree (row subtrees, as CSparse's
+    /// `cs_schol`/`cs_ereach`), in time proportional to the nonzeros of L.
+    fn symbolic_cholesky(&mut self, col_ptr: &[usize], row_idx: &[usize]) {
+        const NONE: usize = usize::MAX;
+        let n = self.n;
+        for k in 0..n {
+            self.pinv[self.q[k]] = k;
+        }
+        // elimination tree of the permuted matrix
+        let mut parent = vec![NONE; n];
+        let mut ancestor = vec![NONE; n];
+        for k in 0..n {
+            let col = self.q[k];
+            for &r in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+                let mut i = self.pinv[r];
+                while i != NONE && i < k {
+                    let next = ancestor[i];
+                    ancestor[i] = k;
+                    if next == NONE {
+                        parent[i] = k;
+                    }
+                    i = next;
+                }
+            }
+        }
+        // row k of L (= column k of U): the nodes on the paths from the entries of row k of
+        // the lower triangle up the tree to k
+        let mark = &mut self.mark;
+        mark.iter_mut().for_each(|m| *m = NONE);
+        self.u_idx.clear();
+        self.u_ptr[0] = 0;
+        let mut l_count = vec![0usize; n];
+        for k in 0..n {
+            mark[k] = k;
+            let start = self.u_idx.len();
+            let col = self.q[k];
+            for &r in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+                let mut i = self.pinv[r];
+                if i >= k {
+                    continue;
+                }
+                while mark[i] != k {
+                    mark[i] = k;
+                    self.u_idx.push(i);
+                    l_count[i] += 1;
+                    i = parent[i];
+                    debug_assert!(i != NONE);
+                }
+            }
+            self.u_idx[start..].sort_unstable();
+            self.u_ptr[k + 1] = self.u_idx.len();
+        }
+        // columns of L (rows ascending: k increases)
+        self.l_ptr[0] = 0;
+        for j in 0..n {
+            self.l_ptr[j + 1] = self.l_ptr[j] + l_count[j];
+        }
+        let mut fill = self.l_ptr[..n].to_vec();
+        self.l_idx.clear();
+        self.l_idx.resize(self.l_ptr[n], 0);
+        for k in 0..n {
+            for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                let j = self.u_idx[p];
+                self.l_idx[fill[j]] = k;
+                fill[j] += 1;
+            }
+        }
+        self.l_val.clear();
+        self.l_val.resize(self.l_idx.len(), 0.0);
+        self.u_val.clear();
+        self.u_val.resize(self.u_idx.len(), 0.0);
+        self.u_diag.iter_mut().for_each(|d| *d = 1.0);
+        self.factored = true;
+        self.symmetric_factors = false;
+    }
+
+    /// After [`set_diagonal_pivots`]: the layout of the lower triangle of A in pivot order that
+    /// [`refactor_symmetric`] reads (sequentially, half of A). Returns, for each of its entries,
+    /// the position of that entry in the CSC arrays of A.
+    ///
+    /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
+    /// [`refactor_symmetric`]: SparseLu::refactor_symmetric
+    pub fn lower_layout(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+        let n = self.n;
+        self.lower_ptr.clear();
+        self.lower_row.clear();
+        self.lower_ptr.push(0);
+        let mut slot = Vec::new();
+        for k in 0..n {
+            let col = self.q[k];
+            for p in col_ptr[col]..col_ptr[col + 1] {
+                let s = self.pinv[row_idx[p]];
+                if s >= k {
+                    self.lower_row.push(s as u32);
+                    slot.push(p);
+                }
+            }
+            self.lower_ptr.push(self.lower_row.len());
+        }
+        slot
+    }
+
+    /// L D Lᵀ refactorisation of a symmetric matrix with the diagonal pivot order of
+    /// [`set_diagonal_pivots`], from the values of its lower triangle in the layout of
+    /// [`lower_layout`]: the same arithmetic as [`refactor`] restricted to the lower triangle,
+    /// about half of it. Returns the smallest |pivot| / max |column entry| met, or 1 when every
+    /// pivot is positive: the matrix is then positive definite and L D Lᵀ without pivoting is
+    /// backward stable whatever the pivot sizes (as Cholesky).
+    ///
+    /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
+    /// [`lower_layout`]: SparseLu::lower_layout
+    /// [`refactor`]: SparseLu::refactor
+    pub fn refactor_symmetric(&mut self, lower: &[f64]) -> Result<f64, LuFailure> {
+        if !(self.factored || self.symmetric_factors)
+            || !self.diag_pref
+            || lower.len() != self.lower_row.len()
+        {
+            return Err(LuFailure::PivotTooSmall);
+        }
+        self.factored = false;
+        self.symmetric_factors = false;
+        let n = self.n;
+        let x = &mut self.work;
+        self.next.clear();
+        self.next.extend_from_slice(&self.l_ptr[..n]);
+        let mut min_ratio: f64 = 1.0;
+        let mut all_positive = true;
+        for k in 0..n {
+            let (alo, ahi) = (self.lower_ptr[k], self.lower_ptr[k + 1]);
+            for (&s, &a) in self.lower_row[alo..ahi].iter().zip(&lower[alo..ahi]) {
+                x[s as usize] += a;
+            }
+            for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                let s = self.u_idx[p];
+                // L(:, s) from row k on (its columns are sorted by row)
+                let start = self.next[s];
+                let end = self.l_ptr[s + 1];
+                debug_assert_eq!(self.l_idx[start], k);
+                let u = self.u_diag[s] * self.l_val[start];
+                x[k] -= self.l_val[start] * u;
+                for (&i, &l) in self.l_idx[start + 1..end]
+                    .iter()
+                    .zip(&self.l_val[start + 1..end])
+                {
+                    x[i] -= l * u;
+                }
+                self.next[s] = start + 1;
+            }
+            let d = x[k];
+            x[k] = 0.0;
+            all_positive &= d > 0.0;
+            let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
+            let mut cmax: f64 = 0.0;
+            for &i in &self.l_idx[llo..lhi] {
+                cmax = cmax.max(x[i].abs());
+            }
+            let ok = d.abs() >= PIVOT_TOL * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
+            if d.abs() < min_ratio * cmax {
+                min_ratio = d.abs() / cmax;
+            }
+            let inv = 1.0 / d;
+            for (&i, l) in self.l_idx[llo..lhi].iter().zip(&mut self.l_val[llo..lhi]) {
+                *l = x[i] * inv;
+                x[i] = 0.0;
+            }
+            self.u_diag[k] = d;
+            if !ok {
+                return Err(LuFailure::PivotTooSmall);
+            }
+        }
+        self.symmetric_factors = true;
+        Ok(if all_positive { 1.0 } else { min_ratio })
+    }
+
+    /// Number of nonzeros of L (without the unit diagonal) and U (with the diagonal).
+    pub fn nnz(&self) -> (usize, usize) {
+        (self.l_idx.len(), self.u_idx.len() + self.n)
+    }
+
+    /// Factor with partial pivoting (records the pivot order and the structure of L and U).
+    pub fn factor(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        val: &[f64],
+    ) -> Result<(), LuFailure> {
+        let n = self.n;
+        self.factored = false;
+        self.symmetric_factors = false;
+        self.pinv.iter_mut().for_each(|p| *p = usize::MAX);
+        self.mark.iter_mut().for_each(|m| *m = usize::MAX);
+        self.l_idx.clear();
+        self.l_val.clear();
+        self.u_idx.clear();
+        self.u_val.clear();
+        self.l_ptr[0] = 0;
+        self.u_ptr[0] = 0;
+        let x = &mut self.work;
+        for k in 0..n {
+            let col = self.q[k];
+            let (lo, hi) = (col_ptr[col], col_ptr[col + 1]);
+            // rows reachable from the column's pattern in the graph of L (rows of A numbering),
+            // in topological order (reverse DFS post-order)
+            self.reach.clear();
+            for &r in &row_idx[lo..hi] {
+                if self.mark[r] != k {
+                    dfs(
+                        r,
+                        k,
+                        &self.pinv,
+                        &self.l_ptr,
+                        &self.l_idx,
+                        &mut self.mark,
+                        &mut self.stack,
+                        &mut self.pstack,
+                        &mut self.reach,
+                    );
+                }
+            }
+            for p in lo..hi {
+                x[row_idx[p]] += val[p];
+            }
+            // reach holds post-order: process in reverse
+            for &r in self.reach.iter().rev() {
+                let s = self.pinv[r];
+                if s == usize::MAX {
+                    continue;
+                }
+                let u = x[r];
+                for p in self.l_ptr[s]..self.l_ptr[s + 1] {
+                    // L rows are still in A numbering during the factorisation
+                    x[self.l_idx[p]] -= self.l_val[p] * u;
+                }
+            }
+            // pivot: the largest candidate
+            let (mut piv, mut piv_abs) = (usize::MAX, -1.0);
+            for &r in &self.reach {
+                if self.pinv[r] == usize::MAX {
+                    let a = x[r].abs();
+                    if a > piv_abs || a.is_nan() {
+                        piv = r;
+                        piv_abs = a;
+                    }
+                }
+            }
+            if self.diag_pref && piv != usize::MAX {
+                // the diagonal entry (row q[k]) if it is large enough
+                let r = col;
+                if self.pinv[r] == usize::MAX
+                    && self.mark[r] == k
+                    && x[r].abs() >= DIAG_TOL * piv_abs
+                {
+                    piv = r;
+                    piv_abs = x[r].abs();
+                }
+            }
+            if piv == usize::MAX || piv_abs == 0.0 || !piv_abs.is_finite() {
+                for &r in &self.reach {
+                    x[r] = 0.0;
+                }
+                return Err(LuFailure::Singular);
+            }
+            let d = x[piv];
+            self.u_diag[k] = d;
+            self.pinv[piv] = k;
+            for &r in &self.reach {
+                let s = self.pinv[r];
+                if r != piv && s == usize::MAX {
+                    self.l_idx.push(r);
+                    self.l_val.push(x[r] / d);
+                } else if r != piv {
+                    self.u_idx.push(s);
+                    self.u_val.push(x[r]);
+                }
+                x[r] = 0.0;
+            }
+            self.l_ptr[k + 1] = self.l_idx.len();
+            self.u_ptr[k + 1] = self.u_idx.len();
+        }
+        // L rows to step numbering; U columns sorted by step (valid elimination order)
+        for r in self.l_idx.iter_mut() {
+            *r = self.pinv[*r];
+        }
+        let mut pairs: Vec<(usize, f64)> = Vec::new();
+        for k in 0..n {
+            let (lo, hi) = (self.u_ptr[k], self.u_ptr[k + 1]);
+            pairs.clear();
+            pairs.extend((lo..hi).map(|p| (self.u_idx[p], self.u_val[p])));
+            pairs.sort_unstable_by_key(|p| p.0);
+            for (o, (i, v)) in pairs.iter().enumerate() {
+                self.u_idx[lo + o] = *i;
+                self.u_val[lo + o] = *v;
+            }
+        }
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Factor a matrix of the same structure with the pivot order of the last [`factor`]
+    /// (see the module docs). Returns the smallest |pivot| / max |column entry| met.
+    ///
+    /// [`factor`]: SparseLu::factor
+    pub fn refactor(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        val: &[f64],
+    ) -> Result<f64, LuFailure> {
+        if !(self.factored || self.symmetric_factors) {
+            return Err(LuFailure::PivotTooSmall);
+        }
+        self.factored = false;
+        self.symmetric_factors = false;
+        let n = self.n;
+        let x = &mut self.work;
+        let mut min_ratio: f64 = 1.0;
+        for k in 0..n {
+            let col = self.q[k];
+            for p in col_ptr[col]..col_ptr[col + 1] {
+                x[self.pinv[row_idx[p]]] += val[p];
+            }
+            let (ulo, uhi) = (self.u_ptr[k], self.u_ptr[k + 1]);
+            for p in ulo..uhi {
+                let s = self.u_idx[p];
+                let u = x[s];
+                x[s] = 0.0;
+                self.u_val[p] = u;
+                let (llo, lhi) = (self.l_ptr[s], self.l_ptr[s + 1]);
+                for (&i, &l) in self.l_idx[llo..lhi].iter().zip(&self.l_val[llo..lhi]) {
+                    x[i] -= l * u;
+                }
+            }
+            let d = x[k];
+            x[k] = 0.0;
+            let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
+            let mut cmax: f64 = 0.0;
+            for &i in &self.l_idx[llo..lhi] {
+                cmax = cmax.max(x[i].abs());
+            }
+            let ok = d.abs() >= PIVOT_TOL * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
+            if d.abs() < min_ratio * cmax {
+                min_ratio = d.abs() / cmax;
+            }
+            let inv = 1.0 / d;
+            for (&i, l) in self.l_idx[llo..lhi].iter().zip(&mut self.l_val[llo..lhi]) {
+                *l = x[i] * inv;
+                x[i] = 0.0;
+            }
+            self.u_diag[k] = d;
+            if !ok {
+                // the work vector is clean: only column k was scattered, and it is cleared
+                return Err(LuFailure::PivotTooSmall);
+            }
+        }
+        self.factored = true;
+        Ok(min_ratio)
+    }
+
+    /// Solve A z = b in place (`b` becomes z), after a successful factorisation.
+    pub fn solve(&mut self, b: &mut [f64]) {
+        assert!(
+            self.factored || self.symmetric_factors,
+            "solve without a factorisation"
+        );
+        let n = self.n;
+        let y = &mut self.work;
+        for i in 0..n {
+            y[self.pinv[i]] = b[i];
+        }
+        if self.symmetric_factors {
+            // L D Lᵀ
+            for k in 0..n {
+                let v = y[k];
+                if v != 0.0 {
+                    for p in self.l_ptr[k]..self.l_ptr[k + 1] {
+                        y[self.l_idx[p]] -= self.l_val[p] * v;
+                    }
+                }
+            }
+            for k in (0..n).rev() {
+                let mut v = y[k] / self.u_diag[k];
+                for p in self.l_ptr[k]..self.l_ptr[k + 1] {
+                    v -= self.l_val[p] * y[self.l_idx[p]];
+                }
+                y[k] = v;
+            }
+            for k in 0..n {
+                b[self.q[k]] = y[k];
+                y[k] = 0.0;
+            }
+            return;
+        }
+        for k in 0..n {
+            let v = y[k];
+            if v != 0.0 {
+                for p in self.l_ptr[k]..self.l_ptr[k + 1] {
+                    y[self.l_idx[p]] -= self.l_val[p] * v;
+                }
+            }
+        }
+        for k in (0..n).rev() {
+            let v = y[k] / self.u_diag[k];
+            y[k] = v;
+            if v != 0.0 {
+                for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                    y[self.u_idx[p]] -= self.u_val[p] * v;
+                }
+            }
+        }
+        for k in 0..n {
+            b[self.q[k]] = y[k];
+            y[k] = 0.0;
+        }
+    }
+}
+
+/// Depth-first search from row `r` in the graph of L (column s = pinv[row] lists the rows it
+/// updates); appends the visited rows to `reach` in post-order. Marks with `k`.
+#[allow(clippy::too_many_arguments)]
+fn dfs(
+    r: usize,
+    k: usize,
+    pinv: &[usize],
+    l_ptr: &[usize],
+    l_idx: &[usize],
+    mark: &mut [usize],
+    stack: &mut Vec<usize>,
+    pstack: &mut Vec<usize>,
+    reach: &mut Vec<usize>,
+) {
+    stack.clear();
+    pstack.clear();
+    stack.push(r);
+    mark[r] = k;
+    let start = |row: usize| -> usize {
+        let s = pinv[row];
+        if s == usize::MAX {
+            usize::MAX
+        } else {
+            l_ptr[s]
+        }
+    };
+    pstack.push(start(r));
+    while let Some(&row) = stack.last() {
+        let s = pinv[row];
+        let top = pstack.len() - 1;
+        let mut descended = false;
+        if s != usize::MAX {
+            let end = l_ptr[s + 1];
+            let mut p = pstack[top];
+            while p < end {
+                let child = l_idx[p];
+                p += 1;
+                if mark[child] != k {
+                    mark[child] = k;
+                    pstack[top] = p;
+                    stack.push(child);
+                    pstack.push(start(child));
+                    descended = true;
+                    break;
+                }
+            }
+        }
+        if !descended {
+            stack.pop();
+            pstack.pop();
+            reach.push(row);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Dense test matrix to CSC.
+    fn csc(a: &[Vec<f64>]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+        let n = a.len();
+        let (mut cp, mut ri, mut v) = (vec![0], vec![], vec![]);
+        for j in 0..n {
+            for (i, row) in a.iter().enumerate() {
+                if row[j] != 0.0 {
+                    ri.push(i);
+                    v.push(row[j]);
+                }
+            }
+            cp.push(ri.len());
+        }
+        (cp, ri, v)
+    }
+
+    #[test]
+    fn factor_and_refactor_solve_random_sparse_systems() {
+        let mut rng = crate::elements::testing::Rng(42);
+        for n in [1, 2, 5, 17, 60] {
+            // random sparse pattern with a zero diagonal in places (needs pivoting)
+            let mut a = vec![vec![0.0; n]; n];
+            for (i, row) in a.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    if (i + 2 * j) % 3 == 0 || rng.next() > 0.8 || (i + 1) % n == j {
+                        *v = rng.next();
+                    }
+                }
+                row[(i + 1) % n] += 2.0;
+            }
+            let (cp, ri, v) = csc(&a);
+            let mut lu = SparseLu::new(n, &cp, &ri).unwrap();
+            for pass in 0..3 {
+                // perturbed values, same structure
+                let v2: Vec<f64> = v
+                    .iter()
+                    .map(|x| x * (1.0 + 0.01 * pass as f64 * rng.next()))
+                    .collect();
+                let refactored = pass > 0 && lu.refactor(&cp, &ri, &v2).is_ok();
+                if !refactored {
+                    lu.factor(&cp, &ri, &v2).unwrap();
+                }
+                let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+                let mut b = vec![0.0; n];
+                for j in 0..n {
+                    for p in cp[j]..cp[j + 1] {
+                        b[ri[p]] += v2[p] * xs[j];
+                    }
+                }
+                lu.solve(&mut b);
+                for i in 0..n {
+                    assert!(
+                        (b[i] - xs[i]).abs() < 1e-9,
+                        "n {n} pass {pass}: {} vs {}",
+                        b[i],
+                        xs[i]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn symmetric_refactor_solves_symmetric_indefinite_systems() {
+        let mut rng = crate::elements::testing::Rng(7);
+        for n in [1, 3, 8, 40, 90] {
+            // symmetric pattern with a full diagonal, values symmetric and indefinite
+            let mut a = vec![vec![0.0; n]; n];
+            for i in 0..n {
+                for j in 0..i {
+                    if (i * 7 + j * 3) % 5 == 0 || i == j + 1 {
+                        let v = rng.next();
+                        a[i][j] = v;
+                        a[j][i] = v;
+                    }
+                }
+                a[i][i] = if i % 3 == 0 { -4.0 } else { 4.0 } + rng.next();
+            }
+            let (cp, ri, _) = csc(&a);
+            let mut lu = SparseLu::new(n, &cp, &ri).unwrap();
+            assert!(lu.symmetric() && lu.set_diagonal_pivots(&cp, &ri));
+            let slots = lu.lower_layout(&cp, &ri);
+            for pass in 0..3 {
+                let mut a2 = a.clone();
+                for (i, row) in a2.iter_mut().enumerate() {
+                    row[i] *= 1.0 + 0.1 * pass as f64;
+                }
+                let (_, _, v2) = csc(&a2);
+                let lower: Vec<f64> = slots.iter().map(|&p| v2[p]).collect();
+                lu.refactor_symmetric(&lower).unwrap();
+                let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+                let mut b = vec![0.0; n];
+                for j in 0..n {
+                    for p in cp[j]..cp[j + 1] {
+                        b[ri[p]] += v2[p] * xs[j];
+                    }
+                }
+                lu.solve(&mut b);
+                for i in 0..n {
+                    assert!((b[i] - xs[i]).abs() < 1e-10, "n {n}: {} vs {}", b[i], xs[i]);
+                }
+                // the LU refactorisation with the same pivots agrees
+                lu.refactor(&cp, &ri, &v2).unwrap();
+                let mut b2 = vec![0.0; n];
+                for j in 0..n {
+                    for p in cp[j]..cp[j + 1] {
+                        b2[ri[p]] += v2[p] * xs[j];
+                    }
+                }
+                lu.solve(&mut b2);
+                for i in 0..n {
+                    assert!((b2[i] - xs[i]).abs() < 1e-10);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn refactor_detects_a_pivot_that_became_small() {
+        // [[2, 1], [1, 1]]: pivot 2 on row 0; then [[1e-6, 1], [1, 1]] needs the other row
+        let (cp, ri, v) = csc(&[vec![2.0, 1.0], vec![1.0, 1.0]]);
+        let mut lu = SparseLu::new(2, &cp, &ri).unwrap();
+        lu.factor(&cp, &ri, &v).unwrap();
+        let (_, _, v2) = csc(&[vec![1e-6, 1.0], vec![1.0, 1.0]]);
+        assert!(lu.refactor(&cp, &ri, &v2).unwrap() < 1e-5);
+        lu.factor(&cp, &ri, &v2).unwrap();
+        let mut b = vec![1.0 + 1e-6, 2.0];
+        lu.solve(&mut b);
+        assert!(
+            (b[0] - 1.0).abs() < 1e-12 && (b[1] - 1.0).abs() < 1e-12,
+            "{b:?}"
+        );
+        // singular
+        let (_, _, v3) = csc(&[vec![1.0, 1.0], vec![1.0, 1.0]]);
+        assert_eq!(lu.factor(&cp, &ri, &v3), Err(LuFailure::Singular));
+    }
+}
