@@ -1041,7 +1041,7 @@ fn assemble_values(
         energy,
         reduced,
     };
-    apply_loads(model, su, x, mu, t, &mut a);
+    apply_loads(model, su, x, mu, t, part, &mut a);
     a
 }
 
@@ -1049,8 +1049,19 @@ fn assemble_values(
 /// normalisations and the prescribed deformations, on top of its element part: external
 /// forces and load stiffness, normalisation terms, constraint violations, residual and force
 /// scale. Replaces those of an earlier call, so an assembly at the same state can be reused
-/// for another t.
-fn apply_loads(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64, a: &mut Assembled) {
+/// for another t. The load stiffness of moments and the normalisation term 2μ I are
+/// load-proportional: they belong to the geometric part, so `Part::Material` writes zeros in
+/// their (fixed) matrix positions.
+fn apply_loads(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+    a: &mut Assembled,
+) {
+    let geo = if part == Part::Material { 0.0 } else { 1.0 };
     let (nf, nk) = (su.nf, su.nk);
     let reduced = a.reduced;
     let mut balance = a.int_force.clone();
@@ -1106,7 +1117,7 @@ fn apply_loads(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64, a: &mut
                         }
                     }
                     tail.push((d0 + p, d0 + q));
-                    vals.push(-2.0 * t * v);
+                    vals.push(-2.0 * t * v * geo);
                 }
             }
             continue;
@@ -1119,7 +1130,7 @@ fn apply_loads(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64, a: &mut
             for j in 0..4 {
                 if let Some(uj) = su.unknown[r + j].and_then(idx) {
                     tail.push((ui, uj));
-                    vals.push(-2.0 * t * am[i][j]);
+                    vals.push(-2.0 * t * am[i][j] * geo);
                 }
             }
         }
@@ -1136,7 +1147,7 @@ fn apply_loads(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64, a: &mut
             let d0 = su.red.nodes[k].1;
             for j in 0..3 {
                 tail.push((d0 + j, d0 + j));
-                vals.push(2.0 * mu[kc]);
+                vals.push(2.0 * mu[kc] * geo);
             }
             continue;
         }
@@ -1149,7 +1160,7 @@ fn apply_loads(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64, a: &mut
                 continue;
             };
             tail.extend([(ui, ui), (kr, ui), (ui, kr)]);
-            vals.extend([2.0 * mu[kc], 2.0 * l[i], 2.0 * l[i]]);
+            vals.extend([2.0 * mu[kc] * geo, 2.0 * l[i], 2.0 * l[i]]);
         }
     }
     let mut r = vec![0.0; nf];
@@ -1482,7 +1493,7 @@ fn newton(
     // converged state): only its load part changes
     let mut a = match prev {
         Some(mut p) if p.reduced => {
-            apply_loads(model, su, x, mu, t, &mut p);
+            apply_loads(model, su, x, mu, t, Part::Full, &mut p);
             *p
         }
         _ => assemble_values(model, su, x, mu, t, Part::Full, true, Vec::new()),

@@ -692,3 +692,41 @@ mod cross_spring {
         );
     }
 }
+
+mod material_part {
+    use super::super::linear::linearize;
+    use super::*;
+
+    #[test]
+    fn material_stiffness_does_not_depend_on_the_applied_moment() {
+        // K_m = Dᵀ S D is a function of the state only; the load stiffness of applied moments
+        // and the normalisation term 2μ I belong to the geometric part. Linearising the same
+        // converged state with and without the moment must give the same K_m (they were once
+        // added to both parts, so K_m + K_g counted them twice).
+        let n = 4;
+        let mut b = cantilever(n, 1.0, s02_props());
+        b.add_load(&format!("n{n}"), [0.0; 3], [0.3, 0.0, 2.0])
+            .unwrap();
+        let model = b.build().unwrap();
+        let sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 2,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let step = sol.steps.last().unwrap();
+        let mut unloaded = model.clone();
+        unloaded.loads.nodal.clear();
+        let (with, without) = (linearize(&model, step), linearize(&unloaded, step));
+        let scale = with.km.norm_max();
+        assert!(
+            (&with.km - &without.km).norm_max() <= 1e-12 * scale,
+            "K_m depends on the load"
+        );
+        // the geometric parts differ exactly by the load stiffness of the moment
+        assert!((&with.kg - &without.kg).norm_max() > 1e-6);
+    }
+}
