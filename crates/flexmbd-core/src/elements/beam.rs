@@ -165,14 +165,7 @@ const BEAM_MODES: [&str; 6] = [
 
 impl ElementKind for Beam {
     fn node_uses(&self) -> Vec<NodeUse> {
-        self.nodes
-            .iter()
-            .map(|&node| NodeUse {
-                node,
-                pos: true,
-                rot: true,
-            })
-            .collect()
+        NodeUse::each(&self.nodes, true, true)
     }
     fn ne(&self) -> usize {
         6

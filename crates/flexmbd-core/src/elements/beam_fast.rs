@@ -309,6 +309,43 @@ impl Beam {
 }
 
 impl BeamFirst {
+    /// The blocks of Σ_k v_k ∂²ē_k/∂z² shared by [`Self::hessian`] and
+    /// [`Self::hessian_tangent`]: the δdδd block (3 × 3) and the Rayleigh-quotient blocks
+    /// λpλp and λqλq (4 × 4).
+    fn curvature_blocks(&self, v: &[f64; 6], l0: f64, l: f64) -> ([[f64; 3]; 3], M4, M4) {
+        let (el, p) = (&self.el, &self.p);
+        // dd: v1 P/l + ∇²(e_l · c), c = l0(−v3 zp + v4 zq + v5 yp − v6 yq)
+        let c: [f64; 3] = std::array::from_fn(|i| {
+            l0 * (-v[2] * self.zp[i] + v[3] * self.zq[i] + v[4] * self.yp[i] - v[5] * self.yq[i])
+        });
+        let ec = dot3(el, &c);
+        let il2 = 1.0 / (l * l);
+        let mut dd = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for k in 0..3 {
+                dd[i][k] = v[0] * p[i][k] / l
+                    - (c[i] * el[k] + el[i] * c[k] - 3.0 * ec * el[i] * el[k]) * il2;
+            }
+            dd[i][i] -= ec * il2;
+        }
+        // λpλp: Rayleigh quotient of M(a, ez) + M(b, ey),
+        // a = v2 (l0/2) yq − v3 l0 el, b = −v2 (l0/2) zq + v5 l0 el
+        let hl = 0.5 * l0;
+        let mut m = [[0.0; 4]; 4];
+        let a_: [f64; 3] = std::array::from_fn(|i| v[1] * hl * self.yq[i] - v[2] * l0 * el[i]);
+        let b_: [f64; 3] = std::array::from_fn(|i| -v[1] * hl * self.zq[i] + v[4] * l0 * el[i]);
+        add_m(&mut m, &a_, &self.ez);
+        add_m(&mut m, &b_, &self.ey);
+        let hp = rayleigh_hessian(&m, &self.lp);
+        // λqλq: M(a, ey) + M(b, ez), a = v2 (l0/2) zp − v6 l0 el, b = −v2 (l0/2) yp + v4 l0 el
+        let mut m = [[0.0; 4]; 4];
+        let a_: [f64; 3] = std::array::from_fn(|i| v[1] * hl * self.zp[i] - v[5] * l0 * el[i]);
+        let b_: [f64; 3] = std::array::from_fn(|i| -v[1] * hl * self.yp[i] + v[3] * l0 * el[i]);
+        add_m(&mut m, &a_, &self.ey);
+        add_m(&mut m, &b_, &self.ez);
+        let hq = rayleigh_hessian(&m, &self.lq);
+        (dd, hp, hq)
+    }
     /// Σᵢ wᵢ ∂²εᵢ/∂x² + Dᵀ A D (14 × 14), for weights w and a symmetric 6 × 6 matrix A (e.g. the
     /// stiffness S, giving the tangent stiffness; zero for the weighted Hessian alone).
     pub fn hessian(&self, w: &[f64; 6], a: Option<&[[f64; 6]; 6]>) -> [[f64; 14]; 14] {
@@ -373,34 +410,14 @@ impl BeamFirst {
                 h[c][r] = v;
             }
         }
-        let (el, p) = (&self.el, &self.p);
-        // dd (as in hessian_z)
-        let c: [f64; 3] = std::array::from_fn(|i| {
-            l0 * (-v[2] * self.zp[i] + v[3] * self.zq[i] + v[4] * self.yp[i] - v[5] * self.yq[i])
-        });
-        let ec = dot3(el, &c);
-        let il2 = 1.0 / (l * l);
+        let p = &self.p;
+        let hl = 0.5 * l0;
+        let (dd, hp, hq) = self.curvature_blocks(&v, l0, l);
         for i in 0..3 {
             for k in 0..3 {
-                h[i][k] += v[0] * p[i][k] / l
-                    - (c[i] * el[k] + el[i] * c[k] - 3.0 * ec * el[i] * el[k]) * il2;
+                h[i][k] += dd[i][k];
             }
-            h[i][i] -= ec * il2;
         }
-        // δpδp, δqδq: Bᵀ (Rayleigh Hessian) B
-        let hl = 0.5 * l0;
-        let mut m = [[0.0; 4]; 4];
-        let a_: [f64; 3] = std::array::from_fn(|i| v[1] * hl * self.yq[i] - v[2] * l0 * el[i]);
-        let b_: [f64; 3] = std::array::from_fn(|i| -v[1] * hl * self.zq[i] + v[4] * l0 * el[i]);
-        add_m(&mut m, &a_, &self.ez);
-        add_m(&mut m, &b_, &self.ey);
-        let hp = rayleigh_hessian(&m, &self.lp);
-        let mut m = [[0.0; 4]; 4];
-        let a_: [f64; 3] = std::array::from_fn(|i| v[1] * hl * self.zp[i] - v[5] * l0 * el[i]);
-        let b_: [f64; 3] = std::array::from_fn(|i| -v[1] * hl * self.yp[i] + v[3] * l0 * el[i]);
-        add_m(&mut m, &a_, &self.ey);
-        add_m(&mut m, &b_, &self.ez);
-        let hq = rayleigh_hessian(&m, &self.lq);
         let btab = |h4: &M4, b: &[[f64; 3]; 4]| -> [[f64; 3]; 3] {
             let hb: [[f64; 3]; 4] = std::array::from_fn(|i| {
                 std::array::from_fn(|c| (0..4).map(|k| h4[i][k] * b[k][c]).sum())
@@ -551,36 +568,14 @@ impl BeamFirst {
             }
         }
         // Σ_k v_k ∂²ē_k/∂z², block by block
-        let (el, p) = (&self.el, &self.p);
-        // dd: v1 P/l + ∇²(e_l · c), c = l0(−v3 zp + v4 zq + v5 yp − v6 yq)
-        let c: [f64; 3] = std::array::from_fn(|i| {
-            l0 * (-v[2] * self.zp[i] + v[3] * self.zq[i] + v[4] * self.yp[i] - v[5] * self.yq[i])
-        });
-        let ec = dot3(el, &c);
-        let il2 = 1.0 / (l * l);
+        let p = &self.p;
+        let hl = 0.5 * l0;
+        let (dd, hp, hq) = self.curvature_blocks(&v, l0, l);
         for i in 0..3 {
             for k in 0..3 {
-                h[i][k] += v[0] * p[i][k] / l
-                    - (c[i] * el[k] + el[i] * c[k] - 3.0 * ec * el[i] * el[k]) * il2;
+                h[i][k] += dd[i][k];
             }
-            h[i][i] -= ec * il2;
         }
-        // λpλp: Rayleigh quotient of M(a, ez) + M(b, ey),
-        // a = v2 (l0/2) yq − v3 l0 el, b = −v2 (l0/2) zq + v5 l0 el
-        let hl = 0.5 * l0;
-        let mut m = [[0.0; 4]; 4];
-        let a_: [f64; 3] = std::array::from_fn(|i| v[1] * hl * self.yq[i] - v[2] * l0 * el[i]);
-        let b_: [f64; 3] = std::array::from_fn(|i| -v[1] * hl * self.zq[i] + v[4] * l0 * el[i]);
-        add_m(&mut m, &a_, &self.ez);
-        add_m(&mut m, &b_, &self.ey);
-        let hp = rayleigh_hessian(&m, &self.lp);
-        // λqλq: M(a, ey) + M(b, ez), a = v2 (l0/2) zp − v6 l0 el, b = −v2 (l0/2) yp + v4 l0 el
-        let mut m = [[0.0; 4]; 4];
-        let a_: [f64; 3] = std::array::from_fn(|i| v[1] * hl * self.zp[i] - v[5] * l0 * el[i]);
-        let b_: [f64; 3] = std::array::from_fn(|i| -v[1] * hl * self.yp[i] + v[3] * l0 * el[i]);
-        add_m(&mut m, &a_, &self.ey);
-        add_m(&mut m, &b_, &self.ez);
-        let hq = rayleigh_hessian(&m, &self.lq);
         for i in 0..4 {
             for k in 0..4 {
                 h[3 + i][3 + k] += hp[i][k];

@@ -14,10 +14,7 @@
 //! e1 is exact for any rotation about the axis (branch cut at ±π). Stiffness σ₁ = k e₁ (torsion
 //! spring, N·m/rad), theory.md §11.4.
 
-use super::{
-    fixed_hessian, fixed_jacobian, fixed_values, local_frame, ElementKind, FrameError, NodeId,
-    NodeUse,
-};
+use super::{local_frame, smooth_map_derivatives, ElementKind, FrameError, NodeId, NodeUse};
 use crate::math::{cst3, dot, rotate, Scalar, SmoothMap};
 use faer::Mat;
 
@@ -66,14 +63,7 @@ const HINGE_MODES: [&str; 3] = [
 
 impl ElementKind for Hinge {
     fn node_uses(&self) -> Vec<NodeUse> {
-        self.nodes
-            .iter()
-            .map(|&node| NodeUse {
-                node,
-                pos: false,
-                rot: true,
-            })
-            .collect()
+        NodeUse::each(&self.nodes, false, true)
     }
     fn ne(&self) -> usize {
         3
@@ -81,15 +71,7 @@ impl ElementKind for Hinge {
     fn mode_name(&self, k: usize, _node_names: &[String]) -> String {
         HINGE_MODES[k].into()
     }
-    fn deformations(&self, xk: &[f64]) -> Vec<f64> {
-        fixed_values(self, xk)
-    }
-    fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
-        fixed_jacobian(self, xk)
-    }
-    fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64> {
-        fixed_hessian(self, xk, w)
-    }
+    smooth_map_derivatives!();
     fn stiffness(&self) -> Mat<f64> {
         let mut s = Mat::zeros(3, 3);
         s[(0, 0)] = self.k;

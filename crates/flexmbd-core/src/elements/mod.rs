@@ -48,6 +48,13 @@ impl NodeUse {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+    /// The same use (`pos`, `rot`) of each of `nodes`, in order.
+    pub fn each(nodes: &[NodeId], pos: bool, rot: bool) -> Vec<NodeUse> {
+        nodes
+            .iter()
+            .map(|&node| NodeUse { node, pos, rot })
+            .collect()
+    }
 }
 
 /// The element contract: deformations, their first and second derivatives, stiffness.
@@ -193,6 +200,24 @@ pub enum FrameError {
 }
 
 // ---- helpers to implement ElementKind on top of a fixed-size SmoothMap ----
+
+/// The three derivative methods of [`ElementKind`] (`deformations`, `jacobian`,
+/// `hessian_weighted`) for an element that is a fixed-size [`SmoothMap`] (exact derivatives by
+/// jets); use inside `impl ElementKind for …`.
+macro_rules! smooth_map_derivatives {
+    () => {
+        fn deformations(&self, xk: &[f64]) -> Vec<f64> {
+            $crate::elements::fixed_values(self, xk)
+        }
+        fn jacobian(&self, xk: &[f64]) -> faer::Mat<f64> {
+            $crate::elements::fixed_jacobian(self, xk)
+        }
+        fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> faer::Mat<f64> {
+            $crate::elements::fixed_hessian(self, xk, w)
+        }
+    };
+}
+pub(crate) use smooth_map_derivatives;
 
 /// Values of a fixed-size map from a local coordinate slice.
 pub(crate) fn fixed_values<const N: usize, const M: usize>(

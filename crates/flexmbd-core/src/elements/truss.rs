@@ -5,7 +5,7 @@
 //!
 //! Source: theory.md §3.2; paper §3.3. Stiffness σ₁ = (EA/l₀) e₁ (theory.md §11.4).
 
-use super::{fixed_hessian, fixed_jacobian, fixed_values, ElementKind, NodeId, NodeUse};
+use super::{smooth_map_derivatives, ElementKind, NodeId, NodeUse};
 use crate::math::{dot, sub, Scalar, SmoothMap};
 use faer::Mat;
 
@@ -38,14 +38,7 @@ impl SmoothMap<6, 1> for Truss {
 
 impl ElementKind for Truss {
     fn node_uses(&self) -> Vec<NodeUse> {
-        self.nodes
-            .iter()
-            .map(|&node| NodeUse {
-                node,
-                pos: true,
-                rot: false,
-            })
-            .collect()
+        NodeUse::each(&self.nodes, true, false)
     }
     fn ne(&self) -> usize {
         1
@@ -53,15 +46,7 @@ impl ElementKind for Truss {
     fn mode_name(&self, _k: usize, _node_names: &[String]) -> String {
         "elongation".into()
     }
-    fn deformations(&self, xk: &[f64]) -> Vec<f64> {
-        fixed_values(self, xk)
-    }
-    fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
-        fixed_jacobian(self, xk)
-    }
-    fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64> {
-        fixed_hessian(self, xk, w)
-    }
+    smooth_map_derivatives!();
     fn stiffness(&self) -> Mat<f64> {
         Mat::from_fn(1, 1, |_, _| self.ea / self.l0)
     }

@@ -59,6 +59,15 @@ fn check_line(text: &str, want: usize, parts: &[&str]) {
     }
 }
 
+/// [`check`] of [`AB`] followed by `body`; the marked line is counted in the whole text.
+#[track_caller]
+fn check_ab(body: &str, parts: &[&str]) {
+    check(
+        &format!("{AB}{}", body.strip_prefix('\n').unwrap_or(body)),
+        parts,
+    );
+}
+
 fn ok(text: &str) -> Model {
     match parse_model(text, "m.toml") {
         Ok(m) => m,
@@ -337,48 +346,42 @@ const AB: &str = "[nodes]\na = [0.0, 0.0, 0.0]\nb = [1.0, 0.0, 0.0]\nc = [1.0, 1
 
 #[test]
 fn unknown_node_in_element() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[truss]]  # <-
 id = "t1"
 nodes = ["a", "zz"]
-"#
-        ),
+"#,
         &["element `t1`", "node `zz` is not defined"],
     );
 }
 
 #[test]
 fn unknown_node_in_second_element() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[truss]]
 id = "t1"
 nodes = ["a", "b"]
 [[rigid]]  # <-
 id = "body"
 nodes = ["a", "b", "q"]
-"#
-        ),
+"#,
         &["element `body`", "node `q`"],
     );
 }
 
 #[test]
 fn duplicate_element_id() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[truss]]
 id = "t1"
 nodes = ["a", "b"]
 [[beam]]  # <-
 id = "t1"
 nodes = ["b", "c"]
-"#
-        ),
+"#,
         &["element `t1`", "defined twice"],
     );
 }
@@ -413,60 +416,52 @@ nodes = ["a", "h"]
 
 #[test]
 fn orientation_parallel_to_axis() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]  # <-
 id = "w1"
 nodes = ["a", "b"]
 orient = [-2.0, 0.0, 0.0]
-"#
-        ),
+"#,
         &["element `w1`", "parallel"],
     );
 }
 
 #[test]
 fn orientation_zero() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]  # <-
 id = "w1"
 nodes = ["a", "b"]
 orient = [0.0, 0.0, 0.0]
-"#
-        ),
+"#,
         &["element `w1`", "orientation vector is zero"],
     );
 }
 
 #[test]
 fn orientation_nan() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]  # <-
 id = "w1"
 nodes = ["a", "b"]
 orient = [0.0, nan, 1.0]
-"#
-        ),
+"#,
         &["element `w1`", "`orient` must be finite", "NaN"],
     );
 }
 
 #[test]
 fn orientation_wrong_length() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]
 id = "w1"
 nodes = ["a", "b"]
 orient = [0.0, 1.0]  # <-
-"#
-        ),
+"#,
         &["element `w1`", "length 2"],
     );
 }
@@ -505,24 +500,21 @@ fn overflowing_number_in_element() {
 
 #[test]
 fn hinge_zero_axis() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[hinge]]  # <-
 id = "h1"
 nodes = ["a", "b"]
 axis = [0.0, 0.0, 0.0]
-"#
-        ),
+"#,
         &["element `h1`", "`axis` must be non-zero"],
     );
 }
 
 #[test]
 fn unknown_key_in_element() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[truss]]
 id = "t1"
 nodes = ["a", "b"]
@@ -530,99 +522,84 @@ nodes = ["a", "b"]
 id = "t2"
 nodes = ["b", "c"]
 colour = "red"  # <-
-"#
-        ),
+"#,
         &["element `t2`", "unknown field `colour`"],
     );
 }
 
 #[test]
 fn unknown_key_before_id() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]
 colour = "red"  # <-
 id = "w1"
 nodes = ["a", "b"]
-"#
-        ),
+"#,
         &["element `w1`", "unknown field `colour`"],
     );
 }
 
 #[test]
 fn rigid_has_no_modes() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[rigid]]
 id = "body"
 nodes = ["a", "b"]
 free = [1]  # <-
-"#
-        ),
+"#,
         &["element `body`", "unknown field `free`"],
     );
 }
 
 #[test]
 fn missing_element_fields() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[truss]]  # <-
 nodes = ["a", "b"]
-"#
-        ),
+"#,
         &["[[truss]]", "missing field `id`"],
     );
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]  # <-
 id = "w1"
-"#
-        ),
+"#,
         &["element `w1`", "missing field `nodes`"],
     );
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[hinge]]  # <-
 id = "h1"
 nodes = ["a", "b"]
-"#
-        ),
+"#,
         &["element `h1`", "missing field `axis`"],
     );
 }
 
 #[test]
 fn element_section_not_an_array() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [truss]  # <-
 id = "t1"
 nodes = ["a", "b"]
-"#
-        ),
+"#,
         &["[[truss]]"],
     );
 }
 
 #[test]
 fn wrong_type_in_element() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[truss]]
 id = "t1"
 nodes = ["a", "b"]
 free = "1"  # <-
-"#
-        ),
+"#,
         &["element `t1`", "invalid type"],
     );
 }
@@ -664,14 +641,12 @@ nodes = {nodes}
 
 #[test]
 fn repeated_node_in_element() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[rigid]]  # <-
 id = "body"
 nodes = ["a", "b", "a"]
-"#
-        ),
+"#,
         &["element `body`", "node `a` appears twice"],
     );
 }
@@ -707,31 +682,27 @@ nodes = ["a", "b"]
 
 #[test]
 fn mode_not_an_integer() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]
 id = "w1"
 nodes = ["a", "b"]
 free = [2.5]  # <-
-"#
-        ),
+"#,
         &["element `w1`", "invalid type"],
     );
 }
 
 #[test]
 fn mode_free_and_input() {
-    check(
-        &format!(
-            r#"{AB}
+    check_ab(
+        r#"
 [[beam]]  # <-
 id = "w1"
 nodes = ["a", "b"]
 free = [2, 3, 4]
 input = [3]
-"#
-        ),
+"#,
         &["element `w1`", "mode 3", "both as free and as input"],
     );
 }
