@@ -7,7 +7,7 @@ use flexmbd_core::dynamics::state_space::{
 };
 use flexmbd_core::dynamics::sweep::sweep;
 use flexmbd_core::model::Dof;
-use flexmbd_core::statics::{solve, StaticOptions, StaticSolution};
+use flexmbd_core::statics::{StaticOptions, StaticSolution};
 use flexmbd_core::Model;
 use flexmbd_io::statespace_report as report;
 use flexmbd_io::Settings;
@@ -100,9 +100,6 @@ pub struct SweepArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
 }
 
 /// Static options from the file's settings and `--steps` (as `flexmbd static` does).
@@ -245,24 +242,9 @@ pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, Ba
     Ok(Output { node, dof, kind })
 }
 
-fn solve_static(
-    model: &Model,
-    opts: &StaticOptions,
-    quiet: bool,
-) -> anyhow::Result<StaticSolution> {
-    let bar = if quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        indicatif::ProgressBar::new(opts.steps as u64)
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} step {pos}/{len} {elapsed}")
-            .expect("valid template"),
-    );
-    let sol = solve(model, opts, |k, _| bar.set_position(k as u64))
-        .context("the static equilibrium to linearise about was not found")?;
-    bar.finish_and_clear();
-    Ok(sol)
+fn solve_static(model: &Model, opts: &StaticOptions) -> anyhow::Result<StaticSolution> {
+    crate::progress::solve_static(model, opts)
+        .context("the static equilibrium to linearise about was not found")
 }
 
 fn write_file(path: &Path, text: &str) -> anyhow::Result<()> {
@@ -317,7 +299,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let opts = static_options(&settings, a.steps)?;
-    let sol = solve_static(&model, &opts, true)?;
+    let sol = solve_static(&model, &opts)?;
     let k = a.at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
         return Err(BadInput(format!(
@@ -408,8 +390,10 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     let opts = static_options(&settings, a.steps)?;
-    let sol = solve_static(&model, &opts, a.quiet)?;
-    let points = sweep(&model, &sol.steps, a.count, &ids);
+    let sol = solve_static(&model, &opts)?;
+    let points = crate::progress::stage("frequencies and stiffness at every step", || {
+        sweep(&model, &sol.steps, a.count, &ids)
+    });
     if a.count > 0 {
         if let Some(Err(e)) = points
             .iter()

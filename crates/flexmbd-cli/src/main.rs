@@ -5,6 +5,8 @@
 
 mod dynamics_cmd;
 mod output_cmd;
+mod progress;
+mod view_cmd;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -21,6 +23,9 @@ use std::process::ExitCode;
     about = "Exact-constraint design of compliant mechanisms (flexible multibody, SPACAR-style)"
 )]
 struct Cli {
+    /// No progress bars (they are drawn on stderr only when it is a terminal).
+    #[arg(long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -73,9 +78,6 @@ enum Command {
         /// Also write summary.csv and step_K.csv into this directory.
         #[arg(long, value_name = "DIR")]
         csv: Option<PathBuf>,
-        /// No progress bar.
-        #[arg(long)]
-        quiet: bool,
         /// Backtracking line search in Newton (off by default; step halving is always on).
         #[arg(long)]
         line_search: bool,
@@ -105,6 +107,9 @@ enum Command {
     Sweep(dynamics_cmd::SweepArgs),
     /// Export results for ParaView (.vtu, .pvd) and as PNG/SVG plots (docs/visualisation.md).
     Export(output_cmd::ExportArgs),
+    /// Write a self-contained HTML report with a 3D view: motions, modes, self-stress and
+    /// stress colouring, load steps, classification (docs/visualisation.md).
+    View(view_cmd::ViewArgs),
     /// Convert a SPACAR .dat model to the native TOML format (stiffness, masses, loads and
     /// strokes included; what TOML cannot express, e.g. shear columns, is written as comments).
     Convert {
@@ -210,11 +215,13 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    progress::set_quiet(cli.quiet);
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
         Command::Sweep(args) => dynamics_cmd::run_sweep(args),
         Command::Export(args) => output_cmd::run_export(args),
+        Command::View(args) => view_cmd::run_view(args),
         Command::Modes {
             model,
             count,
@@ -231,7 +238,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             tol_disp,
             json,
             csv,
-            quiet,
             line_search,
         } => run_static(
             &model,
@@ -242,7 +248,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             tol_disp,
             json,
             csv,
-            quiet,
             line_search,
         ),
         Command::Check {
@@ -265,7 +270,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 .into());
             }
             let x = m.x0();
-            let before = check(&m, &m.partition, &x, &opts).context("kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)")?;
+            let before = progress::stage("kinematic analysis", || check(&m, &m.partition, &x, &opts)).context("kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)")?;
             let (partition, analysis, chosen) = if auto {
                 let c = auto_generalised(&m, &m.partition, &x, &opts)
                     .context("automatic choice of generalised coordinates failed")?;
@@ -273,8 +278,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             } else {
                 (m.partition.clone(), before.clone(), None)
             };
-            let advice = advise(&m, &partition, &x, &analysis, &opts, max_suggestions)
-                .context("repair advice failed")?;
+            let advice = progress::stage("repair advice", || {
+                advise(&m, &partition, &x, &analysis, &opts, max_suggestions)
+            })
+            .context("repair advice failed")?;
             let file = model.display().to_string();
             let report = CheckReport {
                 model: &m,
@@ -311,10 +318,9 @@ fn run_modes(
     json: bool,
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::dynamics::modes;
-    use flexmbd_core::statics::solve;
     let (model, settings) = load_with_settings(path)?;
     let opts = dynamics_cmd::static_options(&settings, steps)?;
-    let sol = solve(&model, &opts, |_, _| {})
+    let sol = progress::solve_static(&model, &opts)
         .context("the static equilibrium to linearise about was not found")?;
     let k = at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
@@ -324,7 +330,8 @@ fn run_modes(
         ))
         .into());
     };
-    let modal = modes(&model, step, count).context("modal analysis failed")?;
+    let modal = progress::stage("modal analysis", || modes(&model, step, count))
+        .context("modal analysis failed")?;
     let fname = path.display().to_string();
     if json {
         emit(
@@ -356,13 +363,11 @@ fn run_static(
     tol_disp: Option<f64>,
     json: bool,
     csv: Option<PathBuf>,
-    quiet: bool,
     line_search: bool,
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::statics::linear::{
         buckling as buckle, compliance as comply, linearize, unstable_directions,
     };
-    use flexmbd_core::statics::solve;
     use flexmbd_io::static_report::{static_json, static_text, write_csv, StepExtras};
     let (model, settings) = load_with_settings(path)?;
     let mut opts = dynamics_cmd::static_options(&settings, steps)?;
@@ -395,19 +400,7 @@ fn run_static(
         .collect::<Result<Vec<_>, _>>()?;
     let n_buckling = buckling.unwrap_or(settings.buckling);
 
-    // progress bar on stderr, hidden when stderr is not a terminal
-    let bar = if quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        indicatif::ProgressBar::new(opts.steps as u64)
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} step {pos}/{len} {elapsed}")
-            .expect("valid template"),
-    );
-    let sol = solve(&model, &opts, |k, _| bar.set_position(k as u64))
-        .context("static analysis failed")?;
-    bar.finish_and_clear();
+    let sol = progress::solve_static(&model, &opts).context("static analysis failed")?;
 
     // linearised results per step
     let linear_wanted = !node_ids.is_empty() || n_buckling > 0;

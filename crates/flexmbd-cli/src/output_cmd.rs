@@ -6,7 +6,7 @@ use flexmbd_core::dynamics::modes;
 use flexmbd_core::dynamics::sweep::{sweep, SweepPoint};
 use flexmbd_core::kinematics::{check, CheckOptions, ConstraintAnalysis};
 use flexmbd_core::model::{Dof, Model, Target};
-use flexmbd_core::statics::{solve, StaticSolution};
+use flexmbd_core::statics::StaticSolution;
 use flexmbd_io::plots::{Plot, Series};
 use flexmbd_io::static_report::node_results;
 use flexmbd_io::vtk::{check_grid, mode_grid, pvd, step_grid};
@@ -17,11 +17,11 @@ use std::process::ExitCode;
 /// Which analysis to export.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum Analysis {
-    /// Kinematic analysis: reference geometry with motions and self-stress states.
+    /// Kinematic analysis: the reference geometry with its motions and self-stress states.
     Check,
-    /// Nonlinear statics: one file per load step and a .pvd collection.
+    /// Nonlinear statics: every load step (export: one file per step and a .pvd collection).
     Static,
-    /// Natural modes: one file per mode and a .pvd collection.
+    /// Natural modes about the static state (export: one file per mode and a .pvd collection).
     Modes,
 }
 
@@ -65,8 +65,10 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
     match args.analysis {
         Analysis::Check => {
             let x = model.x0();
-            let a = check(&model, &model.partition, &x, &CheckOptions::default())
-                .context("kinematic analysis failed")?;
+            let a = crate::progress::stage("kinematic analysis", || {
+                check(&model, &model.partition, &x, &CheckOptions::default())
+            })
+            .context("kinematic analysis failed")?;
             if let Some(dir) = &args.vtk {
                 let p = dir.join("check.vtu");
                 write(&p, &check_grid(&model, &a).to_vtu())?;
@@ -100,7 +102,9 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
         Analysis::Modes => {
             let sol = static_solution(&model, &settings, args.steps)?;
             let step = sol.steps.last().expect("the unloaded step exists");
-            let modal = modes(&model, step, args.count).context("modal analysis failed")?;
+            let modal =
+                crate::progress::stage("modal analysis", || modes(&model, step, args.count))
+                    .context("modal analysis failed")?;
             if let Some(dir) = &args.vtk {
                 let mut entries = Vec::new();
                 for (k, mode) in modal.modes.iter().enumerate() {
@@ -116,7 +120,9 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
             }
             if let Some(dir) = &args.plots {
                 let (stroke, x_label) = stroke_axis(&model, &sol);
-                let points = sweep(&model, &sol.steps, args.count, &[]);
+                let points = crate::progress::stage("frequencies at every step", || {
+                    sweep(&model, &sol.steps, args.count, &[])
+                });
                 if let Some(p) = frequency_plot(&points, &stroke, &x_label) {
                     written.extend(p.write(&dir.join("frequency_stroke"), size)?);
                 }
@@ -159,7 +165,7 @@ fn static_solution(
 ) -> anyhow::Result<StaticSolution> {
     let mut opts = crate::dynamics_cmd::static_options(settings, steps)?;
     opts.line_search = settings.line_search;
-    solve(model, &opts, |_, _| {}).context("static analysis failed")
+    crate::progress::solve_static(model, &opts).context("static analysis failed")
 }
 
 /// (a) Singular values of Dcc on a log axis with the rank threshold.
@@ -303,7 +309,9 @@ fn stroke_plots(
                 .ok_or_else(|| BadInput(format!("[static] compliance: node `{n}` is not defined")))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let points = sweep(model, &sol.steps, count, &node_ids);
+    let points = crate::progress::stage("frequencies and stiffness at every step", || {
+        sweep(model, &sol.steps, count, &node_ids)
+    });
     for (j, name) in settings.compliance.iter().enumerate() {
         let series: Vec<Series> = ["x", "y", "z"]
             .iter()

@@ -4,11 +4,13 @@
 //! - [`report`]: the kinematic analysis as JSON and as aligned text tables.
 //! - [`spacar`]: SPACAR `.dat` models (docs/spacar-import.md) → `SpacarModel` → `Model`.
 //! - [`vtk`]: ParaView `.vtu`/`.pvd` files; [`plots`]: PNG/SVG plots (docs/visualisation.md).
+//! - [`html_view`]: the self-contained HTML 3D viewer (`flexmbd view`).
 //! - [`toml_writer`]: a neutral [`ModelSpec`] → `Model` or native TOML (`flexmbd convert`).
 //!
 //! Every input error is a [`InputError`] naming file, line and item.
 
 pub mod error;
+pub mod html_view;
 pub mod model_toml;
 pub mod modes_report;
 pub mod plots;

@@ -1,0 +1,69 @@
+//! Progress on stderr (indicatif), the same for every long command: a bar over the load steps
+//! of a static solution and a spinner for a stage without steps (modes, sweeps, writing files).
+//! Nothing is drawn with the global `--quiet`, or when stderr is not a terminal (a pipe, a file,
+//! CI), so output that is captured never contains progress.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Set by the global `--quiet` flag.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// Whether progress is drawn: not quiet, and stderr is a terminal.
+pub fn shown() -> bool {
+    !QUIET.load(Ordering::Relaxed) && std::io::stderr().is_terminal()
+}
+
+/// A bar over `len` steps, labelled `what`.
+pub fn bar(len: usize, what: &str) -> ProgressBar {
+    if !shown() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new(len as u64);
+    b.set_style(
+        ProgressStyle::with_template("{msg} {bar:30} {pos}/{len} {elapsed}")
+            .expect("a valid constant template"),
+    );
+    b.set_message(what.to_string());
+    b
+}
+
+/// A spinner for a stage without steps, labelled `what`.
+pub fn spinner(what: &str) -> ProgressBar {
+    if !shown() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new_spinner();
+    b.set_style(
+        ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+            .expect("a valid constant template"),
+    );
+    b.set_message(what.to_string());
+    b.enable_steady_tick(Duration::from_millis(120));
+    b
+}
+
+/// The static solution, with a bar over its load steps.
+pub fn solve_static(
+    model: &flexmbd_core::Model,
+    opts: &flexmbd_core::statics::StaticOptions,
+) -> Result<flexmbd_core::statics::StaticSolution, flexmbd_core::statics::SolveError> {
+    let b = bar(opts.steps, "load step");
+    let sol = flexmbd_core::statics::solve(model, opts, |k, _| b.set_position(k as u64));
+    b.finish_and_clear();
+    sol
+}
+
+/// Run `f` with a spinner labelled `what`.
+pub fn stage<T>(what: &str, f: impl FnOnce() -> T) -> T {
+    let s = spinner(what);
+    let r = f();
+    s.finish_and_clear();
+    r
+}

@@ -1,0 +1,184 @@
+//! `flexmbd view`: one self-contained HTML file with a 3D view of the model and the results of
+//! an analysis (docs/visualisation.md).
+
+use crate::output_cmd::Analysis;
+use crate::{emit, load_with_settings, progress, BadInput};
+use anyhow::Context;
+use flexmbd_core::dynamics::modes;
+use flexmbd_core::kinematics::advice::{advise, auto_generalised};
+use flexmbd_core::kinematics::{check, columns, rows, CheckOptions};
+use flexmbd_core::Model;
+use flexmbd_io::html_view::{view_data, view_html, Classification, ViewResults};
+use flexmbd_io::report::generalised_names;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Largest Dcc (rows × columns) classified for a static or modal view; `check` always
+/// classifies.
+const MAX_DCC_ENTRIES: usize = 1_000_000;
+
+/// Arguments of `flexmbd view`.
+#[derive(clap::Args)]
+pub struct ViewArgs {
+    /// Model file (.toml, or a SPACAR .dat file).
+    model: PathBuf,
+    /// The analysis to show.
+    #[arg(long, value_enum, default_value = "check")]
+    analysis: Analysis,
+    /// The HTML file to write (its directory is created).
+    #[arg(short = 'o', long = "output", value_name = "FILE.html")]
+    output: PathBuf,
+    /// Number of modes (modes).
+    #[arg(long, default_value_t = 6, value_name = "N")]
+    count: usize,
+    /// Number of load steps (static, modes; overrides [static] steps).
+    #[arg(long, value_name = "N")]
+    steps: Option<usize>,
+    /// Linearise at this load step of the static solution (modes; default: the last).
+    #[arg(long, value_name = "K")]
+    at_step: Option<usize>,
+    /// Relative rank tolerance of the classification (default sqrt(eps)).
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    rank_tol: Option<f64>,
+    /// Maximum number of verified suggestions per motion or self-stress state.
+    #[arg(long, default_value_t = 6, value_name = "N")]
+    max_suggestions: usize,
+    /// Choose generalised coordinates automatically (one per motion) before classifying.
+    #[arg(long)]
+    auto: bool,
+}
+
+/// The classification with its owned parts.
+struct Classified {
+    analysis: flexmbd_core::kinematics::ConstraintAnalysis,
+    advice: Vec<flexmbd_core::kinematics::advice::StateAdvice>,
+    generalised: Vec<String>,
+}
+
+fn classify(model: &Model, opts: &CheckOptions, args: &ViewArgs) -> anyhow::Result<Classified> {
+    let x = model.x0();
+    let (partition, analysis) = if args.auto {
+        let c = auto_generalised(model, &model.partition, &x, opts)
+            .context("automatic choice of generalised coordinates failed")?;
+        (c.partition, c.analysis)
+    } else {
+        let a = check(model, &model.partition, &x, opts).context(
+            "kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)",
+        )?;
+        (model.partition.clone(), a)
+    };
+    let advice = advise(model, &partition, &x, &analysis, opts, args.max_suggestions)
+        .context("repair advice failed")?;
+    Ok(Classified {
+        generalised: generalised_names(model, &partition.x, &partition.e),
+        analysis,
+        advice,
+    })
+}
+
+/// `flexmbd view`.
+pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
+    let opts = CheckOptions {
+        rank_tol: args.rank_tol.unwrap_or(CheckOptions::default().rank_tol),
+    };
+    if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
+        return Err(BadInput(format!(
+            "--rank-tol must be a finite number >= 0, found {}",
+            opts.rank_tol
+        ))
+        .into());
+    }
+    if matches!(args.analysis, Analysis::Modes) && args.count == 0 {
+        return Err(BadInput("--count must be at least 1".into()).into());
+    }
+    let (model, settings) = load_with_settings(&args.model)?;
+    let file = args.model.display().to_string();
+    let mut notes = Vec::new();
+
+    // the classification: always for check; for static and modes when Dcc is of a size whose
+    // dense SVD takes a moment
+    let classified = match args.analysis {
+        Analysis::Check => Some(progress::stage("kinematic analysis", || {
+            classify(&model, &opts, &args)
+        })?),
+        Analysis::Static | Analysis::Modes => {
+            let x = model.x0();
+            let (m, n) = (
+                rows(&model, &model.partition).len(),
+                columns(&model, &model.partition, &x).len(),
+            );
+            if m.saturating_mul(n) <= MAX_DCC_ENTRIES {
+                match progress::stage("kinematic analysis", || classify(&model, &opts, &args)) {
+                    Ok(c) => Some(c),
+                    Err(e) => {
+                        notes.push(format!("classification not shown: {e:#}"));
+                        None
+                    }
+                }
+            } else {
+                notes.push(format!(
+                    "classification not computed: Dcc would be {m} × {n}; run `flexmbd check` for it"
+                ));
+                None
+            }
+        }
+    };
+    let classification = classified.as_ref().map(|c| Classification {
+        analysis: &c.analysis,
+        advice: &c.advice,
+        generalised: &c.generalised,
+        rank_tol: opts.rank_tol,
+    });
+
+    let mut data = match args.analysis {
+        Analysis::Check => view_data(&model, &file, classification.as_ref(), &ViewResults::Check),
+        Analysis::Static | Analysis::Modes => {
+            let mut sopts = crate::dynamics_cmd::static_options(&settings, args.steps)?;
+            sopts.line_search = settings.line_search;
+            let sol = progress::solve_static(&model, &sopts).context("static analysis failed")?;
+            if matches!(args.analysis, Analysis::Static) {
+                view_data(
+                    &model,
+                    &file,
+                    classification.as_ref(),
+                    &ViewResults::Static(&sol),
+                )
+            } else {
+                let k = args.at_step.unwrap_or(sol.steps.len() - 1);
+                let Some(step) = sol.steps.get(k) else {
+                    return Err(BadInput(format!(
+                        "--at-step {k}: the static solution has steps 0 to {}",
+                        sol.steps.len() - 1
+                    ))
+                    .into());
+                };
+                let modal = progress::stage("modal analysis", || modes(&model, step, args.count))
+                    .context("modal analysis failed")?;
+                view_data(
+                    &model,
+                    &file,
+                    classification.as_ref(),
+                    &ViewResults::Modes {
+                        step,
+                        index: k,
+                        modal: &modal,
+                    },
+                )
+            }
+        }
+    };
+    data.notes.extend(notes);
+    let html = view_html(&data).context("cannot write the HTML report")?;
+    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    }
+    std::fs::write(&args.output, &html)
+        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    emit(&format!(
+        "wrote {} ({} bytes)\n",
+        args.output.display(),
+        html.len()
+    ))?;
+    Ok(ExitCode::SUCCESS)
+}

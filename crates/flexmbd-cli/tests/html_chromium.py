@@ -1,0 +1,431 @@
+#!/usr/bin/env python3
+"""The HTML reports of `flexmbd view` in headless Chromium (docs/visualisation.md).
+
+Usage: html_chromium.py [OUTDIR]
+
+Writes reports with `$FLEXMBD view …` (default `cargo run --release -p flexmbd-cli --`) into
+OUTDIR (default: a temporary directory), opens each in headless Chromium (`$CHROMIUM`, default
+the first of chromium, chromium-browser, google-chrome on PATH) from a file:// URL, and checks:
+
+- the page reaches its ready state with no JavaScript error: the page's own record (window
+  errors, unhandled rejections and console.error, counted in <body data-errors>) read with
+  --dump-dom, and no console message at all in Chromium's log (--enable-logging=stderr);
+- the expected content (motions, modes, fields, load steps, Table 1 row) in the status element;
+- a screenshot: the canvas is not blank (enough pixels off the background, enough colours);
+- animation: the motion of the 12-truss at phase 0.25 and 0.75 (opposite extremes) gives
+  different pictures, while phase 0 and 0.5 (both the reference configuration) give the same
+  picture; the same for a mode, and two load steps of a static run differ;
+- every control (selectors, sliders, buttons, views, clicks on the canvas, keys) works without
+  error, in a copy of each report with a small script added that operates them;
+- a broken page (invalid data) is reported as an error, so the checks above can fail.
+
+Only the Python standard library is used (the PNG decoder is below). Screenshots are kept in
+OUTDIR for a look.
+"""
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+WIDTH, HEIGHT = 1280, 800
+BACKGROUND = (244, 246, 249)  # scene background of viewer.js (0xf4f6f9)
+FAILURES = []
+PASSED = []
+
+
+def fail(msg):
+    FAILURES.append(msg)
+    print("FAIL " + msg, flush=True)
+
+
+def ok(msg):
+    PASSED.append(msg)
+    print("ok   " + msg, flush=True)
+
+
+# --- PNG -------------------------------------------------------------------------------------
+
+def read_png(path):
+    """(width, height, rows of (r, g, b) tuples) of an 8-bit, non-interlaced PNG."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{path}: not a PNG file")
+    pos, idat, w = 8, b"", None
+    while pos < len(data):
+        (length,) = struct.unpack(">I", data[pos:pos + 4])
+        kind = data[pos + 4:pos + 8]
+        body = data[pos + 8:pos + 8 + length]
+        pos += 12 + length
+        if kind == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            if depth != 8 or interlace != 0 or ctype not in (2, 6):
+                raise ValueError(f"{path}: unsupported PNG (depth {depth}, type {ctype})")
+            bpp = 3 if ctype == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            break
+    raw = zlib.decompress(idat)
+    stride = w * bpp
+    rows, prev, i = [], bytearray(stride), 0
+    for _ in range(h):
+        ftype = raw[i]
+        line = bytearray(raw[i + 1:i + 1 + stride])
+        i += 1 + stride
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0
+            b = prev[x]
+            c = prev[x - bpp] if x >= bpp else 0
+            if ftype == 1:
+                line[x] = (line[x] + a) & 255
+            elif ftype == 2:
+                line[x] = (line[x] + b) & 255
+            elif ftype == 3:
+                line[x] = (line[x] + (a + b) // 2) & 255
+            elif ftype == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                line[x] = (line[x] + pred) & 255
+        rows.append([tuple(line[x:x + 3]) for x in range(0, stride, bpp)])
+        prev = line
+    return w, h, rows
+
+
+def crop(img, rect):
+    w, h, rows = img
+    x0, y0, cw, ch = rect
+    x1, y1 = min(w, x0 + cw), min(h, y0 + ch)
+    return [row[x0:x1] for row in rows[y0:y1]]
+
+
+def canvas_stats(pixels):
+    """(fraction of pixels off the background, number of distinct colours at 4 bits/channel)."""
+    total = off = 0
+    colours = set()
+    for row in pixels:
+        for p in row:
+            total += 1
+            if sum(abs(p[k] - BACKGROUND[k]) for k in range(3)) > 30:
+                off += 1
+            colours.add((p[0] >> 4, p[1] >> 4, p[2] >> 4))
+    return off / max(total, 1), len(colours)
+
+
+def difference(a, b):
+    """Fraction of pixels that differ by more than a little between two crops."""
+    total = diff = 0
+    for ra, rb in zip(a, b):
+        for p, q in zip(ra, rb):
+            total += 1
+            if sum(abs(p[k] - q[k]) for k in range(3)) > 40:
+                diff += 1
+    return diff / max(total, 1)
+
+
+# --- Chromium --------------------------------------------------------------------------------
+
+def chromium():
+    exe = os.environ.get("CHROMIUM")
+    if exe:
+        return exe
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    sys.exit("html_chromium.py: no Chromium found (apt-get install chromium, or set $CHROMIUM)")
+
+
+def browse(page, fragment, out, profile, screenshot=None):
+    """Open page#fragment headless; return (DOM text, console lines of Chromium's log)."""
+    args = [
+        chromium(), "--headless", "--no-sandbox", "--hide-scrollbars",
+        "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+        f"--window-size={WIDTH},{HEIGHT}", "--virtual-time-budget=15000",
+        f"--user-data-dir={profile}", "--no-first-run", "--disable-extensions",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        "--no-pings", "--disable-default-apps", "--enable-logging=stderr", "--v=0",
+    ]
+    args += [f"--screenshot={screenshot}"] if screenshot else ["--dump-dom"]
+    url = "file://" + os.path.abspath(page) + ("#" + fragment if fragment else "")
+    r = subprocess.run(args + [url], capture_output=True, text=True, timeout=180)
+    console = [l for l in r.stderr.splitlines() if ":CONSOLE" in l]
+    if r.returncode != 0:
+        fail(f"{os.path.basename(page)}#{fragment}: chromium exit {r.returncode}: {r.stderr[-2000:]}")
+    return r.stdout, console
+
+
+def status(dom):
+    """Attributes of the status element, the error count and the error text."""
+    m = re.search(r'<div id="status"([^>]*)>', dom)
+    attrs = dict(re.findall(r'([\w-]+)="([^"]*)"', m.group(1))) if m else {}
+    e = re.search(r'<body[^>]*data-errors="(\d+)"', dom)
+    errors = int(e.group(1)) if e else -1
+    t = re.search(r'<pre id="errors"[^>]*>(.*?)</pre>', dom, re.S)
+    title = re.search(r"<title>(.*?)</title>", dom, re.S)
+    return attrs, errors, (t.group(1).strip() if t else ""), (title.group(1) if title else "")
+
+
+def open_page(page, fragment, out, profile, expect):
+    """Load page#fragment: no errors, ready, the expected attributes. Returns the status."""
+    name = f"{os.path.basename(page)}#{fragment}"
+    dom, console = browse(page, fragment, out, profile)
+    attrs, errors, text, title = status(dom)
+    good = True
+    if errors != 0 or text or title.startswith("ERROR"):
+        fail(f"{name}: errors in the page ({errors}): {text or title}")
+        good = False
+    if console:
+        fail(f"{name}: console messages: {console}")
+        good = False
+    if attrs.get("data-state") != "ready":
+        fail(f"{name}: not ready: {attrs}")
+        good = False
+    for k, v in expect.items():
+        got = attrs.get(k)
+        if callable(v) and not v(got) or not callable(v) and got != v:
+            fail(f"{name}: {k} = {got!r}, expected {v if not callable(v) else 'a match'}")
+            good = False
+    if good:
+        ok(f"{name}: ready, no errors, {attrs.get('data-triangles')} triangles")
+    return attrs
+
+
+def shot(page, fragment, out, profile, tag, rect):
+    png = os.path.join(out, tag + ".png")
+    browse(page, fragment, out, profile, screenshot=png)
+    if not os.path.exists(png):
+        fail(f"{tag}: no screenshot")
+        return None
+    img = read_png(png)
+    if (img[0], img[1]) != (WIDTH, HEIGHT):
+        fail(f"{tag}: screenshot is {img[0]}x{img[1]}, expected {WIDTH}x{HEIGHT}")
+    return crop(img, rect)
+
+
+def canvas_rect(attrs):
+    """The middle of the canvas, clear of the overlays (heading and colour bar at the top, legend
+    at the bottom left), where the model is drawn: blank there means nothing was rendered."""
+    try:
+        x, y, w, h = (int(v) for v in attrs["data-canvas"].split(","))
+    except (KeyError, ValueError):
+        fail(f"no canvas rectangle in {attrs}")
+        x, y, w, h = 0, 0, WIDTH - 360, HEIGHT
+    if w < 200 or h < 200:
+        fail(f"canvas too small: {w}x{h}")
+    w, h = min(w, WIDTH - x), min(h, HEIGHT - y)
+    return (x + int(0.3 * w), y + int(0.12 * h), int(0.55 * w), int(0.68 * h))
+
+
+def not_blank(tag, pixels, min_off=0.02, min_colours=12):
+    off, colours = canvas_stats(pixels)
+    if off < min_off or colours < min_colours:
+        fail(f"{tag}: canvas looks blank: {100 * off:.2f} % drawn, {colours} colours")
+    else:
+        ok(f"{tag}: {100 * off:.1f} % of the canvas drawn, {colours} colours")
+
+
+def moves(tag, a, b, min_diff=0.003):
+    d = difference(a, b)
+    if d < min_diff:
+        fail(f"{tag}: the pictures do not differ ({100 * d:.3f} % of pixels)")
+    else:
+        ok(f"{tag}: {100 * d:.2f} % of the pixels change")
+
+
+def same(tag, a, b, max_diff=0.0005):
+    d = difference(a, b)
+    if d > max_diff:
+        fail(f"{tag}: the pictures should be the same, {100 * d:.3f} % of pixels differ")
+    else:
+        ok(f"{tag}: same picture ({100 * d:.4f} % of pixels differ)")
+
+
+# --- the reports -----------------------------------------------------------------------------
+
+# Injected into a copy of a report: works every control once (all animations and colourings,
+# every load step, play, sliders, views, keys) after the page is ready and clicks a 9 × 5 grid
+# over the canvas in the iso view, counting the clicks that selected an element; then writes the
+# counts into <body data-exercised data-selected>. Errors land in the page's own record like any
+# other.
+EXERCISE = """<script>
+(function () {
+  function go() {
+    var st = document.getElementById('status');
+    if (!st || st.getAttribute('data-state') === 'loading') { setTimeout(go, 50); return; }
+    var n = 0;
+    function fire(el, type) { el.dispatchEvent(new Event(type, { bubbles: true })); n++; }
+    function each(id, type, values) {
+      var el = document.getElementById(id);
+      if (!el) return;
+      values(el).forEach(function (v) { el.value = v; fire(el, type); });
+    }
+    var options = function (el) { return Array.prototype.map.call(el.options, function (o) { return o.value; }); };
+    each('sel-item', 'change', options);
+    each('sel-color', 'change', options);
+    each('rng-step', 'input', function (el) {
+      var v = []; for (var k = 0; k <= Number(el.max); k++) v.push(String(k)); return v;
+    });
+    each('rng-phase', 'input', function () { return ['0.1', '0.6']; });
+    each('rng-amp', 'input', function () { return ['2', '0.5']; });
+    ['chk-ghost', 'chk-ghost', 'btn-play', 'btn-prev', 'btn-next', 'btn-play'].forEach(function (id) {
+      var el = document.getElementById(id); if (el) { el.click(); n++; }
+    });
+    document.querySelectorAll('button[data-view]').forEach(function (b) { b.click(); n++; });
+    document.querySelector('button[data-view=iso]').click();
+    var cv = document.querySelector('#canvas-host canvas');
+    var r = cv.getBoundingClientRect();
+    var hits = 0;
+    for (var i = 1; i < 10; i++) {
+      for (var j = 3; j < 8; j++) {
+        cv.dispatchEvent(new MouseEvent('click', { bubbles: true, clientX: r.left + r.width * i / 10, clientY: r.top + r.height * j / 10 }));
+        n++;
+        if (document.querySelector('#selection b')) hits++;
+      }
+    }
+    [' ', 'ArrowLeft', 'ArrowRight', ' '].forEach(function (key) {
+      window.dispatchEvent(new KeyboardEvent('keydown', { key: key })); n++;
+    });
+    setTimeout(function () {
+      document.body.setAttribute('data-exercised', String(n));
+      document.body.setAttribute('data-selected', String(hits));
+    }, 1000);
+  }
+  go();
+})();
+</script>
+"""
+
+
+def exercise(page, out, profile):
+    """Work every control of a copy of the page; no error may appear."""
+    with open(page, encoding="utf-8") as f:
+        text = f.read()
+    copy = os.path.join(out, "exercise_" + os.path.basename(page))
+    with open(copy, "w", encoding="utf-8") as f:
+        f.write(text.replace("</body>", EXERCISE + "</body>", 1))
+    dom, console = browse(copy, "", out, profile)
+    attrs, errors, etext, title = status(dom)
+    m = re.search(r'data-exercised="(\d+)"', dom)
+    n = int(m.group(1)) if m else 0
+    if errors != 0 or console or attrs.get("data-state") != "ready" or n < 10:
+        fail(f"{os.path.basename(page)}: controls: {n} actions, errors {errors}: {etext or title} {console}")
+    else:
+        sel = re.search(r'data-selected="(\d+)"', dom)
+        hits = int(sel.group(1)) if sel else 0
+        if hits == 0:
+            fail(f"{os.path.basename(page)}: no click on the canvas selected an element")
+        else:
+            ok(f"{os.path.basename(page)}: {n} control actions without error;"
+               f" {hits} of 45 clicks on the canvas selected an element")
+
+
+def flexmbd():
+    exe = os.environ.get("FLEXMBD")
+    return [exe] if exe else ["cargo", "run", "--quiet", "--release", "-p", "flexmbd-cli", "--"]
+
+
+def view(out, name, model, *args):
+    path = os.path.join(out, name + ".html")
+    cmd = flexmbd() + ["view", os.path.join(ROOT, "examples", model + ".toml"), "-o", path, *args]
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=900)
+    if r.returncode != 0:
+        sys.exit(f"{' '.join(cmd)} failed: {r.stderr}")
+    size = os.path.getsize(path)
+    ok(f"{name}.html written ({size} bytes)")
+    return path
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else tempfile.mkdtemp(prefix="flexmbd-html-")
+    os.makedirs(out, exist_ok=True)
+    profile = tempfile.mkdtemp(prefix="flexmbd-chromium-")
+    try:
+        run(out, profile)
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+    print(f"screenshots in {out}")
+    print(f"html_chromium: {len(PASSED)} passed, {len(FAILURES)} failed")
+    if FAILURES:
+        sys.exit(1)
+
+
+def run(out, profile):
+    twelve = view(out, "twelve_truss", "twelve_truss")
+    six = view(out, "folded_sheet_guide_6", "folded_sheet_guide_6")
+    stroke = view(out, "parallel_leaf_stroke", "parallel_leaf_stroke", "--analysis", "static", "--steps", "8")
+    modes = view(out, "paper_dynamic_6_sheets", "paper_dynamic_6_sheets", "--analysis", "modes", "--count", "4")
+
+    # 12-truss: one motion, one self-stress, Table 1 row 2; the motion animates
+    a = open_page(twelve, "item=0&phase=0.25&paused=1", out, profile, {
+        "data-animations": "1", "data-fields": "self_stress_1", "data-table1-row": "2",
+        "data-elements": "12", "data-item": "0"})
+    rect = canvas_rect(a)
+    p25 = shot(twelve, "item=0&phase=0.25&paused=1", out, profile, "twelve_phase025", rect)
+    p75 = shot(twelve, "item=0&phase=0.75&paused=1", out, profile, "twelve_phase075", rect)
+    p0 = shot(twelve, "item=0&phase=0&paused=1", out, profile, "twelve_phase000", rect)
+    p50 = shot(twelve, "item=0&phase=0.5&paused=1", out, profile, "twelve_phase050", rect)
+    if p25 and p75 and p0 and p50:
+        not_blank("twelve_truss motion 1", p25)
+        moves("twelve_truss motion 1, phase 0.25 vs 0.75", p25, p75)
+        moves("twelve_truss motion 1, phase 0 vs 0.25", p0, p25)
+        same("twelve_truss motion 1, phase 0 vs 0.5 (both the reference)", p0, p50)
+
+    # six folded sheets: over-constrained, no motion, one self-stress through every sheet
+    a = open_page(six, "paused=1", out, profile, {
+        "data-animations": "0", "data-fields": "self_stress_1", "data-table1-row": "3",
+        "data-elements": "13", "data-color": "self_stress_1"})
+    s1 = shot(six, "paused=1", out, profile, "six_self_stress", canvas_rect(a))
+    st = shot(six, "paused=1&color=type", out, profile, "six_element_type", canvas_rect(a))
+    if s1 and st:
+        not_blank("folded_sheet_guide_6 self-stress", s1)
+        not_blank("folded_sheet_guide_6 element type", st)
+        moves("folded_sheet_guide_6 colour by self-stress vs element type", s1, st)
+
+    # static stroke: 9 frames, stress fields; the first and last steps differ
+    a = open_page(stroke, "paused=1&step=8", out, profile, {
+        "data-frames": "9", "data-animations": "0",
+        "data-fields": lambda v: v is not None and "max_stress" in v.split()})
+    r = canvas_rect(a)
+    first = shot(stroke, "paused=1&step=0", out, profile, "stroke_step0", r)
+    last = shot(stroke, "paused=1&step=8", out, profile, "stroke_step8", r)
+    if first and last:
+        not_blank("parallel_leaf_stroke step 8", last)
+        moves("parallel_leaf_stroke step 0 vs step 8", first, last)
+
+    # modes: 4 modes with frequencies, strain-energy colouring; mode 1 animates
+    a = open_page(modes, "item=0&phase=0.25&paused=1", out, profile, {
+        "data-animations": "4", "data-fields": "strain_energy", "data-item": "0"})
+    r = canvas_rect(a)
+    m25 = shot(modes, "item=0&phase=0.25&paused=1", out, profile, "modes_mode1_phase025", r)
+    m75 = shot(modes, "item=0&phase=0.75&paused=1", out, profile, "modes_mode1_phase075", r)
+    if m25 and m75:
+        not_blank("paper_dynamic_6_sheets mode 1", m25)
+        moves("paper_dynamic_6_sheets mode 1, phase 0.25 vs 0.75", m25, m75)
+
+    # every control once, on every report
+    for page in (twelve, six, stroke, modes):
+        exercise(page, out, profile)
+
+    # a broken page must be reported: the checks above can fail
+    with open(twelve, encoding="utf-8") as f:
+        text = f.read()
+    broken = os.path.join(out, "broken.html")
+    with open(broken, "w", encoding="utf-8") as f:
+        f.write(text.replace('"format":1,', '"format":1,,', 1))
+    dom, console = browse(broken, "", out, profile)
+    attrs, errors, etext, title = status(dom)
+    if errors >= 1 and attrs.get("data-state") == "error" and title.startswith("ERROR") and console:
+        ok(f"broken.html: the error is reported ({etext.splitlines()[0] if etext else title})")
+    else:
+        fail(f"broken.html: the error was not reported: errors={errors}, {attrs}, {console}")
+
+
+if __name__ == "__main__":
+    main()
