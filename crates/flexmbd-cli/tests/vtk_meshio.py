@@ -14,10 +14,10 @@ import subprocess
 import sys
 import tempfile
 
-import meshio
-
 
 def check(directory, expect):
+    import meshio
+
     for name, exp in expect.items():
         m = meshio.read(os.path.join(directory, name))
         assert len(m.points) == exp["points"], (name, len(m.points), exp["points"])
