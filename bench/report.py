@@ -8,7 +8,8 @@
       (peer "flexmbd", problem "cantilever_k3").
   report.py summarize RESULTS.jsonl [--json OUT.json]
       Print the tables (times, ratios flexmbd/peer, errors against the closed forms) and write the
-      summary JSON.
+      summary JSON. The strip-modes records of flexmbd come from
+      `cargo bench -p flexmbd-core --bench strip_modes -- N` directly (JSON in the peers' format).
 
 Stdlib only (runs with any python3). Used by bench/run.sh.
 """
@@ -219,27 +220,70 @@ def cmd_summarize(a):
     ns = sorted({r["n_elements"] for r in recs if r.get("problem") == "strip_modes"})
     if ns:
         print()
-        print("2. Strip eigenfrequencies (L = 50 mm, 20 x 0.2 mm, steel), first 3 out-of-plane bending modes")
-        print("   reference: Euler-Bernoulli %.4f, %.4f, %.3f Hz; flexmbd: no modal analysis yet" % tuple(EB_STRIP_HZ))
-        hdr = "%6s | %-9s %-28s %-8s %9s | %-32s" % ("N", "peer", "variant", "status", "wall s",
-                                                   "rel. err f1, f2, f3 (bending)")
+        print("2. Strip eigenfrequencies (L = 50 mm, 20 x 0.2 mm, steel, clamped-free), lowest modes")
+        print("   reference: Euler-Bernoulli bending %.4f, %.4f, %.3f Hz (errors: the first three "
+              "out-of-plane bending modes found)" % tuple(EB_STRIP_HZ))
+        print("   times: wall_s = model build + solve inside the process (flexmbd: also the static "
+              "state and the energy split of every mode)")
+        peers = ("flexmbd", "exudyn", "opensees", "calculix")
+        hdr = "%6s | %9s %9s %9s | %8s %8s %9s | %-28s | %-28s | %-28s" % (
+            "N", "flex s", "exu s", "ops s", "flex/exu", "flex/ops", "best/flex",
+            "flexmbd err f1, f2, f3", "Exudyn err f1, f2, f3", "OpenSeesPy err f1, f2, f3")
         print(hdr)
         print("-" * len(hdr))
         for n in ns:
-            for peer in ("exudyn", "opensees", "calculix", "flexmbd"):
-                r = pick(recs, peer, "strip_modes", n)
+            rows = {peer: pick(recs, peer, "strip_modes", n) for peer in peers}
+            row = {"n_elements": n}
+
+            def wall(r):
+                return r.get("wall_s") if r and r.get("status") == "ok" else None
+
+            def errs(r):
+                if not r or r.get("status") != "ok":
+                    return ((r or {}).get("status") or "not run")[:28]
+                bz = r.get("bending_z_hz") or []
+                rel = [(f - f0) / f0 for f, f0 in zip(bz, EB_STRIP_HZ)]
+                return ", ".join("%+.1e" % e for e in rel) or "no bending mode"
+
+            fw, ew, ow = (wall(rows[p]) for p in ("flexmbd", "exudyn", "opensees"))
+            peer_walls = [w for w in (ew, ow) if w]
+            best = min(peer_walls) if peer_walls else None
+            row["ratio_flexmbd_over_exudyn"] = fw / ew if fw and ew else None
+            row["ratio_flexmbd_over_opensees"] = fw / ow if fw and ow else None
+            row["speedup_vs_faster_peer"] = best / fw if fw and best else None
+            for peer in peers:
+                r = rows[peer]
                 if r is None:
                     continue
                 bz = r.get("bending_z_hz") or []
-                rel = [(f - f0) / f0 for f, f0 in zip(bz, EB_STRIP_HZ)]
-                r["rel_err_bending"] = rel
-                out["strip_modes"].append({"n_elements": n, "peer": peer, "record": r,
-                                           "rel_err_bending": rel})
-                res = ", ".join("%+.2e" % e for e in rel) if r.get("status") == "ok" else \
-                    (r.get("error") or "")[:60]
-                print("%6d | %-9s %-28s %-8s %9s | %s" % (
-                    n, peer, str(r.get("variant") or "")[:28], r.get("status"),
-                    fmt(r.get("wall_s"), "%.4g"), res))
+                r["rel_err_bending"] = [(f - f0) / f0 for f, f0 in zip(bz, EB_STRIP_HZ)]
+                row[peer] = r
+            out["strip_modes"].append(row)
+
+            def cell(w, r):
+                return fmt(w, "%.4g") if w else ((r or {}).get("status") or "-")[:9]
+            print("%6d | %9s %9s %9s | %8s %8s %9s | %-28s | %-28s | %-28s" % (
+                n, cell(fw, rows["flexmbd"]), cell(ew, rows["exudyn"]), cell(ow, rows["opensees"]),
+                fmt(row["ratio_flexmbd_over_exudyn"], "%.3g"),
+                fmt(row["ratio_flexmbd_over_opensees"], "%.3g"),
+                fmt(row["speedup_vs_faster_peer"], "%.3gx"),
+                errs(rows["flexmbd"]), errs(rows["exudyn"]), errs(rows["opensees"])))
+        print("   flex/exu, flex/ops = flexmbd wall / peer wall (< 1: flexmbd faster); best/flex = the "
+              "faster peer's wall / flexmbd's (speed-up)")
+        print("   models and solvers:")
+        for n in ns:
+            for peer in peers:
+                r = pick(recs, peer, "strip_modes", n)
+                if r is None:
+                    continue
+                more = ""
+                if r.get("status") == "ok":
+                    more = "%d modes, f1 = %s Hz" % (len(r.get("freqs_hz") or []),
+                                                     fmt(r.get("f1_hz"), "%.7g"))
+                else:
+                    more = (r.get("error") or "")[:70]
+                print("   %6d %-9s %-28s %-8s %s" % (n, peer, str(r.get("variant") or "")[:28],
+                                                    r.get("status"), more))
     if a.json:
         with open(a.json, "w") as fh:
             json.dump({**out, "records": recs}, fh, indent=1)

@@ -4,7 +4,9 @@
 #   bash bench/run.sh [options]
 #
 #   --sizes "N ..."        cantilever sizes (default: 10 100 1000 10000)
-#   --modes-sizes "N ..."  strip-modes sizes for the peers (default: 10 100 1000 10000)
+#   --modes-sizes "N ..."  strip-modes sizes (default: 10 100 1000 10000)
+#   --modes M              modes computed by flexmbd in the strip-modes case (default 10; the
+#                          peers compute their own default: Exudyn 8, OpenSeesPy 6)
 #   --quick                both size lists = "10 100 1000"
 #   --timeout S            wall-clock limit per case and program (default 240); a case that hits
 #                          it is recorded with status "timeout"
@@ -28,6 +30,7 @@ PEERS="${FLEXMBD_PEERS_DIR:-/work/shared/peers}"
 export FLEXMBD_PEERS_DIR="$PEERS"
 SIZES="10 100 1000 10000"
 MSIZES="10 100 1000 10000"
+NMODES=10
 TIMEOUT=240
 REPEAT=1
 THREADS=""
@@ -36,12 +39,13 @@ DO_MODES=1
 WITH_CCX=0
 OUTDIR="$BENCH/results"
 
-usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; }
 die() { echo "run.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --sizes) SIZES="${2:?}"; shift 2 ;;
     --modes-sizes) MSIZES="${2:?}"; shift 2 ;;
+    --modes) NMODES="${2:?}"; shift 2 ;;
     --quick) SIZES="10 100 1000"; MSIZES="10 100 1000"; shift ;;
     --timeout) TIMEOUT="${2:?}"; shift 2 ;;
     --repeat) REPEAT="${2:?}"; shift 2 ;;
@@ -56,6 +60,7 @@ while [ $# -gt 0 ]; do
 done
 [[ "$TIMEOUT" =~ ^[0-9]+$ ]] || die "bad --timeout"
 [[ "$REPEAT" =~ ^[0-9]+$ ]] && [ "$REPEAT" -ge 1 ] || die "bad --repeat"
+[[ "$NMODES" =~ ^[0-9]+$ ]] && [ "$NMODES" -ge 1 ] || die "bad --modes"
 for n in $SIZES $MSIZES; do [[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -gt 0 ] || die "bad size '$n'"; done
 if [ -n "$THREADS" ]; then
   export RAYON_NUM_THREADS="$THREADS" OMP_NUM_THREADS="$THREADS" OPENBLAS_NUM_THREADS="$THREADS"
@@ -79,17 +84,33 @@ PY="$(bash "$PEERS/install.sh" 2>>"$LOG" | tail -n 1)"
 # ---- 2. flexmbd, release (bench profile) ----------------------------------------------------
 say "building flexmbd (cargo bench --no-run, release profile)"
 FLEX_EXE=""
-if [ "$DO_STATIC" -eq 1 ]; then
-  (cd "$ROOT" && cargo bench -p flexmbd-core --bench cantilever --no-run --message-format=json \
+MODES_EXE=""
+BENCHES=""
+[ "$DO_STATIC" -eq 1 ] && BENCHES="$BENCHES --bench cantilever"
+[ "$DO_MODES" -eq 1 ] && BENCHES="$BENCHES --bench strip_modes"
+if [ -n "$BENCHES" ]; then
+  # shellcheck disable=SC2086
+  (cd "$ROOT" && cargo bench -p flexmbd-core $BENCHES --no-run --message-format=json \
       2>>"$LOG") >"$TMPD/cargo.json" || die "cargo bench --no-run failed (see $LOG)"
-  FLEX_EXE="$("$PY" -B -c '
+  exe_of() {  # the executable of one bench target
+    "$PY" -B -c '
 import json, sys
-exe = [json.loads(l).get("executable") for l in open(sys.argv[1]) if l.startswith("{")]
-exe = [e for e in exe if e and "cantilever" in e]
-print(exe[-1] if exe else "")' "$TMPD/cargo.json")"
-  [ -x "$FLEX_EXE" ] || die "cantilever bench executable not found"
-  # a private copy, so that a concurrent rebuild by someone else cannot swap it mid-run
-  cp "$FLEX_EXE" "$TMPD/cantilever-bench"; FLEX_EXE="$TMPD/cantilever-bench"
+exe = [json.loads(l) for l in open(sys.argv[1]) if l.startswith("{")]
+exe = [r.get("executable") for r in exe if r.get("target", {}).get("name") == sys.argv[2]]
+exe = [e for e in exe if e]
+print(exe[-1] if exe else "")' "$TMPD/cargo.json" "$1"
+  }
+  # private copies, so that a concurrent rebuild by someone else cannot swap them mid-run
+  if [ "$DO_STATIC" -eq 1 ]; then
+    FLEX_EXE="$(exe_of cantilever)"
+    [ -x "$FLEX_EXE" ] || die "cantilever bench executable not found"
+    cp "$FLEX_EXE" "$TMPD/cantilever-bench"; FLEX_EXE="$TMPD/cantilever-bench"
+  fi
+  if [ "$DO_MODES" -eq 1 ]; then
+    MODES_EXE="$(exe_of strip_modes)"
+    [ -x "$MODES_EXE" ] || die "strip_modes bench executable not found"
+    cp "$MODES_EXE" "$TMPD/strip-modes-bench"; MODES_EXE="$TMPD/strip-modes-bench"
+  fi
 fi
 
 # ---- 3. run description ---------------------------------------------------------------------
@@ -103,7 +124,8 @@ rec = {"peer": "run.sh", "problem": "meta", "status": "meta",
        "mem_gib": $(awk '/MemTotal/{printf "%.1f", $2/1048576}' /proc/meminfo),
        "os": "$(. /etc/os-release && echo "${PRETTY_NAME:-?}")",
        "rustc": "$(rustc --version 2>/dev/null)", "flexmbd_commit": "$COMMIT",
-       "python": "$PY", "sizes": "$SIZES", "modes_sizes": "$MSIZES", "timeout_s": $TIMEOUT,
+       "python": "$PY", "sizes": "$SIZES", "modes_sizes": "$MSIZES", "flexmbd_modes": $NMODES,
+       "timeout_s": $TIMEOUT,
        "repeat": $REPEAT, "rayon_num_threads": os.environ.get("RAYON_NUM_THREADS", "unset (all cores)"),
        "omp_num_threads": os.environ.get("OMP_NUM_THREADS", "unset"),
        "loadavg_before": open("/proc/loadavg").read().split()[:3]}
@@ -167,10 +189,12 @@ if [ "$DO_STATIC" -eq 1 ]; then
   done
 fi
 
-# ---- 5. strip eigenfrequencies (peers only; flexmbd has no modal analysis yet) --------------
+# ---- 5. strip eigenfrequencies (flexmbd, Exudyn and OpenSeesPy alternate per N) -------------
 if [ "$DO_MODES" -eq 1 ]; then
   for ((rep = 1; rep <= REPEAT; rep++)); do
     for n in $MSIZES; do
+      # the binary cargo bench runs, called as cargo bench calls it; one JSON record per N
+      peer_case flexmbd  strip_modes "$n" -- "$MODES_EXE" "$n" --modes "$NMODES" --bench
       peer_case exudyn   strip_modes "$n" -- "$PY" -B "$PEERS/strip_modes_exudyn.py" --n "$n"
       peer_case opensees strip_modes "$n" -- "$PY" -B "$PEERS/strip_modes_opensees.py" --n "$n"
       if [ "$WITH_CCX" -eq 1 ]; then

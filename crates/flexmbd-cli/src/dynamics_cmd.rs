@@ -5,7 +5,8 @@ use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
     log_space, state_space, Input, Output, OutputKind, StateSpaceOptions,
 };
-use flexmbd_core::dynamics::sweep::sweep;
+use flexmbd_core::dynamics::sweep::sweep_with;
+use flexmbd_core::dynamics::{EigenSolver, ModalOptions};
 use flexmbd_core::model::Dof;
 use flexmbd_core::statics::{StaticOptions, StaticSolution};
 use flexmbd_core::Model;
@@ -100,6 +101,34 @@ pub struct SweepArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
+    /// Eigen solver: auto (sparse above 48 degrees of freedom), dense (all modes) or sparse
+    /// (shift-invert Lanczos, for large models).
+    #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
+    solver: SolverArg,
+}
+
+/// `--solver` of `flexmbd modes` and `flexmbd sweep` (docs/dynamics.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum SolverArg {
+    /// Dense for small models, sparse for large ones.
+    Auto,
+    /// All eigenpairs of the dense reduced matrices.
+    Dense,
+    /// The lowest modes by shift-invert Lanczos on the sparse matrices.
+    Sparse,
+}
+
+impl SolverArg {
+    /// The modal-analysis settings.
+    pub(crate) fn options(self) -> ModalOptions {
+        ModalOptions {
+            solver: match self {
+                SolverArg::Auto => EigenSolver::Auto,
+                SolverArg::Dense => EigenSolver::Dense,
+                SolverArg::Sparse => EigenSolver::Sparse,
+            },
+        }
+    }
 }
 
 /// Static options from the file's settings and `--steps` (as `flexmbd static` does).
@@ -392,7 +421,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
     let opts = static_options(&settings, a.steps)?;
     let sol = solve_static(&model, &opts)?;
     let points = crate::progress::stage("frequencies and stiffness at every step", || {
-        sweep(&model, &sol.steps, a.count, &ids)
+        sweep_with(&model, &sol.steps, a.count, &ids, &a.solver.options())
     });
     if a.count > 0 {
         if let Some(Err(e)) = points

@@ -96,6 +96,10 @@ enum Command {
         /// Number of load steps of the static solution (overrides [static] steps).
         #[arg(long, value_name = "N")]
         steps: Option<usize>,
+        /// Eigen solver: dense for small models, shift-invert Lanczos on the sparse matrices
+        /// for large ones (auto), or either one.
+        #[arg(long, value_enum, default_value_t = dynamics_cmd::SolverArg::Auto)]
+        solver: dynamics_cmd::SolverArg,
         /// Print JSON instead of tables.
         #[arg(long)]
         json: bool,
@@ -227,8 +231,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             count,
             at_step,
             steps,
+            solver,
             json,
-        } => run_modes(&model, count, at_step, steps, json),
+        } => run_modes(&model, count, at_step, steps, solver, json),
         Command::Static {
             model,
             steps,
@@ -315,9 +320,10 @@ fn run_modes(
     count: usize,
     at_step: Option<usize>,
     steps: Option<usize>,
+    solver: dynamics_cmd::SolverArg,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
-    use flexmbd_core::dynamics::modes;
+    use flexmbd_core::dynamics::modes_with;
     let (model, settings) = load_with_settings(path)?;
     let opts = dynamics_cmd::static_options(&settings, steps)?;
     let sol = progress::solve_static(&model, &opts)
@@ -330,8 +336,10 @@ fn run_modes(
         ))
         .into());
     };
-    let modal = progress::stage("modal analysis", || modes(&model, step, count))
-        .context("modal analysis failed")?;
+    let modal = progress::stage("modal analysis", || {
+        modes_with(&model, step, count, &solver.options())
+    })
+    .context("modal analysis failed")?;
     let fname = path.display().to_string();
     if json {
         emit(

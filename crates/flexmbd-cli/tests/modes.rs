@@ -107,16 +107,10 @@ fn translation_share(m: &Value, axis: usize) -> f64 {
     along / all
 }
 
-#[test]
-fn strip_f01_out_of_plane_bending_frequencies() {
-    // stated data of examples/strip_f01.toml
-    let (e, rho, l, b, t) = (200e9f64, 7800.0f64, 0.1f64, 0.02f64, 0.5e-3f64);
-    let (i, a) = (b * t.powi(3) / 12.0, b * t);
-    let c = (e * i / (rho * a * l.powi(4))).sqrt();
-    let modes = modes_json(&example("strip_f01.toml"), 12);
-    // out-of-plane bending: the strip's thickness is along z; mostly translational kinetic
-    // energy, and the translations along z
-    let bending: Vec<&Value> = modes
+/// Out-of-plane bending of a strip whose thickness is along z: mostly translational kinetic
+/// energy, and the translations along z.
+fn out_of_plane_bending(modes: &[Value]) -> Vec<&Value> {
+    modes
         .iter()
         .filter(|m| {
             let trans: f64 = m["kinetic_energy"]
@@ -127,7 +121,39 @@ fn strip_f01_out_of_plane_bending_frequencies() {
                 .sum();
             trans > 0.9 && translation_share(m, 2) > 0.99
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn rotating_blade_f03_flapwise_frequencies() {
+    // stated data of examples/rotating_blade.toml: the steel strip of F01's table (E = 210 GPa,
+    // L = 50 mm, 20 × 0.2 mm) turning about z at Ω = 958.6315 rad/s, i.e. Ω̄ = 8;
+    // validation.md F03: ω̄ = 9.2568, 29.9954, 70.2930 (0.1 %)
+    let (e, rho, l, b, t) = (210e9f64, 7800.0f64, 0.05f64, 0.02f64, 0.2e-3f64);
+    let (i, a) = (b * t.powi(3) / 12.0, b * t);
+    let c = (e * i / (rho * a * l.powi(4))).sqrt();
+    assert!((958.6315 / c - 8.0).abs() < 1e-6);
+    let modes = modes_json(&example("rotating_blade.toml"), 10);
+    let flap = out_of_plane_bending(&modes);
+    assert!(flap.len() >= 3, "found {} flapwise modes", flap.len());
+    for (k, want) in [9.2568f64, 29.9954, 70.2930].iter().enumerate() {
+        let got = freq(flap[k]) * 2.0 * std::f64::consts::PI / c;
+        assert!(
+            (got - want).abs() < 1e-3 * want,
+            "flapwise mode {}: ω̄ = {got}, F03 {want}",
+            k + 1
+        );
+    }
+}
+
+#[test]
+fn strip_f01_out_of_plane_bending_frequencies() {
+    // stated data of examples/strip_f01.toml
+    let (e, rho, l, b, t) = (200e9f64, 7800.0f64, 0.1f64, 0.02f64, 0.5e-3f64);
+    let (i, a) = (b * t.powi(3) / 12.0, b * t);
+    let c = (e * i / (rho * a * l.powi(4))).sqrt();
+    let modes = modes_json(&example("strip_f01.toml"), 12);
+    let bending = out_of_plane_bending(&modes);
     assert!(bending.len() >= 3, "found {} bending modes", bending.len());
     for (k, beta_l) in [1.875104f64, 4.694091, 7.854757].iter().enumerate() {
         let want = beta_l * beta_l * c / (2.0 * std::f64::consts::PI);

@@ -169,3 +169,34 @@ pub fn sym_def_eigen(
     solve_upper_triangular_in_place(l.transpose(), v.as_mut(), Par::Seq);
     Ok((values, v))
 }
+
+/// All eigenpairs of a small symmetric matrix (its lower triangle is read) on the calling
+/// thread: eigenvalues ascending, orthonormal eigenvectors as columns. For the projected
+/// matrices of iterative eigen solvers, where handing a 30 × 30 problem to worker threads
+/// costs more than solving it.
+pub fn sym_eigen_seq(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
+    let n = a.nrows();
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    let mut u = Mat::<f64>::zeros(n, n);
+    let par = faer::Par::Seq;
+    let mut mem = MemBuffer::try_new(self_adjoint_evd_scratch::<f64>(
+        n,
+        ComputeEigenvectors::Yes,
+        par,
+        Default::default(),
+    ))
+    .map_err(|_| EigenError::NoConvergence)?;
+    self_adjoint_evd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .map_err(|_| EigenError::NoConvergence)?;
+    let d = s.column_vector();
+    Ok(((0..n).map(|i| d[i]).collect(), u))
+}

@@ -198,6 +198,9 @@ pub struct Loads {
     pub nodal: Vec<NodalLoad>,
     /// Gravitational acceleration [m/s²].
     pub gravity: [f64; 3],
+    /// Steady rotation of the whole model (centrifugal loads, analysis in the co-rotating
+    /// frame; [`crate::spin`]).
+    pub spin: Option<crate::spin::Spin>,
     /// Point masses at nodes [kg].
     pub point_masses: Vec<(NodeId, f64)>,
     /// Inertia tensors at rotational nodes [kg·m²], global axes in the reference orientation.
@@ -493,9 +496,14 @@ struct PendingElement {
     spec: ElementSpec,
     free: Vec<usize>,
     input: Vec<usize>,
+    /// Section data of a beam ([`ModelBuilder::set_beam_props`]).
+    props: Option<crate::section::BeamProps>,
 }
 
 /// Builds a [`Model`] item by item; each `add_*` validates what it can at once.
+///
+/// Names are looked up in hash maps and elements refer to nodes by index, so building is linear
+/// in the size of the model (10,000 beams in a few milliseconds).
 #[derive(Clone, Debug, Default)]
 pub struct ModelBuilder {
     name: String,
@@ -507,14 +515,16 @@ pub struct ModelBuilder {
     /// (node, dofs); `None` = all coordinates the node has.
     fixes: Vec<(String, Option<Vec<Dof>>)>,
     inputs: Vec<(String, Option<Vec<Dof>>)>,
-    beam_props: HashMap<String, crate::section::BeamProps>,
-    rigid_modes: Vec<(String, usize)>,
+    /// (element index, mode 1-based)
+    rigid_modes: Vec<(usize, usize)>,
     loads: Vec<(String, [f64; 3], [f64; 3])>,
     gravity: [f64; 3],
+    spin: Option<crate::spin::Spin>,
     masses: Vec<(String, f64)>,
     inertias: Vec<(String, [[f64; 3]; 3])>,
     prescribed_x: Vec<(String, Dof, f64)>,
-    prescribed_e: Vec<(String, usize, f64)>,
+    /// (element index, mode 1-based, value)
+    prescribed_e: Vec<(usize, usize, f64)>,
 }
 
 fn check_finite(item: &Item, field: &'static str, v: &[f64]) -> Result<(), ModelError> {
@@ -698,8 +708,54 @@ impl ModelBuilder {
             spec,
             free,
             input,
+            props: None,
         });
         Ok(())
+    }
+
+    /// Add a straight chain of `n` beams from `start` to `end` [m]: nodes `{prefix}n0` …
+    /// `{prefix}n{n}` at equal spacing and elements `{prefix}b0` … `{prefix}b{n−1}` (element i
+    /// from node i to node i + 1), all with the orientation vector `orient` (local y; `None` for
+    /// SPACAR's default) and, when given, the section data `props`. Returns the node ids in
+    /// order, first to last. Every name must be new.
+    pub fn add_beam_chain(
+        &mut self,
+        prefix: &str,
+        start: [f64; 3],
+        end: [f64; 3],
+        n: usize,
+        orient: Option<[f64; 3]>,
+        props: Option<crate::section::BeamProps>,
+    ) -> Result<Vec<NodeId>, ModelError> {
+        if n == 0 {
+            return Err(ModelError::BadValue {
+                item: Item::Element(format!("{prefix}b0")),
+                field: "number of beams in the chain",
+                requirement: "at least 1",
+                value: 0.0,
+            });
+        }
+        let mut ids = Vec::with_capacity(n + 1);
+        for i in 0..=n {
+            let s = i as f64 / n as f64;
+            let x: [f64; 3] = std::array::from_fn(|k| start[k] + s * (end[k] - start[k]));
+            ids.push(self.add_node(&format!("{prefix}n{i}"), x, false)?);
+        }
+        for i in 0..n {
+            let (p, q) = (format!("{prefix}n{i}"), format!("{prefix}n{}", i + 1));
+            let name = format!("{prefix}b{i}");
+            self.add_element(
+                &name,
+                &[&p, &q],
+                ElementSpec::Beam { orient, ct: 0.0 },
+                &[],
+                &[],
+            )?;
+            if let Some(props) = props {
+                self.set_beam_props(&name, props)?;
+            }
+        }
+        Ok(ids)
     }
 
     /// Stiffness, mass and section data of a beam added before.
@@ -720,12 +776,15 @@ impl ModelBuilder {
             props.rho_a,
         ];
         check_finite(&item, "section constants", &v)?;
-        match self.elements.iter().find(|e| e.name == element) {
-            Some(PendingElement {
-                spec: ElementSpec::Beam { .. },
-                ..
-            }) => {
-                self.beam_props.insert(element.to_string(), props);
+        let index = self.element_names.get(element).copied();
+        match index.map(|i| &mut self.elements[i]) {
+            Some(
+                pending @ PendingElement {
+                    spec: ElementSpec::Beam { .. },
+                    ..
+                },
+            ) => {
+                pending.props = Some(props);
                 Ok(())
             }
             _ => Err(ModelError::NotA {
@@ -737,12 +796,13 @@ impl ModelBuilder {
 
     /// Declare deformation modes (1-based) rigid in statics even if they have stiffness.
     pub fn set_rigid_modes(&mut self, element: &str, modes: &[i64]) -> Result<(), ModelError> {
-        let Some(el) = self.elements.iter().find(|e| e.name == element) else {
+        let Some(&index) = self.element_names.get(element) else {
             return Err(ModelError::NotA {
                 element: element.to_string(),
                 kind: "element",
             });
         };
+        let el = &self.elements[index];
         for &m in modes {
             if m < 1 || el.input.contains(&(m as usize)) {
                 return Err(ModelError::ModeConflict {
@@ -750,7 +810,7 @@ impl ModelBuilder {
                     mode: m.max(0) as usize,
                 });
             }
-            self.rigid_modes.push((element.to_string(), m as usize));
+            self.rigid_modes.push((index, m as usize));
         }
         Ok(())
     }
@@ -779,6 +839,15 @@ impl ModelBuilder {
     pub fn set_gravity(&mut self, g: [f64; 3]) -> Result<(), ModelError> {
         check_finite(&Item::Model, "gravity", &g)?;
         self.gravity = g;
+        Ok(())
+    }
+
+    /// Steady rotation at angular velocity `omega` [rad/s] about the axis through `point`
+    /// ([`crate::spin`]): centrifugal loads in statics, centrifugal softening in dynamics.
+    pub fn set_spin(&mut self, omega: [f64; 3], point: [f64; 3]) -> Result<(), ModelError> {
+        check_finite(&Item::Model, "spin", &omega)?;
+        check_finite(&Item::Model, "spin_point", &point)?;
+        self.spin = Some(crate::spin::Spin { omega, point });
         Ok(())
     }
 
@@ -861,17 +930,18 @@ impl ModelBuilder {
         value: f64,
     ) -> Result<(), ModelError> {
         check_finite(&Item::Element(element.into()), "input value", &[value])?;
-        let Some(el) = self.elements.iter_mut().find(|e| e.name == element) else {
+        let Some(&index) = self.element_names.get(element) else {
             return Err(ModelError::NotA {
                 element: element.to_string(),
                 kind: "element",
             });
         };
+        let el = &mut self.elements[index];
         el.free.retain(|&m| m != mode);
         if !el.input.contains(&mode) {
             el.input.push(mode);
         }
-        self.prescribed_e.push((element.to_string(), mode, value));
+        self.prescribed_e.push((index, mode, value));
         Ok(())
     }
 
@@ -966,8 +1036,8 @@ impl ModelBuilder {
                         }
                     })?;
                     b.ct = *ct;
-                    if let Some(props) = self.beam_props.get(&p.name) {
-                        b.set_props(*props);
+                    if let Some(props) = p.props {
+                        b.set_props(props);
                     }
                     Element::Beam(b)
                 }
@@ -1072,15 +1142,14 @@ impl ModelBuilder {
         }
         // statics data: explicit rigid modes, loads, masses, prescribed values
         let mut explicit_rigid = vec![false; ne];
-        let element_index =
-            |name: &str| elements.iter().position(|e: &ElementEntry| e.name == name);
-        for (name, mode) in &self.rigid_modes {
-            let el = &elements[element_index(name).expect("checked when added")];
-            if *mode > el.element.ne() {
+        // pending element i compiles to elements[i]
+        for &(index, mode) in &self.rigid_modes {
+            let el = &elements[index];
+            if mode > el.element.ne() {
                 return Err(ModelError::BadMode {
-                    element: name.clone(),
+                    element: el.name.clone(),
                     kind: el.element.type_name(),
-                    mode: *mode as i64,
+                    mode: mode as i64,
                     ne: el.element.ne(),
                 });
             }
@@ -1088,6 +1157,7 @@ impl ModelBuilder {
         }
         let mut loads = Loads {
             gravity: self.gravity,
+            spin: self.spin,
             ..Default::default()
         };
         for (name, force, moment) in &self.loads {
@@ -1128,11 +1198,11 @@ impl ModelBuilder {
                 value: *value,
             });
         }
-        for (name, mode, value) in &self.prescribed_e {
-            let el = &elements[element_index(name).expect("checked when added")];
+        for &(index, mode, value) in &self.prescribed_e {
+            let el = &elements[index];
             loads.prescribed.push(Prescribed {
                 target: Target::Deformation(el.ie + mode - 1),
-                value: *value,
+                value,
             });
         }
         Ok(Model {
@@ -1170,6 +1240,73 @@ mod tests {
         assert!(matches!(e, Err(ModelError::UnknownNode { .. })));
         b.fix("a", Some(&[Dof::Rx])).unwrap();
         assert!(matches!(b.build(), Err(ModelError::NoRotation { .. })));
+    }
+
+    #[test]
+    fn beam_chain_names_positions_and_section() {
+        let props = crate::section::BeamProps {
+            ea: 2.0,
+            gj: 3.0,
+            eiy: 4.0,
+            eiz: 5.0,
+            rho_a: 0.5,
+            ..Default::default()
+        };
+        let mut b = ModelBuilder::new("chain");
+        let ids = b
+            .add_beam_chain(
+                "s:",
+                [1.0, 0.0, 0.0],
+                [1.0, 3.0, 0.0],
+                3,
+                Some([0.0, 0.0, 1.0]),
+                Some(props),
+            )
+            .unwrap();
+        assert_eq!(ids, vec![0, 1, 2, 3]);
+        // names must stay unique
+        let e = b.add_beam_chain("s:", [0.0; 3], [1.0; 3], 2, None, None);
+        assert!(matches!(e, Err(ModelError::DuplicateNode { .. })), "{e:?}");
+        assert!(matches!(
+            b.add_beam_chain("t", [0.0; 3], [1.0; 3], 0, None, None),
+            Err(ModelError::BadValue { .. })
+        ));
+        b.fix("s:n0", None).unwrap();
+        let m = b.build().unwrap();
+        assert_eq!(m.node_id("s:n2"), Some(2));
+        assert_eq!(m.nodes[2].x0, [1.0, 2.0, 0.0]);
+        assert_eq!(m.elements.len(), 3);
+        assert_eq!(m.elements[1].name, "s:b1");
+        let Element::Beam(beam) = &m.elements[1].element else {
+            panic!("a beam");
+        };
+        assert_eq!(beam.nodes, [1, 2]);
+        assert!((beam.l0 - 1.0).abs() < 1e-15);
+        assert_eq!(beam.stiffness, [2.0, 3.0, 4.0, 5.0]);
+        assert_eq!(beam.frame[2], [1.0, 0.0, 0.0]);
+        assert_eq!(m.elements[2].element.ne(), 6);
+    }
+
+    #[test]
+    fn element_data_by_name_after_many_elements() {
+        // lookups by name (section data, rigid modes, prescribed deformations) on a long chain
+        let mut b = ModelBuilder::new("long");
+        b.add_beam_chain("", [0.0; 3], [1.0, 0.0, 0.0], 2000, None, None)
+            .unwrap();
+        b.set_rigid_modes("b1999", &[1]).unwrap();
+        b.prescribe_deformation("b1000", 3, 1e-3).unwrap();
+        assert!(matches!(
+            b.set_beam_props("n5", Default::default()),
+            Err(ModelError::NotA { .. })
+        ));
+        b.fix("n0", None).unwrap();
+        let m = b.build().unwrap();
+        assert!(m.explicit_rigid[m.elements[1999].ie]);
+        assert_eq!(m.partition.e[m.elements[1000].ie + 2], DefKind::Input);
+        assert_eq!(
+            m.loads.prescribed[0].target,
+            Target::Deformation(m.elements[1000].ie + 2)
+        );
     }
 
     #[test]

@@ -184,6 +184,8 @@ struct StaticSpec {
     tol_disp: Option<f64>,
     #[serde(default)]
     gravity: [f64; 3],
+    spin: Option<[f64; 3]>,
+    spin_point: Option<[f64; 3]>,
     #[serde(default)]
     compliance: Vec<String>,
     #[serde(default)]
@@ -583,6 +585,18 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
     if let Some(sp) = &spec.statics {
         b.set_gravity(st.gravity)
             .map_err(|e| err(&sp.span(), format!("[static]: {e}")))?;
+        match (st.spin, st.spin_point) {
+            (Some(w), point) => b
+                .set_spin(w, point.unwrap_or([0.0; 3]))
+                .map_err(|e| err(&sp.span(), format!("[static]: {e}")))?,
+            (None, Some(_)) => {
+                return Err(err(
+                    &sp.span(),
+                    "[static]: `spin_point` needs `spin` (the angular velocity [rad/s])".into(),
+                ))
+            }
+            (None, None) => {}
+        }
         for (what, v) in [("tol_force", st.tol_force), ("tol_disp", st.tol_disp)] {
             if let Some(v) = v {
                 if !(v.is_finite() && v > 0.0) {

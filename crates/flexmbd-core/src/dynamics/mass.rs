@@ -11,31 +11,52 @@
 //! - Point masses m I₃ on a node's position; inertia tensors (global axes, reference
 //!   orientation, rotated with the node) on its λ.
 
-use crate::elements::Element;
-use crate::math::{lambda_bar, rotate, Scalar, SmoothMap};
+use crate::elements::{Beam, Element};
+use crate::math::{lambda_bar, rotate};
 use crate::model::Model;
 use faer::Mat;
 
 /// ∫₀¹ Hᵢ Hⱼ dξ for the cubic Hermite functions H1 = 1 − 3ξ² + 2ξ³, H2 = ξ − 2ξ² + ξ³,
 /// H3 = 3ξ² − 2ξ³, H4 = −ξ² + ξ³.
-const HERMITE: [[f64; 4]; 4] = [
+pub(crate) const HERMITE: [[f64; 4]; 4] = [
     [13.0 / 35.0, 11.0 / 210.0, 9.0 / 70.0, -13.0 / 420.0],
     [11.0 / 210.0, 1.0 / 105.0, 13.0 / 420.0, -1.0 / 140.0],
     [9.0 / 70.0, 13.0 / 420.0, 13.0 / 35.0, -11.0 / 210.0],
     [-13.0 / 420.0, -1.0 / 140.0, -11.0 / 210.0, 1.0 / 105.0],
 ];
 
-/// v ↦ R(λ) a for a fixed a, as a function of λ (for its derivative).
-struct Rotated([f64; 3]);
-impl SmoothMap<4, 3> for Rotated {
-    fn eval<T: Scalar>(&self, x: &[T; 4]) -> [T; 3] {
-        rotate(x, [T::cst(self.0[0]), T::cst(self.0[1]), T::cst(self.0[2])])
-    }
-}
-
-/// ∂(R(λ) a)/∂λ (3 × 4).
+/// ∂(R(λ) a)/∂λ (3 × 4), in closed form: R(λ) a = r/n² with
+/// r = (λ0² − v·v) a + 2 (v·a) v + 2 λ0 (v × a), n² = λ0² + v·v, v = (λ1, λ2, λ3)
+/// (as `math::rotate`).
 fn d_rotated(l: &[f64], a: [f64; 3]) -> [[f64; 4]; 3] {
-    Rotated(a).jacobian(&[l[0], l[1], l[2], l[3]]).1
+    let (l0, v) = (l[0], [l[1], l[2], l[3]]);
+    let vv = crate::math::dot(v, v);
+    let va = crate::math::dot(v, a);
+    let n2 = l0 * l0 + vv;
+    let vxa = crate::math::cross(v, a);
+    let c0 = l0 * l0 - vv;
+    let r: [f64; 3] = std::array::from_fn(|i| c0 * a[i] + 2.0 * va * v[i] + 2.0 * l0 * vxa[i]);
+    let mut dr = [[0.0; 4]; 3];
+    for i in 0..3 {
+        dr[i][0] = 2.0 * l0 * a[i] + 2.0 * vxa[i];
+    }
+    for k in 0..3 {
+        let mut ek = [0.0; 3];
+        ek[k] = 1.0;
+        let exa = crate::math::cross(ek, a);
+        for i in 0..3 {
+            dr[i][k + 1] =
+                -2.0 * v[k] * a[i] + 2.0 * a[k] * v[i] + 2.0 * va * ek[i] + 2.0 * l0 * exa[i];
+        }
+    }
+    let dn2 = [2.0 * l0, 2.0 * v[0], 2.0 * v[1], 2.0 * v[2]];
+    let mut out = [[0.0; 4]; 3];
+    for i in 0..3 {
+        for j in 0..4 {
+            out[i][j] = dr[i][j] / n2 - r[i] * dn2[j] / (n2 * n2);
+        }
+    }
+    out
 }
 
 /// Inertia tensor block on λ: 4 Λ̄ᵀ I Λ̄ (4 × 4), I in global axes.
@@ -71,6 +92,69 @@ fn rotated_tensor(l: &[f64], frame: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3
     i
 }
 
+/// The mass matrix of a beam with section data on its 14 local coordinates
+/// [r_p (3), λ_p (4), r_q (3), λ_q (4)] at their values `xk`: the consistent Hermite mass of the
+/// centre line plus the lumped rotary inertia (module docs). `None` for a beam without mass data.
+pub(crate) fn beam_local_mass(b: &Beam, xk: &[f64]) -> Option<[[f64; 14]; 14]> {
+    let p = b.props.as_ref()?;
+    let (lp, lq) = (&xk[3..7], &xk[10..14]);
+    let ex = b.frame[0];
+    // ∂r(ξ)/∂x_k for the four Hermite terms: 3 × (3 or 4) blocks
+    let dtp = d_rotated(lp, ex);
+    let dtq = d_rotated(lq, ex);
+    let blocks: [(usize, Vec<[f64; 3]>); 4] = [
+        (0, (0..3).map(unit).collect()),
+        (3, (0..4).map(|c| col(&dtp, c, b.l0)).collect()),
+        (7, (0..3).map(unit).collect()),
+        (10, (0..4).map(|c| col(&dtq, c, b.l0)).collect()),
+    ];
+    let mut m = [[0.0; 14]; 14];
+    let ml = p.rho_a * b.l0;
+    for (a, (ia, ca)) in blocks.iter().enumerate() {
+        for (bb, (ib, cb)) in blocks.iter().enumerate() {
+            let h = ml * HERMITE[a][bb];
+            for (r, vr) in ca.iter().enumerate() {
+                for (c, vc) in cb.iter().enumerate() {
+                    m[ia + r][ib + c] += h * crate::math::dot(*vr, *vc);
+                }
+            }
+        }
+    }
+    // rotary inertia, half the element's to each end
+    let d = [
+        p.rho_i[0] * b.l0 / 2.0,
+        p.rho_i[1] * b.l0 / 2.0,
+        p.rho_i[2] * b.l0 / 2.0,
+    ];
+    for (l, r0) in [(lp, 3), (lq, 10)] {
+        let blk = lambda_block(l, &rotated_tensor(l, &b.frame, d));
+        for a in 0..4 {
+            for c in 0..4 {
+                m[r0 + a][r0 + c] += blk[a][c];
+            }
+        }
+    }
+    Some(m)
+}
+
+/// The block on the Euler parameters `l` of an inertia tensor given in global axes at the
+/// reference orientation: the tensor turns with the node (R I Rᵀ), then 4 Λ̄ᵀ (R I Rᵀ) Λ̄.
+pub(crate) fn node_inertia_block(l: &[f64], tensor: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
+    let lam = [l[0], l[1], l[2], l[3]];
+    let cols: Vec<[f64; 3]> = (0..3).map(|k| rotate(&lam, unit(k))).collect();
+    let mut ig = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            for p in 0..3 {
+                for q in 0..3 {
+                    ig[a][b] += cols[p][a] * tensor[p][q] * cols[q][b];
+                }
+            }
+        }
+    }
+    lambda_block(l, &ig)
+}
+
 /// Dense mass matrix M (nx × nx) at x.
 pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
     let mut m = Mat::zeros(model.nx, model.nx);
@@ -78,48 +162,13 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
         let Element::Beam(b) = &entry.element else {
             continue;
         };
-        let Some(p) = &b.props else { continue };
-        let xm = &entry.xmap; // [r_p (3), λ_p (4), r_q (3), λ_q (4)]
-        let (lp, lq) = (&x[xm[3]..xm[3] + 4], &x[xm[10]..xm[10] + 4]);
-        let ex = b.frame[0];
-        // A_a: 3 × (3 or 4) blocks of ∂r(ξ)/∂x_k for the four Hermite terms
-        let dtp = d_rotated(lp, ex);
-        let dtq = d_rotated(lq, ex);
-        let blocks: [(Vec<usize>, Vec<[f64; 3]>); 4] = [
-            ((0..3).map(|k| xm[k]).collect(), (0..3).map(unit).collect()),
-            (
-                (3..7).map(|k| xm[k]).collect(),
-                (0..4).map(|c| col(&dtp, c, b.l0)).collect(),
-            ),
-            ((7..10).map(|k| xm[k]).collect(), (0..3).map(unit).collect()),
-            (
-                (10..14).map(|k| xm[k]).collect(),
-                (0..4).map(|c| col(&dtq, c, b.l0)).collect(),
-            ),
-        ];
-        let ml = p.rho_a * b.l0;
-        for (a, (ia, ca)) in blocks.iter().enumerate() {
-            for (bb, (ib, cb)) in blocks.iter().enumerate() {
-                let h = ml * HERMITE[a][bb];
-                for (r, &gr) in ia.iter().enumerate() {
-                    for (c, &gc) in ib.iter().enumerate() {
-                        m[(gr, gc)] += h * crate::math::dot(ca[r], cb[c]);
-                    }
-                }
-            }
-        }
-        // rotary inertia, half the element's to each end
-        let d = [
-            p.rho_i[0] * b.l0 / 2.0,
-            p.rho_i[1] * b.l0 / 2.0,
-            p.rho_i[2] * b.l0 / 2.0,
-        ];
-        for (l, r0) in [(lp, xm[3]), (lq, xm[10])] {
-            let blk = lambda_block(l, &rotated_tensor(l, &b.frame, d));
-            for a in 0..4 {
-                for c in 0..4 {
-                    m[(r0 + a, r0 + c)] += blk[a][c];
-                }
+        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+        let Some(me) = beam_local_mass(b, &xk) else {
+            continue;
+        };
+        for (r, &gr) in entry.xmap.iter().enumerate() {
+            for (c, &gc) in entry.xmap.iter().enumerate() {
+                m[(gr, gc)] += me[r][c];
             }
         }
     }
@@ -133,21 +182,7 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
         let Some(r) = model.nodes[*node].ix_rot else {
             continue;
         };
-        let l = &x[r..r + 4];
-        // rotate the reference tensor with the node: R I Rᵀ
-        let lam = [l[0], l[1], l[2], l[3]];
-        let cols: Vec<[f64; 3]> = (0..3).map(|k| rotate(&lam, unit(k))).collect();
-        let mut ig = [[0.0; 3]; 3];
-        for a in 0..3 {
-            for b in 0..3 {
-                for p in 0..3 {
-                    for q in 0..3 {
-                        ig[a][b] += cols[p][a] * tensor[p][q] * cols[q][b];
-                    }
-                }
-            }
-        }
-        let blk = lambda_block(l, &ig);
+        let blk = node_inertia_block(&x[r..r + 4], tensor);
         for a in 0..4 {
             for c in 0..4 {
                 m[(r + a, r + c)] += blk[a][c];
@@ -155,6 +190,109 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
         }
     }
     m
+}
+
+/// M v for several vectors v in x at once, element by element (no global matrix): the
+/// products that the energy split of the modes needs, also for models too large for a dense M.
+pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
+    let mut out = vec![vec![0.0; model.nx]; vs.len()];
+    for entry in &model.elements {
+        let Element::Beam(b) = &entry.element else {
+            continue;
+        };
+        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+        let Some(me) = beam_local_mass(b, &xk) else {
+            continue;
+        };
+        for (v, o) in vs.iter().zip(out.iter_mut()) {
+            for (r, &gr) in entry.xmap.iter().enumerate() {
+                o[gr] += entry
+                    .xmap
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &gc)| me[r][c] * v[gc])
+                    .sum::<f64>();
+            }
+        }
+    }
+    for &(node, mass) in &model.loads.point_masses {
+        let ip = model.nodes[node].ix_pos;
+        for (v, o) in vs.iter().zip(out.iter_mut()) {
+            for k in 0..3 {
+                o[ip + k] += mass * v[ip + k];
+            }
+        }
+    }
+    for (node, tensor) in &model.loads.inertias {
+        let Some(r) = model.nodes[*node].ix_rot else {
+            continue;
+        };
+        let blk = node_inertia_block(&x[r..r + 4], tensor);
+        for (v, o) in vs.iter().zip(out.iter_mut()) {
+            for a in 0..4 {
+                o[r + a] += (0..4).map(|c| blk[a][c] * v[r + c]).sum::<f64>();
+            }
+        }
+    }
+    out
+}
+
+/// The blocks of M on each node's own coordinates (7 × 7: position x, y, z, then λ0..λ3; a
+/// node `at` a host has its host's position, so only its λ block is filled), element by
+/// element: the inertia of every velocity direction of a node, without a global matrix.
+pub fn node_blocks(model: &Model, x: &[f64]) -> Vec<[[f64; 7]; 7]> {
+    // x index → (node, local index 0..7)
+    let mut owner = vec![(usize::MAX, 0usize); model.nx];
+    for (id, n) in model.nodes.iter().enumerate() {
+        if n.host.is_none() {
+            for k in 0..3 {
+                owner[n.ix_pos + k] = (id, k);
+            }
+        }
+        if let Some(r) = n.ix_rot {
+            for k in 0..4 {
+                owner[r + k] = (id, 3 + k);
+            }
+        }
+    }
+    let mut out = vec![[[0.0; 7]; 7]; model.nodes.len()];
+    for entry in &model.elements {
+        let Element::Beam(b) = &entry.element else {
+            continue;
+        };
+        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+        let Some(me) = beam_local_mass(b, &xk) else {
+            continue;
+        };
+        for (r, &gr) in entry.xmap.iter().enumerate() {
+            for (c, &gc) in entry.xmap.iter().enumerate() {
+                let ((nr, lr), (nc, lc)) = (owner[gr], owner[gc]);
+                if nr == nc && nr != usize::MAX {
+                    out[nr][lr][lc] += me[r][c];
+                }
+            }
+        }
+    }
+    for &(node, mass) in &model.loads.point_masses {
+        let (owner_node, _) = owner[model.nodes[node].ix_pos];
+        if owner_node != usize::MAX {
+            for k in 0..3 {
+                out[owner_node][k][k] += mass;
+            }
+        }
+    }
+    for (node, tensor) in &model.loads.inertias {
+        let Some(r) = model.nodes[*node].ix_rot else {
+            continue;
+        };
+        let blk = node_inertia_block(&x[r..r + 4], tensor);
+        for a in 0..4 {
+            for c in 0..4 {
+                out[*node][3 + a][3 + c] += blk[a][c];
+            }
+        }
+    }
+    out
 }
 
 fn unit(k: usize) -> [f64; 3] {
@@ -165,4 +303,31 @@ fn unit(k: usize) -> [f64; 3] {
 
 fn col(d: &[[f64; 4]; 3], c: usize, l0: f64) -> [f64; 3] {
     [l0 * d[0][c], l0 * d[1][c], l0 * d[2][c]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closed_form_rotation_derivative_matches_central_differences() {
+        let mut rng = crate::elements::testing::Rng(11);
+        for _ in 0..20 {
+            // not normalised: the formula holds for any λ ≠ 0
+            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let a: [f64; 3] = std::array::from_fn(|_| rng.next());
+            let d = d_rotated(&l, a);
+            let h = 1e-6;
+            for j in 0..4 {
+                let (mut lp, mut lm) = (l, l);
+                lp[j] += h;
+                lm[j] -= h;
+                let (rp, rm) = (rotate(&lp, a), rotate(&lm, a));
+                for i in 0..3 {
+                    let fd = (rp[i] - rm[i]) / (2.0 * h);
+                    assert!((d[i][j] - fd).abs() < 1e-7, "{i} {j}: {} vs {fd}", d[i][j]);
+                }
+            }
+        }
+    }
 }

@@ -5,7 +5,7 @@
 //! parallel (rayon); faer's own parallelism inside a worker nests in the same rayon pool.
 //! The values are those of `dynamics::modes` and `statics::linear::compliance` at the step.
 
-use super::{reduced_matrices_with, ModalError};
+use super::{eigenvalues_with, reduced_matrices_with, EigenSolver, ModalError, ModalOptions};
 use crate::model::Model;
 use crate::statics::linear::{compliance, linearize, Compliance, LinearError};
 use crate::statics::StepResult;
@@ -41,29 +41,48 @@ impl SweepPoint {
     }
 }
 
-/// Frequencies (lowest `count`) and compliances of `nodes` at every step, in step order.
+/// Frequencies (lowest `count`) and compliances of `nodes` at every step, in step order, with
+/// the eigen solver chosen automatically.
 pub fn sweep(
     model: &Model,
     steps: &[StepResult],
     count: usize,
     nodes: &[usize],
 ) -> Vec<SweepPoint> {
+    sweep_with(model, steps, count, nodes, &ModalOptions::default())
+}
+
+/// [`sweep`] with the settings of the modal analysis (the eigen solver). The dense
+/// linearisation of statics is built only for the compliance of `nodes` and for the dense
+/// eigen path.
+pub fn sweep_with(
+    model: &Model,
+    steps: &[StepResult],
+    count: usize,
+    nodes: &[usize],
+    opts: &ModalOptions,
+) -> Vec<SweepPoint> {
+    let solver = opts.resolve(model, count);
     steps
         .par_iter()
         .enumerate()
         .map(|(k, st)| {
-            let lin = linearize(model, st);
-            let eigenvalues = if count == 0 {
-                Ok(Vec::new())
-            } else {
-                reduced_matrices_with(model, st, &lin)
+            let lin = (!nodes.is_empty() || (solver == EigenSolver::Dense && count > 0))
+                .then(|| linearize(model, st));
+            let eigenvalues = match (&lin, solver) {
+                _ if count == 0 => Ok(Vec::new()),
+                (Some(lin), EigenSolver::Dense) => reduced_matrices_with(model, st, lin)
                     .and_then(|r| r.eigen())
-                    .map(|(lam, _)| lam.into_iter().take(count).collect())
+                    .map(|(lam, _)| lam.into_iter().take(count).collect()),
+                _ => eigenvalues_with(model, st, count, opts),
             };
-            let compliance = nodes
-                .iter()
-                .map(|&n| compliance(model, &lin, st, n))
-                .collect();
+            let compliance = match &lin {
+                Some(lin) => nodes
+                    .iter()
+                    .map(|&n| compliance(model, lin, st, n))
+                    .collect(),
+                None => Vec::new(),
+            };
             SweepPoint {
                 step: k,
                 load_factor: st.load_factor,

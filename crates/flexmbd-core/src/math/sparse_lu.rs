@@ -73,6 +73,14 @@ pub struct SparseLu {
     /// are `lower_row[lower_ptr[k]..lower_ptr[k + 1]]` (pivot numbering, ≥ k).
     lower_ptr: Vec<usize>,
     lower_row: Vec<u32>,
+    /// Smallest accepted |pivot| / max |column entry| of [`SparseLu::refactor_symmetric`]
+    /// ([`PIVOT_TOL`] unless set).
+    pivot_tol: f64,
+    /// Number of negative pivots of the last [`SparseLu::refactor_symmetric`].
+    n_negative: usize,
+    /// The structure of the factors is that of diagonal pivots ([`SparseLu::set_diagonal_pivots`]),
+    /// so [`SparseLu::refactor_symmetric`] can run, also after a failed attempt.
+    diagonal_structure: bool,
 }
 
 impl SparseLu {
@@ -132,7 +140,66 @@ impl SparseLu {
             next: Vec::new(),
             lower_ptr: Vec::new(),
             lower_row: Vec::new(),
+            pivot_tol: PIVOT_TOL,
+            n_negative: 0,
+            diagonal_structure: false,
         })
+    }
+
+    /// The symmetric strategy with a given column (and pivot) order `q` (step k factors column
+    /// `q[k]`), for a structurally symmetric matrix with every diagonal entry present: for
+    /// example a saddle-point matrix whose constraint rows are ordered after the coordinates
+    /// they couple, so that L D Lᵀ with diagonal pivots exists. Follow with
+    /// [`SparseLu::set_diagonal_pivots`].
+    pub fn with_order(n: usize, q: Vec<usize>) -> Result<Self, String> {
+        let mut seen = vec![false; n];
+        if q.len() != n
+            || q.iter()
+                .any(|&c| c >= n || std::mem::replace(&mut seen[c], true))
+        {
+            return Err("the column order is not a permutation".into());
+        }
+        Ok(Self {
+            n,
+            q,
+            diag_pref: true,
+            pinv: vec![usize::MAX; n],
+            l_ptr: vec![0; n + 1],
+            l_idx: Vec::new(),
+            l_val: Vec::new(),
+            u_ptr: vec![0; n + 1],
+            u_idx: Vec::new(),
+            u_val: Vec::new(),
+            u_diag: vec![0.0; n],
+            work: vec![0.0; n],
+            mark: vec![usize::MAX; n],
+            stack: Vec::with_capacity(n),
+            pstack: Vec::with_capacity(n),
+            reach: Vec::with_capacity(n),
+            factored: false,
+            symmetric_factors: false,
+            next: Vec::new(),
+            lower_ptr: Vec::new(),
+            lower_row: Vec::new(),
+            pivot_tol: PIVOT_TOL,
+            n_negative: 0,
+            diagonal_structure: false,
+        })
+    }
+
+    /// Set the smallest accepted |pivot| / max |column entry| of
+    /// [`SparseLu::refactor_symmetric`] (default [`PIVOT_TOL`]). Zero accepts every non-zero
+    /// finite pivot: for L D Lᵀ of a matrix that is known to be factorable with diagonal pivots
+    /// (positive definite, or quasi-definite in a suitable order) and whose inertia is wanted;
+    /// the caller then checks the accuracy of its solutions.
+    pub fn set_pivot_tolerance(&mut self, tol: f64) {
+        self.pivot_tol = tol;
+    }
+
+    /// Number of negative pivots of the last successful [`SparseLu::refactor_symmetric`]: by
+    /// Sylvester's law of inertia, the number of negative eigenvalues of the matrix.
+    pub fn negative_pivots(&self) -> usize {
+        self.n_negative
     }
 
     /// Whether the symmetric strategy (AMD, diagonal pivots preferred) is in use.
@@ -159,6 +226,7 @@ impl SparseLu {
         });
         if symmetric_pattern {
             self.symbolic_cholesky(col_ptr, row_idx);
+            self.diagonal_structure = true;
             return true;
         }
         let mut v = vec![1.0; col_ptr[n]];
@@ -186,6 +254,7 @@ impl SparseLu {
                 self.l_val[lo + o] = *v;
             }
         }
+        self.diagonal_structure = true;
         true
     }
 
@@ -303,10 +372,7 @@ impl SparseLu {
     /// [`lower_layout`]: SparseLu::lower_layout
     /// [`refactor`]: SparseLu::refactor
     pub fn refactor_symmetric(&mut self, lower: &[f64]) -> Result<f64, LuFailure> {
-        if !(self.factored || self.symmetric_factors)
-            || !self.diag_pref
-            || lower.len() != self.lower_row.len()
-        {
+        if !self.diagonal_structure || !self.diag_pref || lower.len() != self.lower_row.len() {
             return Err(LuFailure::PivotTooSmall);
         }
         self.factored = false;
@@ -317,6 +383,8 @@ impl SparseLu {
         self.next.extend_from_slice(&self.l_ptr[..n]);
         let mut min_ratio: f64 = 1.0;
         let mut all_positive = true;
+        let pivot_tol = self.pivot_tol;
+        self.n_negative = 0;
         for k in 0..n {
             let (alo, ahi) = (self.lower_ptr[k], self.lower_ptr[k + 1]);
             for (&s, &a) in self.lower_row[alo..ahi].iter().zip(&lower[alo..ahi]) {
@@ -341,12 +409,13 @@ impl SparseLu {
             let d = x[k];
             x[k] = 0.0;
             all_positive &= d > 0.0;
+            self.n_negative += usize::from(d < 0.0);
             let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
             let mut cmax: f64 = 0.0;
             for &i in &self.l_idx[llo..lhi] {
                 cmax = cmax.max(x[i].abs());
             }
-            let ok = d.abs() >= PIVOT_TOL * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
+            let ok = d.abs() >= pivot_tol * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
             if d.abs() < min_ratio * cmax {
                 min_ratio = d.abs() / cmax;
             }
@@ -379,6 +448,7 @@ impl SparseLu {
         let n = self.n;
         self.factored = false;
         self.symmetric_factors = false;
+        self.diagonal_structure = false;
         self.pinv.iter_mut().for_each(|p| *p = usize::MAX);
         self.mark.iter_mut().for_each(|m| *m = usize::MAX);
         self.l_idx.clear();

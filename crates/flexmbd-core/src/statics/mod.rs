@@ -267,6 +267,20 @@ fn setup(model: &Model) -> Setup {
             }
         }
     }
+    // centrifugal loads of a steady rotation (dead, on the reference configuration)
+    if model.loads.spin.is_some() {
+        for (node, (f, m)) in crate::spin::centrifugal_loads(model).iter().enumerate() {
+            let n = &model.nodes[node];
+            for k in 0..3 {
+                f_dead[n.ix_pos + k] += f[k];
+            }
+            if let Some(r) = n.ix_rot {
+                if m.iter().any(|v| *v != 0.0) {
+                    moments.push((r, *m));
+                }
+            }
+        }
+    }
     // prescribed values
     let mut x_targets = Vec::new();
     let mut e_targets = vec![0.0; model.ne];
@@ -326,15 +340,28 @@ fn setup(model: &Model) -> Setup {
 /// free coordinates (row-major over the free local coordinates), then for each constrained mode
 /// the pairs (G, Gᵀ) over the free local coordinates; after all elements the load stiffness of
 /// the moments, then the Euler normalisations (diagonal, G, Gᵀ).
+///
+/// Only the linearisation (`assemble_part`) assembles in this order; Newton uses the reduced
+/// order ([`Reduction`]). So the entry list is built on first use.
 struct Pattern {
+    /// Rows, columns and element starts of the entries ([`Pattern::layout`]).
+    layout: std::sync::OnceLock<PatternLayout>,
+    /// Free local coordinates of each element: (local index, unknown index).
+    elem_free: Vec<Vec<(usize, usize)>>,
+    /// Constraint index of each element's modes (`None`: flexible), by element.
+    elem_constraints: Vec<Vec<usize>>,
+    /// Number of free coordinates (the constraint rows follow).
+    nf: usize,
+    /// Start of each element's internal forces in the per-element force buffer.
+    f_start: Vec<usize>,
+}
+
+/// The entries of [`Pattern`].
+struct PatternLayout {
     rows: Vec<usize>,
     cols: Vec<usize>,
     /// Start of each element's block in `rows`/`cols` (elements + 1 entries).
     elem_start: Vec<usize>,
-    /// Free local coordinates of each element: (local index, unknown index).
-    elem_free: Vec<Vec<(usize, usize)>>,
-    /// Start of each element's internal forces in the per-element force buffer.
-    f_start: Vec<usize>,
 }
 
 impl Pattern {
@@ -344,44 +371,68 @@ impl Pattern {
         constraint: &[Option<usize>],
         nf: usize,
     ) -> Self {
-        let (mut rows, mut cols) = (Vec::new(), Vec::new());
-        let mut elem_start = Vec::with_capacity(model.elements.len() + 1);
         let mut elem_free = Vec::with_capacity(model.elements.len());
+        let mut elem_constraints = Vec::with_capacity(model.elements.len());
         let mut f_start = Vec::with_capacity(model.elements.len() + 1);
         f_start.push(0);
         for entry in &model.elements {
-            elem_start.push(rows.len());
             let free: Vec<(usize, usize)> = entry
                 .xmap
                 .iter()
                 .enumerate()
                 .filter_map(|(a, &xa)| unknown[xa].map(|u| (a, u)))
                 .collect();
-            for &(_, ua) in &free {
-                for &(_, ub) in &free {
-                    rows.push(ua);
-                    cols.push(ub);
+            elem_free.push(free);
+            elem_constraints.push(
+                (0..entry.element.ne())
+                    .filter_map(|m| constraint[entry.ie + m])
+                    .collect(),
+            );
+            f_start.push(f_start.last().copied().unwrap_or(0) + entry.xmap.len());
+        }
+        Self {
+            layout: std::sync::OnceLock::new(),
+            elem_free,
+            elem_constraints,
+            nf,
+            f_start,
+        }
+    }
+
+    /// The entries (built on first use).
+    fn layout(&self) -> &PatternLayout {
+        self.layout.get_or_init(|| {
+            let nf = self.nf;
+            let total: usize = self
+                .elem_free
+                .iter()
+                .zip(&self.elem_constraints)
+                .map(|(f, c)| f.len() * f.len() + 2 * c.len() * f.len())
+                .sum();
+            let (mut rows, mut cols) = (Vec::with_capacity(total), Vec::with_capacity(total));
+            let mut elem_start = Vec::with_capacity(self.elem_free.len() + 1);
+            for (free, cons) in self.elem_free.iter().zip(&self.elem_constraints) {
+                elem_start.push(rows.len());
+                for &(_, ua) in free {
+                    for &(_, ub) in free {
+                        rows.push(ua);
+                        cols.push(ub);
+                    }
                 }
-            }
-            for m in 0..entry.element.ne() {
-                if let Some(kc) = constraint[entry.ie + m] {
-                    for &(_, ub) in &free {
+                for &kc in cons {
+                    for &(_, ub) in free {
                         rows.extend([nf + kc, ub]);
                         cols.extend([ub, nf + kc]);
                     }
                 }
             }
-            elem_free.push(free);
-            f_start.push(f_start.last().copied().unwrap_or(0) + entry.xmap.len());
-        }
-        elem_start.push(rows.len());
-        Self {
-            rows,
-            cols,
-            elem_start,
-            elem_free,
-            f_start,
-        }
+            elem_start.push(rows.len());
+            PatternLayout {
+                rows,
+                cols,
+                elem_start,
+            }
+        })
     }
 }
 
@@ -430,11 +481,13 @@ struct Reduction {
     /// Beams with all 14 coordinates free, both nodes reduced and no constrained mode: their
     /// reduced entries come directly from `BeamFirst::hessian_tangent`.
     beam_full: Vec<bool>,
-    /// KKT entries written by the element assembly (as [`Pattern`]).
-    rows: Vec<usize>,
+    /// Reduced constraint row of each constrained mode of each element.
+    elem_cons: Vec<Vec<usize>>,
+    /// Number of KKT entries written by the element assembly ([`Reduction::for_each_entry`]).
+    n_entries: usize,
     /// The diagonal entries of translations among them.
     diag_trans: Vec<usize>,
-    cols: Vec<usize>,
+    /// Start of each element's entries (elements + 1).
     elem_start: Vec<usize>,
 }
 
@@ -529,13 +582,14 @@ impl Reduction {
             }
         }
         // element columns and entry order
-        let (mut rows, mut cols) = (Vec::new(), Vec::new());
         let mut elem_start = Vec::with_capacity(model.elements.len() + 1);
         let mut elem_cols = Vec::with_capacity(model.elements.len());
         let mut beam_full = Vec::with_capacity(model.elements.len());
+        let mut elem_cons = Vec::with_capacity(model.elements.len());
+        let mut n_entries = 0;
         for entry in &model.elements {
-            elem_start.push(rows.len());
-            let mut ec = Vec::new();
+            elem_start.push(n_entries);
+            let mut ec = Vec::with_capacity(entry.xmap.len());
             let mut a = 0;
             while a < entry.xmap.len() {
                 let xi = entry.xmap[a];
@@ -552,21 +606,12 @@ impl Reduction {
                 }
                 a += 1;
             }
-            for &(_, ua) in &ec {
-                for &(_, ub) in &ec {
-                    rows.push(ua);
-                    cols.push(ub);
-                }
-            }
-            for m in 0..entry.element.ne() {
-                if let Some(kc) = constraint[entry.ie + m] {
-                    let kr = map[nf + kc].expect("element constraints are kept");
-                    for &(_, ub) in &ec {
-                        rows.extend([kr, ub]);
-                        cols.extend([ub, kr]);
-                    }
-                }
-            }
+            let cons: Vec<usize> = (0..entry.element.ne())
+                .filter_map(|m| constraint[entry.ie + m])
+                .map(|kc| map[nf + kc].expect("element constraints are kept"))
+                .collect();
+            n_entries += ec.len() * ec.len() + 2 * cons.len() * ec.len();
+            elem_cons.push(cons);
             let full = matches!(entry.element, Element::Beam(_))
                 && ec.len() == 12
                 && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
@@ -580,10 +625,15 @@ impl Reduction {
             beam_full.push(full);
             elem_cols.push(ec);
         }
-        elem_start.push(rows.len());
-        let diag_trans = (0..rows.len())
-            .filter(|&i| rows[i] == cols[i] && rows[i] < nfr && is_trans[rows[i]])
-            .collect();
+        elem_start.push(n_entries);
+        let mut diag_trans = Vec::new();
+        for (ec, &start) in elem_cols.iter().zip(&elem_start) {
+            for (a, &(_, ua)) in ec.iter().enumerate() {
+                if ua < nfr && is_trans[ua] {
+                    diag_trans.push(start + a * ec.len() + a);
+                }
+            }
+        }
         Self {
             map,
             nodes,
@@ -595,9 +645,28 @@ impl Reduction {
             is_trans,
             elem_cols,
             beam_full,
-            rows,
-            cols,
+            elem_cons,
+            n_entries,
             elem_start,
+        }
+    }
+
+    /// Row and column of every KKT entry written by the element assembly, in order: per
+    /// element its block on the reduced columns (row-major), then for each constrained mode
+    /// the pairs (G, Gᵀ). Generated, not stored (millions of entries on large models).
+    fn for_each_entry(&self, mut f: impl FnMut(usize, usize)) {
+        for (ec, cons) in self.elem_cols.iter().zip(&self.elem_cons) {
+            for &(_, ua) in ec {
+                for &(_, ub) in ec {
+                    f(ua, ub);
+                }
+            }
+            for &kr in cons {
+                for &(_, ub) in ec {
+                    f(kr, ub);
+                    f(ub, kr);
+                }
+            }
         }
     }
 }
@@ -787,7 +856,7 @@ fn assemble_part(
     part: Part,
 ) -> Assembled {
     let mut a = assemble_values(model, su, x, mu, t, part, false, Vec::new());
-    let pat = &su.pattern;
+    let pat = su.pattern.layout();
     let n_el = pat.rows.len();
     a.triplets = (0..n_el)
         .map(|i| Triplet::new(pat.rows[i], pat.cols[i], a.vals[i]))
@@ -941,6 +1010,19 @@ fn element_local(
     energy
 }
 
+/// Models with fewer elements are assembled on the calling thread.
+const PAR_ELEMENTS: usize = 256;
+
+/// An element's index with its slices of the KKT values, deformations, stress resultants and
+/// internal forces (the parallel part of the assembly).
+type ElementSlices<'a> = (
+    usize,
+    (
+        ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]),
+        &'a mut [f64],
+    ),
+);
+
 /// Split `v` into consecutive pieces at the given offsets (`starts` ascending, first 0).
 fn split_at_starts<'a>(mut v: &'a mut [f64], starts: &[usize]) -> Vec<&'a mut [f64]> {
     let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
@@ -967,9 +1049,10 @@ fn assemble_values(
 ) -> Assembled {
     let pat = &su.pattern;
     let (n_el, elem_start) = if reduced {
-        (su.red.rows.len(), &su.red.elem_start)
+        (su.red.n_entries, &su.red.elem_start)
     } else {
-        (pat.rows.len(), &pat.elem_start)
+        let layout = pat.layout();
+        (layout.rows.len(), &layout.elem_start)
     };
     // every element entry is written by its element: no need to clear a reused buffer
     let mut vals = spare;
@@ -989,29 +1072,42 @@ fn assemble_values(
         let e_k = split_at_starts(&mut e, &e_starts);
         let sigma_k = split_at_starts(&mut sigma, &e_starts);
         let f_k = split_at_starts(&mut fbuf, &pat.f_start);
-        vals_k
-            .into_par_iter()
-            .zip(e_k)
-            .zip(sigma_k)
-            .zip(f_k)
-            .enumerate()
-            .with_min_len(64)
-            .map(|(el, (((v, ek), sk), fk))| {
-                element_local(
-                    su,
-                    el,
-                    &model.elements[el],
-                    x,
-                    mu,
-                    part,
-                    reduced,
-                    ek,
-                    sk,
-                    fk,
-                    v,
-                )
-            })
-            .sum()
+        let one = |(el, (((v, ek), sk), fk)): ElementSlices<'_>| {
+            element_local(
+                su,
+                el,
+                &model.elements[el],
+                x,
+                mu,
+                part,
+                reduced,
+                ek,
+                sk,
+                fk,
+                v,
+            )
+        };
+        if model.elements.len() < PAR_ELEMENTS {
+            // small models: the hand-over to worker threads costs more than it saves
+            vals_k
+                .into_iter()
+                .zip(e_k)
+                .zip(sigma_k)
+                .zip(f_k)
+                .enumerate()
+                .map(one)
+                .sum()
+        } else {
+            vals_k
+                .into_par_iter()
+                .zip(e_k)
+                .zip(sigma_k)
+                .zip(f_k)
+                .enumerate()
+                .with_min_len(64)
+                .map(one)
+                .sum()
+        }
     };
 
     let mut int_force = vec![0.0; model.nx];
@@ -1252,31 +1348,31 @@ impl KktSolver {
         let pat = &su.red;
         // CSC structure of the entries (rows sorted, duplicates summed) and the entries summed
         // into each value slot: bucket the entries by column, sort each column by row
-        let ne_el = pat.rows.len();
-        let entry = |i: usize| -> (usize, usize) {
-            if i < ne_el {
-                (pat.rows[i], pat.cols[i])
-            } else {
-                tail[i - ne_el]
-            }
-        };
+        let ne_el = pat.n_entries;
         let m = ne_el + tail.len();
         if m > u32::MAX as usize {
             return Err("too many matrix entries".into());
         }
         let mut by_col_ptr = vec![0usize; n + 1];
-        for i in 0..m {
-            by_col_ptr[entry(i).1 + 1] += 1;
+        pat.for_each_entry(|_, c| by_col_ptr[c + 1] += 1);
+        for &(_, c) in tail {
+            by_col_ptr[c + 1] += 1;
         }
         for c in 0..n {
             by_col_ptr[c + 1] += by_col_ptr[c];
         }
         let mut fill = by_col_ptr.clone();
         let mut by_col = vec![(0u32, 0u32); m];
-        for i in 0..m {
-            let (r, c) = entry(i);
+        let mut i = 0;
+        pat.for_each_entry(|r, c| {
             by_col[fill[c]] = (r as u32, i as u32);
             fill[c] += 1;
+            i += 1;
+        });
+        for &(r, c) in tail {
+            by_col[fill[c]] = (r as u32, i as u32);
+            fill[c] += 1;
+            i += 1;
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::new();
@@ -1502,7 +1598,7 @@ fn newton(
     let mut last_inc = f64::INFINITY;
     // reference stiffness: the largest diagonal entry of the tangent (translations only: the
     // Euler-parameter entries are in other units)
-    let n_el = red.rows.len();
+    let n_el = red.n_entries;
     let k_ref = red
         .diag_trans
         .iter()
@@ -1798,6 +1894,287 @@ pub fn solve(
         roles: su.roles,
         steps: out,
     })
+}
+
+/// The linearised problem at a converged state in the reduced unknowns of the Newton system
+/// ([`Reduction`]), as sparse entries: the basis of the sparse eigen path of
+/// [`crate::dynamics`].
+///
+/// The unknowns are the free translations and other free coordinates, three rotation
+/// increments δ per rotational node whose Euler parameters are all free (Δλ = N(λ) δ with
+/// N = Λ̄ᵀ, so the angular velocity is ω = 2 δ: velocity coordinates), and the multipliers of the
+/// kept constraints (rigid and input deformations, normalisations of partly held nodes). The
+/// matrix is the Newton matrix of statics at the state, [K, Gᵀ; G, 0] with K = K_m + K_g
+/// (material and geometric stiffness, normalisation terms, load stiffness of moments): the same
+/// stiffness as the dense [`linear::linearize`], in other coordinates.
+pub(crate) struct ReducedLinear {
+    su: Setup,
+    /// Row and column of the entries after the element blocks (moments, normalisations).
+    tail: Vec<(usize, usize)>,
+    /// Value of every entry: the element blocks (in [`Reduction`] order, see
+    /// [`ReducedLinear::for_each_entry`]), then the tail.
+    pub vals: Vec<f64>,
+    /// The geometric (load-proportional) part K_g of the values: zero in the constraint rows
+    /// and columns.
+    pub geo: Vec<f64>,
+}
+
+impl ReducedLinear {
+    /// The reduced tangent at a converged step.
+    pub(crate) fn new(model: &Model, step: &StepResult) -> Self {
+        let su = setup(model);
+        let a = assemble_values(
+            model,
+            &su,
+            &step.x,
+            &step.multipliers,
+            step.load_factor,
+            Part::Full,
+            true,
+            Vec::new(),
+        );
+        debug_assert_eq!(su.red.n_entries + a.tail.len(), a.vals.len());
+        // the geometric part vanishes in a state without stress resultants, multipliers and
+        // moment loads (the unloaded reference state)
+        let unstressed = step.sigma.iter().all(|&v| v == 0.0)
+            && step.multipliers.iter().all(|&v| v == 0.0)
+            && (su.moments.is_empty() || step.load_factor == 0.0);
+        let mut geo = if unstressed {
+            vec![0.0; a.vals.len()]
+        } else {
+            let g = assemble_values(
+                model,
+                &su,
+                &step.x,
+                &step.multipliers,
+                step.load_factor,
+                Part::Geometric,
+                true,
+                Vec::new(),
+            );
+            debug_assert_eq!(g.tail, a.tail);
+            g.vals
+        };
+        let nfr = su.red.nfr;
+        let mut i = 0;
+        let mut clear_constraints = |r: usize, c: usize| {
+            if r >= nfr || c >= nfr {
+                geo[i] = 0.0;
+            }
+            i += 1;
+        };
+        su.red.for_each_entry(&mut clear_constraints);
+        for &(r, c) in &a.tail {
+            clear_constraints(r, c);
+        }
+        Self {
+            su,
+            tail: a.tail,
+            vals: a.vals,
+            geo,
+        }
+    }
+
+    /// Row and column of every entry, in the order of `vals`.
+    pub(crate) fn for_each_entry(&self, mut f: impl FnMut(usize, usize)) {
+        self.su.red.for_each_entry(&mut f);
+        for &(r, c) in &self.tail {
+            f(r, c);
+        }
+    }
+
+    /// Twice the material strain energy, Σ δeᵀ S δe over the elements' flexible deformations
+    /// with δe = D δx, of each shape δx (length nx). Evaluated through the deformations, not as
+    /// δxᵀ K_m δx: on fine meshes the entries of K_m are many orders of magnitude larger than
+    /// the stiffness of a smooth mode, and the matrix product loses it to round-off.
+    pub(crate) fn material_energy2(
+        &self,
+        model: &Model,
+        x: &[f64],
+        shapes: &[Vec<f64>],
+    ) -> Vec<f64> {
+        let per_element = |el: usize| -> Vec<f64> {
+            let entry = &model.elements[el];
+            let s = &self.su.s_eff[el];
+            let ne = entry.element.ne();
+            if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
+                return vec![0.0; shapes.len()];
+            }
+            let d: Mat<f64> = match &entry.element {
+                Element::Beam(b) => {
+                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+                    let f = b.first(&xk);
+                    Mat::from_fn(6, 14, |r, c| f.d[r][c])
+                }
+                other => other.jacobian(&gather(entry, x)),
+            };
+            shapes
+                .iter()
+                .map(|dx| {
+                    let de: Vec<f64> = (0..ne)
+                        .map(|r| {
+                            entry
+                                .xmap
+                                .iter()
+                                .enumerate()
+                                .map(|(c, &i)| d[(r, c)] * dx[i])
+                                .sum()
+                        })
+                        .collect();
+                    (0..ne)
+                        .map(|a| de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>())
+                        .sum()
+                })
+                .collect()
+        };
+        let parts: Vec<Vec<f64>> = if model.elements.len() < 256 {
+            (0..model.elements.len()).map(per_element).collect()
+        } else {
+            (0..model.elements.len())
+                .into_par_iter()
+                .with_min_len(64)
+                .map(per_element)
+                .collect()
+        };
+        let mut out = vec![0.0; shapes.len()];
+        for p in &parts {
+            for (o, v) in out.iter_mut().zip(p) {
+                *o += v;
+            }
+        }
+        out
+    }
+
+    /// Whether the model has applied moments (also those of a spin): their load stiffness is
+    /// not symmetric.
+    pub(crate) fn has_moment_loads(&self) -> bool {
+        !self.su.moments.is_empty()
+    }
+
+    /// Size of the system (coordinates and kept constraints).
+    pub(crate) fn n(&self) -> usize {
+        self.su.red.n
+    }
+
+    /// Number of coordinate unknowns (they come first; the constraints follow).
+    pub(crate) fn n_coords(&self) -> usize {
+        self.su.red.nfr
+    }
+
+    /// The entries of element `el` (a contiguous range of `rows`/`cols`/`vals`).
+    pub(crate) fn element_entries(&self, el: usize) -> std::ops::Range<usize> {
+        self.su.red.elem_start[el]..self.su.red.elem_start[el + 1]
+    }
+
+    /// Tᵀ L T for a matrix L on the local coordinates of element `el` (`local(a, b)`, local
+    /// order of its `xmap`), written into `out` in the order of the element's entries; the
+    /// entries of its constraint rows get zero.
+    pub(crate) fn element_block(
+        &self,
+        model: &Model,
+        el: usize,
+        x: &[f64],
+        local: &dyn Fn(usize, usize) -> f64,
+        out: &mut [f64],
+    ) {
+        let entry = &model.elements[el];
+        let nxk = entry.xmap.len();
+        let mut kt = vec![0.0; nxk * self.su.red.elem_cols[el].len()];
+        write_reduced(
+            &self.su,
+            el,
+            entry.ie,
+            entry.element.ne(),
+            &|a| x[entry.xmap[a]],
+            nxk,
+            local,
+            &|_, _| 0.0,
+            out,
+            &mut kt,
+        );
+    }
+
+    /// The reduced index of x coordinate `i` when it is an unknown of its own (a free
+    /// translation, or an Euler parameter of a node that is not reduced).
+    pub(crate) fn coord_index(&self, i: usize) -> Option<usize> {
+        self.su.unknown[i].and_then(|u| self.su.red.map[u])
+    }
+
+    /// Entries (row, column, value) of Tᵀ B T for a 4 × 4 block B on the Euler parameters of
+    /// the rotational node with λ0 at x index `r` (an inertia tensor).
+    pub(crate) fn lambda_block(
+        &self,
+        x: &[f64],
+        r: usize,
+        blk: &[[f64; 4]; 4],
+    ) -> Vec<(usize, usize, f64)> {
+        let mut out = Vec::new();
+        if let Some(k) = self.su.red.node_at[r] {
+            let nb = rot_basis(&x[r..r + 4]);
+            let d0 = self.su.red.nodes[k].1;
+            for p in 0..3 {
+                for q in 0..3 {
+                    let mut v = 0.0;
+                    for i in 0..4 {
+                        for j in 0..4 {
+                            v += nb[i][p] * blk[i][j] * nb[j][q];
+                        }
+                    }
+                    out.push((d0 + p, d0 + q, v));
+                }
+            }
+            return out;
+        }
+        for i in 0..4 {
+            let Some(ri) = self.coord_index(r + i) else {
+                continue;
+            };
+            for j in 0..4 {
+                if let Some(rj) = self.coord_index(r + j) {
+                    out.push((ri, rj, blk[i][j]));
+                }
+            }
+        }
+        out
+    }
+
+    /// The node of every coordinate unknown (a node `at` a host owns only its rotation): the
+    /// unknowns of one node share their couplings, which a fill-reducing ordering can use.
+    pub(crate) fn coord_nodes(&self, model: &Model) -> Vec<usize> {
+        let mut owner = vec![usize::MAX; model.nx];
+        for (id, n) in model.nodes.iter().enumerate() {
+            for i in n.own_range() {
+                owner[i] = id;
+            }
+        }
+        let mut out = vec![usize::MAX; self.su.red.nfr];
+        for (i, &o) in owner.iter().enumerate() {
+            if let Some(m) = self.coord_index(i) {
+                out[m] = o;
+            }
+        }
+        for &(r, d0, _) in &self.su.red.nodes {
+            out[d0..d0 + 3].iter_mut().for_each(|v| *v = owner[r]);
+        }
+        out
+    }
+
+    /// δx (length nx) of a vector `u` of the coordinate unknowns at the state `x`.
+    pub(crate) fn to_x(&self, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
+        let mut dx = vec![0.0; model.nx];
+        for (i, d) in dx.iter_mut().enumerate() {
+            if let Some(m) = self.coord_index(i) {
+                *d = u[m];
+            }
+        }
+        for &(r, d0, _) in &self.su.red.nodes {
+            let nb = rot_basis(&x[r..r + 4]);
+            for i in 0..4 {
+                dx[r + i] = (0..3).map(|j| nb[i][j] * u[d0 + j]).sum();
+            }
+        }
+        dx
+    }
 }
 
 pub mod linear;

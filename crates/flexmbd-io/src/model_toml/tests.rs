@@ -1019,3 +1019,33 @@ fn example_twelve_truss() {
     assert_eq!(m.elements.len(), 12);
     assert_eq!(m.nx, 24);
 }
+
+#[test]
+fn spin_in_static_section() {
+    let m = ok(&format!(
+        "{AB}[static]\nspin = [0.0, 0.0, 12.5]\nspin_point = [1.0, 2.0, 0.0]\n"
+    ));
+    let spin = m.loads.spin.expect("spin read");
+    assert_eq!(spin.omega, [0.0, 0.0, 12.5]);
+    assert_eq!(spin.point, [1.0, 2.0, 0.0]);
+    // the axis point defaults to the origin
+    let m = ok(&format!("{AB}[static]\nspin = [3.0, 0.0, 0.0]\n"));
+    assert_eq!(m.loads.spin.map(|s| s.point), Some([0.0; 3]));
+    assert_eq!(ok(AB).loads.spin, None);
+}
+
+#[test]
+fn bad_spin() {
+    check_ab(
+        "\n[static]  # <-\nspin_point = [0.0, 0.0, 0.0]\n",
+        &["[static]", "`spin_point` needs `spin`"],
+    );
+    check_ab(
+        "\n[static]  # <-\nspin = [0.0, nan, 1.0]\n",
+        &["[static]", "spin"],
+    );
+    check_ab(
+        "\n[static]\nspin = [0.0, 1.0]  # <-\n",
+        &["invalid length 2"],
+    );
+}

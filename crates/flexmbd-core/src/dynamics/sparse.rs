@@ -1,0 +1,1103 @@
+//! The sparse eigen path for large models (docs/dynamics.md, "Large models").
+//!
+//! The same eigenproblem as the dense path, (K_m + K_g) v = ω² M v on the minimal coordinates,
+//! solved without any dense matrix of the size of the model:
+//!
+//! - **Coordinates**: the reduced unknowns of the statics Newton system
+//!   ([`crate::statics::ReducedLinear`]): free translations, three rotation increments δ per
+//!   rotational node (angular velocity ω = 2δ, so these are velocity coordinates), the Euler
+//!   parameters of partly held rotational nodes, and one multiplier per kept constraint (rigid
+//!   and input deformations, normalisations of partly held nodes). The stiffness is the Newton
+//!   matrix of statics at the state: K = K_m + K_g with the pre-stress, the constraint forces,
+//!   the normalisation terms and the load stiffness of moments, exactly as in the dense path.
+//!   The mass is assembled element by element in the same coordinates (Tᵀ M_e T).
+//! - **Constraints** stay in the saddle-point form: the shift-invert operator solves
+//!   `[K − σM, Gᵀ; G, 0] [u; μ] = [M v; 0]`, so every vector it returns satisfies G u = 0, and
+//!   the Lanczos vectors stay in the constrained space without a null-space basis.
+//! - **Factorisation**: the project's own sparse L D Lᵀ (`math::sparse_lu`) with diagonal
+//!   pivots, in an AMD order of the coordinates with every constraint row placed right after the
+//!   last coordinate it couples (so that its pivot exists); Sylvester's law of inertia then
+//!   counts the eigenvalues below the shift (negative pivots minus constraints). When L D Lᵀ
+//!   breaks down (a massless rigid part, say), LU with partial pivoting is used instead, without
+//!   the inertia count.
+//! - **Shift**: σ = 0 when K is positive definite on the constrained space (the inertia says
+//!   so); otherwise (zero-frequency motions, a buckled state) σ < 0 is lowered in steps until
+//!   no eigenvalue lies below it. So the wanted eigenvalues are the largest θ = 1/(λ − σ). A
+//!   shift at which the operator amplifies some directions far more than the last wanted mode
+//!   (zero-frequency modes, or a small σ that only just regularises a massless part) is
+//!   replaced after a first pass by one a tenth of the wanted range below the lowest
+//!   eigenvalue.
+//! - **Massless directions** need no special treatment: the operator maps everything onto
+//!   vectors whose massless part follows the massive part quasi-statically, which is the static
+//!   condensation of the dense path; the start vector is passed through the operator first, and
+//!   every converged vector is purified by one more application. Infinite eigenvalues never
+//!   appear (they are θ = 0).
+//! - **Eigen iteration**: Krylov–Schur restarted Lanczos (Stewart 2001) in the M inner product
+//!   with full reorthogonalisation (classical Gram–Schmidt, twice), converged when the residual
+//!   of every wanted Ritz pair is below [`TOL`] |θ|. A **Sturm check** (the inertia at a shift
+//!   just above the last wanted eigenvalue) then confirms that no eigenvalue was missed (a
+//!   multiple eigenvalue, which a single-vector Lanczos may find only once); missed ones are
+//!   found by further runs deflated against the modes found.
+//! - **Result**: the Ritz vectors (M-orthonormal by the reorthogonalisation; purified and
+//!   orthonormalised again when there are massless directions), and as eigenvalues their
+//!   Rayleigh quotients with the strain energy evaluated through the element deformations
+//!   ([`crate::statics::ReducedLinear::material_energy2`]): on fine meshes the stiffness
+//!   entries exceed the stiffness of a smooth mode by many orders of magnitude, and both the
+//!   factorisation (σ + 1/θ) and the product uᵀ K u lose the lowest eigenvalues to round-off.
+
+use super::ModalError;
+use crate::linalg::{sym_eigen_seq, EigenError};
+use crate::math::sparse_lu::SparseLu;
+use crate::model::Model;
+use crate::statics::{ReducedLinear, StepResult};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par};
+use rayon::prelude::*;
+
+/// Convergence tolerance of a Ritz pair (θ, x) of the shift-invert operator S:
+/// ‖S x − θ x‖_M ≤ TOL |θ|.
+pub const TOL: f64 = 1e-10;
+
+/// Largest number of operator applications per wanted mode (plus a constant) before the
+/// iteration gives up.
+const MAX_APPLICATIONS_PER_MODE: usize = 60;
+
+/// Accepted componentwise backward error of a solve with a new factorisation.
+const MAX_BACKWARD_ERROR: f64 = 1e-9;
+
+/// Vectors at least this long are processed in parallel (rayon); shorter ones sequentially,
+/// where the thread hand-over would cost more than it saves.
+const PAR_MIN: usize = 32_768;
+
+/// Rows per parallel chunk of the basis operations.
+const ROW_CHUNK: usize = 8192;
+
+/// Column `i` of a column-major matrix as a slice.
+fn col_slice<'a>(v: MatRef<'a, f64>, i: usize) -> &'a [f64] {
+    v.col(i)
+        .try_as_col_major()
+        .expect("basis matrices are column-major")
+        .as_slice()
+}
+
+/// c[i] = V[:, i] · y for the first `j` columns of `v`.
+fn basis_dots(v: MatRef<'_, f64>, j: usize, y: &[f64]) -> Vec<f64> {
+    let n = y.len();
+    let col = |i: usize, r: std::ops::Range<usize>| -> f64 {
+        let c = &col_slice(v, i)[r.clone()];
+        c.iter().zip(&y[r]).map(|(a, b)| a * b).sum()
+    };
+    if n < PAR_MIN {
+        return (0..j).map(|i| col(i, 0..n)).collect();
+    }
+    let chunks = n.div_ceil(ROW_CHUNK);
+    (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let r = c * ROW_CHUNK..((c + 1) * ROW_CHUNK).min(n);
+            (0..j).map(|i| col(i, r.clone())).collect::<Vec<f64>>()
+        })
+        .reduce(
+            || vec![0.0; j],
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
+                a
+            },
+        )
+}
+
+/// w −= V[:, ..j] c.
+fn basis_subtract(v: MatRef<'_, f64>, c: &[f64], w: &mut [f64]) {
+    let update = |start: usize, chunk: &mut [f64]| {
+        for (i, &ci) in c.iter().enumerate() {
+            if ci != 0.0 {
+                let col = &col_slice(v, i)[start..start + chunk.len()];
+                for (wk, vk) in chunk.iter_mut().zip(col) {
+                    *wk -= ci * vk;
+                }
+            }
+        }
+    };
+    if w.len() < PAR_MIN {
+        update(0, w);
+        return;
+    }
+    w.par_chunks_mut(ROW_CHUNK)
+        .enumerate()
+        .for_each(|(k, chunk)| update(k * ROW_CHUNK, chunk));
+}
+
+/// V[:, ..] Y (columns of `y`) into a new matrix with `y.ncols()` columns.
+fn basis_combine(v: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> {
+    let mut out = Mat::<f64>::zeros(v.nrows(), y.ncols());
+    let par = if v.nrows() < PAR_MIN {
+        Par::Seq
+    } else {
+        Par::rayon(0)
+    };
+    matmul(out.as_mut(), Accum::Replace, v, y, 1.0, par);
+    out
+}
+
+/// The result of the sparse path: eigenvalues ascending and mass-normalised shapes in x.
+pub(crate) struct SparseModes {
+    /// ω², ascending.
+    pub eigenvalues: Vec<f64>,
+    /// Shapes δx (length nx), δxᵀ M δx = 1.
+    pub shapes: Vec<Vec<f64>>,
+    /// Number of minimal coordinates (coordinates minus constraints).
+    pub ndof: usize,
+    /// Directions without inertia (infinite eigenvalues of the pencil).
+    pub massless: usize,
+}
+
+/// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
+struct Problem {
+    lin: ReducedLinear,
+    /// The node of every coordinate.
+    group: Vec<usize>,
+    /// Size of the saddle-point system.
+    n: usize,
+    /// Number of coordinates (the first `nc` unknowns).
+    nc: usize,
+    /// CSC structure of the saddle-point matrix (rows sorted, every diagonal entry present).
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// K and M values on that structure (M zero in the constraint rows and columns).
+    k: Vec<f64>,
+    m: Vec<f64>,
+    /// The coordinate block of M (CSC, symmetric, non-zero entries only), for M v.
+    m_ptr: Vec<usize>,
+    m_idx: Vec<usize>,
+    m_val: Vec<f64>,
+}
+
+/// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
+/// j (gather form, parallel over columns).
+fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64], out: &mut [f64]) {
+    const CHUNK: usize = 4096;
+    if out.len() < PAR_MIN {
+        for (j, y) in out.iter_mut().enumerate() {
+            *y = (ptr[j]..ptr[j + 1]).map(|p| val[p] * v[idx[p]]).sum();
+        }
+        return;
+    }
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            for (o, y) in chunk.iter_mut().enumerate() {
+                let j = c * CHUNK + o;
+                *y = (ptr[j]..ptr[j + 1]).map(|p| val[p] * v[idx[p]]).sum();
+            }
+        });
+}
+
+impl Problem {
+    fn new(model: &Model, step: &StepResult) -> Self {
+        let lin = ReducedLinear::new(model, step);
+        let (n, nc) = (lin.n(), lin.n_coords());
+        let x = &step.x;
+        // element mass blocks, in the order of the element entries
+        let ne = lin.vals.len();
+        let mut m_el = vec![0.0; ne];
+        let ranges: Vec<(usize, std::ops::Range<usize>)> = model
+            .elements
+            .iter()
+            .enumerate()
+            .filter_map(|(el, entry)| match &entry.element {
+                crate::elements::Element::Beam(b) if b.props.is_some() => {
+                    Some((el, lin.element_entries(el)))
+                }
+                _ => None,
+            })
+            .collect();
+        {
+            // split m_el at the element ranges (ascending, disjoint) and fill in parallel
+            let mut pieces: Vec<(usize, &mut [f64])> = Vec::with_capacity(ranges.len());
+            let mut rest: &mut [f64] = &mut m_el;
+            let mut offset = 0;
+            for (el, r) in &ranges {
+                let (_, tail) = rest.split_at_mut(r.start - offset);
+                let (piece, tail) = tail.split_at_mut(r.end - r.start);
+                pieces.push((*el, piece));
+                rest = tail;
+                offset = r.end;
+            }
+            let fill = |(el, out): (usize, &mut [f64])| {
+                let entry = &model.elements[el];
+                let crate::elements::Element::Beam(b) = &entry.element else {
+                    return;
+                };
+                let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+                if let Some(me) = super::mass::beam_local_mass(b, &xk) {
+                    lin.element_block(model, el, x, &|a, c| me[a][c], out);
+                }
+            };
+            if pieces.len() < 256 {
+                pieces.into_iter().for_each(fill);
+            } else {
+                pieces.into_par_iter().with_min_len(64).for_each(fill);
+            }
+        }
+        // node masses: point masses and inertia tensors
+        let mut extra: Vec<(usize, usize, f64)> = Vec::new();
+        for &(node, mass) in &model.loads.point_masses {
+            let ip = model.nodes[node].ix_pos;
+            for k in 0..3 {
+                if let Some(i) = lin.coord_index(ip + k) {
+                    extra.push((i, i, mass));
+                }
+            }
+        }
+        for (node, tensor) in &model.loads.inertias {
+            let Some(r) = model.nodes[*node].ix_rot else {
+                continue;
+            };
+            let blk = super::mass::node_inertia_block(&x[r..r + 4], tensor);
+            extra.extend(lin.lambda_block(x, r, &blk));
+        }
+        // CSC: bucket the entries by column (element entries, node masses, the diagonal), sort
+        // each column by row, sum duplicates
+        let (n_extra, total) = (extra.len(), ne + extra.len() + n);
+        let mut count = vec![0usize; n + 1];
+        lin.for_each_entry(|_, c| count[c + 1] += 1);
+        for &(_, c, _) in &extra {
+            count[c + 1] += 1;
+        }
+        for c in 0..n {
+            count[c + 1] += 1;
+        }
+        for c in 0..n {
+            count[c + 1] += count[c];
+        }
+        let mut fill = count.clone();
+        let mut by_col = vec![(0u32, 0u32); total];
+        let mut i = 0u32;
+        lin.for_each_entry(|r, c| {
+            by_col[fill[c]] = (r as u32, i);
+            fill[c] += 1;
+            i += 1;
+        });
+        for &(r, c, _) in &extra {
+            by_col[fill[c]] = (r as u32, i);
+            fill[c] += 1;
+            i += 1;
+        }
+        for c in 0..n {
+            by_col[fill[c]] = (c as u32, i);
+            fill[c] += 1;
+            i += 1;
+        }
+        let values = |i: usize| -> (f64, f64) {
+            if i < ne {
+                (lin.vals[i], m_el[i])
+            } else if i < ne + n_extra {
+                (0.0, extra[i - ne].2)
+            } else {
+                (0.0, 0.0)
+            }
+        };
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let cap = total / 2 + n;
+        let (mut row_idx, mut k, mut m) = (
+            Vec::with_capacity(cap),
+            Vec::with_capacity(cap),
+            Vec::with_capacity(cap),
+        );
+        for c in 0..n {
+            let list = &mut by_col[count[c]..count[c + 1]];
+            list.sort_unstable();
+            for (q, &(r, i)) in list.iter().enumerate() {
+                let (kv, mv) = values(i as usize);
+                if q > 0 && list[q - 1].0 == r {
+                    *k.last_mut().expect("previous entry") += kv;
+                    *m.last_mut().expect("previous entry") += mv;
+                } else {
+                    row_idx.push(r as usize);
+                    k.push(kv);
+                    m.push(mv);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        // the load stiffness of moments is not symmetric: its symmetric part, as the dense path
+        // (the pattern is symmetric, rows sorted)
+        if lin.has_moment_loads() {
+            let orig = k.clone();
+            for c in 0..n {
+                for q in col_ptr[c]..col_ptr[c + 1] {
+                    let r = row_idx[q];
+                    if r > c {
+                        let t = col_ptr[r]
+                            + row_idx[col_ptr[r]..col_ptr[r + 1]]
+                                .binary_search(&c)
+                                .expect("symmetric pattern");
+                        let v = 0.5 * (orig[q] + orig[t]);
+                        k[q] = v;
+                        k[t] = v;
+                    }
+                }
+            }
+        }
+        // the coordinate block of M (non-zero entries)
+        let block = |vals: &[f64]| {
+            let (mut ptr, mut idx, mut val) = (vec![0], Vec::new(), Vec::new());
+            for c in 0..nc {
+                for p in col_ptr[c]..col_ptr[c + 1] {
+                    if row_idx[p] < nc && vals[p] != 0.0 {
+                        idx.push(row_idx[p]);
+                        val.push(vals[p]);
+                    }
+                }
+                ptr.push(idx.len());
+            }
+            (ptr, idx, val)
+        };
+        let (m_ptr, m_idx, m_val) = block(&m);
+        let group = lin.coord_nodes(model);
+        Self {
+            lin,
+            group,
+            n,
+            nc,
+            col_ptr,
+            row_idx,
+            k,
+            m,
+            m_ptr,
+            m_idx,
+            m_val,
+        }
+    }
+
+    fn m_times(&self, v: &[f64], out: &mut [f64]) {
+        csc_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
+    }
+
+    /// Diagonal entries of K and M of the coordinates.
+    fn diagonals(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut kd = vec![0.0; self.nc];
+        let mut md = vec![0.0; self.nc];
+        for c in 0..self.nc {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                if self.row_idx[p] == c {
+                    kd[c] = self.k[p];
+                    md[c] = self.m[p];
+                }
+            }
+        }
+        (kd, md)
+    }
+
+    /// Fill-reducing order for L D Lᵀ with diagonal pivots: AMD on the graph of the nodes (the
+    /// unknowns of a node share their couplings, so this is AMD on the coordinate block with
+    /// its supervariables found in advance, and far cheaper), each node's coordinates together;
+    /// each constraint row placed right after the last coordinate it couples, so that its pivot
+    /// (minus a Schur complement of the coordinates) exists.
+    fn saddle_order(&self, group: &[usize]) -> Result<Vec<usize>, String> {
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        use faer::sparse::linalg::amd;
+        use faer::sparse::SymbolicSparseColMatRef;
+        let (n, nc) = (self.n, self.nc);
+        // groups numbered 0..ng in order of first appearance
+        let mut gid = vec![usize::MAX; group.iter().copied().max().map_or(0, |g| g + 1)];
+        let mut members: Vec<Vec<usize>> = Vec::new();
+        for (c, &g) in group.iter().enumerate() {
+            if gid[g] == usize::MAX {
+                gid[g] = members.len();
+                members.push(Vec::new());
+            }
+            members[gid[g]].push(c);
+        }
+        let ng = members.len();
+        // the graph of the groups (CSC, rows sorted, diagonal included)
+        let (mut ptr, mut idx) = (vec![0usize], Vec::new());
+        let mut mark = vec![usize::MAX; ng];
+        for (g, cols) in members.iter().enumerate() {
+            let start = idx.len();
+            for &c in cols {
+                for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                    let r = self.row_idx[p];
+                    if r < nc {
+                        let h = gid[group[r]];
+                        if mark[h] != g {
+                            mark[h] = g;
+                            idx.push(h);
+                        }
+                    }
+                }
+            }
+            idx[start..].sort_unstable();
+            ptr.push(idx.len());
+        }
+        let mut q = vec![0usize; ng];
+        let mut q_inv = vec![0usize; ng];
+        if ng > 0 {
+            let sym = SymbolicSparseColMatRef::new_checked(ng, ng, &ptr, None, &idx);
+            let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(ng, idx.len()))
+                .map_err(|e| format!("out of memory: {e:?}"))?;
+            amd::order(
+                &mut q,
+                &mut q_inv,
+                sym,
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| format!("ordering failed: {e:?}"))?;
+        }
+        // coordinates in group order; position of each coordinate
+        let mut coords = Vec::with_capacity(nc);
+        for &g in &q {
+            coords.extend_from_slice(&members[g]);
+        }
+        let mut pos = vec![0usize; nc];
+        for (k, &c) in coords.iter().enumerate() {
+            pos[c] = k;
+        }
+        // each constraint after the latest of its coordinates
+        let mut after: Vec<Vec<usize>> = vec![Vec::new(); nc + 1];
+        for c in nc..n {
+            let last = (self.col_ptr[c]..self.col_ptr[c + 1])
+                .map(|p| self.row_idx[p])
+                .filter(|&r| r < nc)
+                .map(|r| pos[r] + 1)
+                .max()
+                .unwrap_or(0);
+            after[last].push(c);
+        }
+        let mut order = Vec::with_capacity(n);
+        order.extend_from_slice(&after[0]);
+        for (k, &col) in coords.iter().enumerate() {
+            order.push(col);
+            order.extend_from_slice(&after[k + 1]);
+        }
+        Ok(order)
+    }
+}
+
+/// Componentwise backward error of a solution z of A z = b (A in CSC).
+fn backward_error(cp: &[usize], ri: &[usize], v: &[f64], z: &[f64], b: &[f64]) -> f64 {
+    let mut res = b.to_vec();
+    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
+    for (j, &zj) in z.iter().enumerate() {
+        for p in cp[j]..cp[j + 1] {
+            res[ri[p]] -= v[p] * zj;
+            scale[ri[p]] += (v[p] * zj).abs();
+        }
+    }
+    res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
+        let e = if *s > 0.0 { r.abs() / s } else { r.abs() };
+        if e.is_nan() {
+            f64::INFINITY
+        } else {
+            m.max(e)
+        }
+    })
+}
+
+/// Deterministic pseudo-random numbers in (−1, 1) (xorshift64*), for start vectors.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let v = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (v >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// A factorisation of the shifted saddle-point matrix A(σ) = [K − σM, Gᵀ; G, 0].
+struct Shifted {
+    /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused), and the
+    /// CSC positions of the lower triangle it reads.
+    sym: Option<(SparseLu, Vec<usize>)>,
+    /// LU with partial pivoting (created when L D Lᵀ fails).
+    lu: Option<SparseLu>,
+    /// Which factorisation holds A(σ): true L D Lᵀ, false LU.
+    use_sym: bool,
+    sigma: f64,
+    /// Number of eigenvalues below σ (from the inertia), when L D Lᵀ holds A(σ).
+    below: Option<usize>,
+    /// Values of A(σ).
+    vals: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl Shifted {
+    fn new(p: &Problem) -> Self {
+        let sym = p.saddle_order(&p.group).ok().and_then(|order| {
+            let mut lu = SparseLu::with_order(p.n, order).ok()?;
+            if !lu.set_diagonal_pivots(&p.col_ptr, &p.row_idx) {
+                return None;
+            }
+            lu.set_pivot_tolerance(0.0);
+            let slots = lu.lower_layout(&p.col_ptr, &p.row_idx);
+            Some((lu, slots))
+        });
+        Self {
+            sym,
+            lu: None,
+            use_sym: false,
+            sigma: f64::NAN,
+            below: None,
+            vals: vec![0.0; p.k.len()],
+            rhs: vec![0.0; p.n],
+        }
+    }
+
+    /// Factor A(σ); `allow_lu`: fall back to LU when L D Lᵀ fails. Checks the accuracy of a
+    /// trial solve. Returns false when A(σ) could not be factored accurately.
+    fn factor(&mut self, p: &Problem, sigma: f64, allow_lu: bool) -> bool {
+        self.sigma = sigma;
+        self.below = None;
+        for (v, (k, m)) in self.vals.iter_mut().zip(p.k.iter().zip(&p.m)) {
+            *v = k - sigma * m;
+        }
+        let n_constraints = p.n - p.nc;
+        if let Some((lu, slots)) = &mut self.sym {
+            let lower: Vec<f64> = slots.iter().map(|&s| self.vals[s]).collect();
+            if lu.refactor_symmetric(&lower).is_ok() {
+                self.use_sym = true;
+                if self.accurate(p) {
+                    let neg = self.sym.as_ref().map_or(0, |s| s.0.negative_pivots());
+                    self.below = neg.checked_sub(n_constraints);
+                    return true;
+                }
+            }
+        }
+        if !allow_lu {
+            return false;
+        }
+        if self.lu.is_none() {
+            self.lu = SparseLu::new(p.n, &p.col_ptr, &p.row_idx).ok();
+        }
+        let Some(lu) = &mut self.lu else {
+            return false;
+        };
+        if lu.factor(&p.col_ptr, &p.row_idx, &self.vals).is_err() {
+            return false;
+        }
+        self.use_sym = false;
+        self.accurate(p)
+    }
+
+    /// Backward error of a solve with a pseudo-random right-hand side.
+    fn accurate(&mut self, p: &Problem) -> bool {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let b: Vec<f64> = (0..p.n).map(|_| rng.next()).collect();
+        let mut z = b.clone();
+        self.solve(&mut z);
+        z.iter().all(|v| v.is_finite())
+            && backward_error(&p.col_ptr, &p.row_idx, &self.vals, &z, &b) <= MAX_BACKWARD_ERROR
+    }
+
+    fn solve(&mut self, b: &mut [f64]) {
+        if self.use_sym {
+            if let Some((lu, _)) = &mut self.sym {
+                lu.solve(b);
+            }
+        } else if let Some(lu) = &mut self.lu {
+            lu.solve(b);
+        }
+    }
+
+    /// The shift-invert operator on coordinates: u = first nc of A(σ)⁻¹ [M v; 0].
+    fn apply(&mut self, p: &Problem, v: &[f64], out: &mut [f64]) {
+        let mut rhs = std::mem::take(&mut self.rhs);
+        p.m_times(v, &mut rhs[..p.nc]);
+        rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
+        self.solve(&mut rhs);
+        out.copy_from_slice(&rhs[..p.nc]);
+        self.rhs = rhs;
+    }
+
+    /// The operator for a vector whose product `mv` = M v is known.
+    fn apply_mv(&mut self, p: &Problem, mv: &[f64], out: &mut [f64]) {
+        let mut rhs = std::mem::take(&mut self.rhs);
+        rhs[..p.nc].copy_from_slice(mv);
+        rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
+        self.solve(&mut rhs);
+        out.copy_from_slice(&rhs[..p.nc]);
+        self.rhs = rhs;
+    }
+
+    /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it (the
+    /// factorisation at σ is kept: a copy of the symbolic structure is used).
+    fn count_below(&self, p: &Problem, s: f64) -> Option<usize> {
+        let (lu, slots) = self.sym.as_ref()?;
+        let mut lu = lu.clone();
+        let lower: Vec<f64> = slots.iter().map(|&q| p.k[q] - s * p.m[q]).collect();
+        lu.refactor_symmetric(&lower).ok()?;
+        lu.negative_pivots().checked_sub(p.n - p.nc)
+    }
+}
+
+/// A basis with the products of M: columns of `v` and `mv` = M `v`.
+struct Basis<'a> {
+    v: MatRef<'a, f64>,
+    mv: MatRef<'a, f64>,
+    /// Number of columns in use.
+    j: usize,
+}
+
+/// M-inner-product Gram–Schmidt of `w` against the bases (classical Gram–Schmidt with one
+/// reorthogonalisation); returns the coefficients against the first basis and the M-norm of
+/// the result, with `mw` = M w on return. Two products with M: at the start and at the end (in
+/// between, M w follows the updates through the stored products).
+fn orthogonalise(
+    p: &Problem,
+    main: &Basis<'_>,
+    locked: Option<&Basis<'_>>,
+    w: &mut [f64],
+    mw: &mut [f64],
+) -> (Vec<f64>, f64) {
+    let mut h = vec![0.0; main.j];
+    p.m_times(w, mw);
+    for _pass in 0..2 {
+        for (b, is_main) in [(Some(main), true), (locked, false)] {
+            let Some(b) = b else { continue };
+            if b.j == 0 {
+                continue;
+            }
+            let c = basis_dots(b.v, b.j, mw);
+            basis_subtract(b.v, &c, w);
+            basis_subtract(b.mv, &c, mw);
+            if is_main {
+                h.iter_mut().zip(&c).for_each(|(a, x)| *a += x);
+            }
+        }
+    }
+    p.m_times(w, mw);
+    let norm2: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum();
+    (h, norm2.max(0.0).sqrt())
+}
+
+/// Converged Ritz pairs of one Krylov–Schur run: θ (descending) and vectors (columns).
+struct Run {
+    theta: Vec<f64>,
+    x: Mat<f64>,
+    applications: usize,
+}
+
+/// Krylov–Schur (thick-restart Lanczos) for the `nev` largest θ of the operator, M-orthogonal
+/// to `locked` (M-orthonormal columns). Fewer pairs are returned when the reachable space is
+/// smaller (all of them exact then). `Err(applications)` when `max_applications` was reached.
+fn krylov_schur(
+    p: &Problem,
+    op: &mut Shifted,
+    nev: usize,
+    locked: &Mat<f64>,
+    seed: u64,
+    max_applications: usize,
+) -> Result<Run, usize> {
+    let nc = p.nc;
+    let mmax = (2 * nev + 10).max(nev + 20).min(nc);
+    let mut v = Mat::<f64>::zeros(nc, mmax + 1);
+    let mut mv = Mat::<f64>::zeros(nc, mmax + 1);
+    let mut h = Mat::<f64>::zeros(mmax, mmax);
+    let mut w = vec![0.0; nc];
+    let mut mw = vec![0.0; nc];
+    let mut rng = Rng(seed);
+    let mut applications = 0;
+    let mut ml = Mat::<f64>::zeros(nc, locked.ncols());
+    for c in 0..locked.ncols() {
+        p.m_times(locked.col_as_slice(c), ml.col_as_slice_mut(c));
+    }
+    let lk = Basis {
+        v: locked.as_ref(),
+        mv: ml.as_ref(),
+        j: locked.ncols(),
+    };
+    let lk = (lk.j > 0).then_some(&lk);
+    // a start vector from the operator's range, M-orthogonal to the first j basis vectors,
+    // normalised into column j; false when the reachable space is exhausted
+    let mut new_start = |v: &mut Mat<f64>,
+                         mv: &mut Mat<f64>,
+                         j: usize,
+                         w: &mut Vec<f64>,
+                         mw: &mut Vec<f64>,
+                         op: &mut Shifted,
+                         applications: &mut usize|
+     -> bool {
+        for _ in 0..3 {
+            let r: Vec<f64> = (0..nc).map(|_| rng.next()).collect();
+            op.apply(p, &r, w);
+            *applications += 1;
+            p.m_times(w, mw);
+            let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
+            let main = Basis {
+                v: v.as_ref(),
+                mv: mv.as_ref(),
+                j,
+            };
+            let (_, after) = orthogonalise(p, &main, lk, w, mw);
+            if before > 0.0 && after > 1e-8 * before.sqrt() {
+                for (dst, src) in [(&mut *v, &*w), (&mut *mv, &*mw)] {
+                    dst.col_as_slice_mut(j)
+                        .iter_mut()
+                        .zip(src.iter())
+                        .for_each(|(a, b)| *a = b / after);
+                }
+                return true;
+            }
+        }
+        false
+    };
+    if !new_start(&mut v, &mut mv, 0, &mut w, &mut mw, op, &mut applications) {
+        return Ok(Run {
+            theta: Vec::new(),
+            x: Mat::zeros(nc, 0),
+            applications,
+        });
+    }
+    let mut k = 0; // size of the kept (restarted) decomposition
+    loop {
+        // expand from k to mmax: S V_m = V_m H_m + β v_{m+1} e_mᵀ
+        let mut beta = 0.0;
+        let mut j = k;
+        let mut exhausted = false;
+        while j < mmax {
+            op.apply_mv(p, mv.col_as_slice(j), &mut w);
+            applications += 1;
+            let main = Basis {
+                v: v.as_ref(),
+                mv: mv.as_ref(),
+                j: j + 1,
+            };
+            let (hc, b) = orthogonalise(p, &main, lk, &mut w, &mut mw);
+            for (i, c) in hc.iter().enumerate() {
+                h[(i, j)] = *c;
+            }
+            let scale = hc.iter().fold(0.0f64, |a, c| a.max(c.abs()));
+            j += 1;
+            if b > 1e-12 * scale && b > 0.0 {
+                beta = b;
+                for (dst, src) in [(&mut v, &w), (&mut mv, &mw)] {
+                    dst.col_as_slice_mut(j)
+                        .iter_mut()
+                        .zip(src.iter())
+                        .for_each(|(a, c)| *a = c / b);
+                }
+            } else {
+                // an invariant subspace: continue with a new direction (coupling zero)
+                beta = 0.0;
+                if j < mmax
+                    && !new_start(&mut v, &mut mv, j, &mut w, &mut mw, op, &mut applications)
+                {
+                    exhausted = true;
+                    break;
+                }
+            }
+        }
+        let m = j;
+        // Ritz pairs of the symmetric projected matrix (its upper triangle was computed)
+        let hs = Mat::from_fn(m, m, |a, b| if a <= b { h[(a, b)] } else { h[(b, a)] });
+        let (s, y) = sym_eigen_seq(hs.as_ref()).map_err(|_| applications)?;
+        // wanted: the largest θ (the eigenvalues nearest above the shift)
+        let order: Vec<usize> = (0..m).rev().collect();
+        let want = nev.min(m);
+        let converged = |i: usize| (beta * y[(m - 1, i)]).abs() <= TOL * s[i].abs() && s[i] != 0.0;
+        let conv = order
+            .iter()
+            .take(want)
+            .take_while(|&&i| converged(i))
+            .count();
+        if conv == want || exhausted || beta == 0.0 {
+            let sel: Vec<usize> = order.iter().take(want).copied().collect();
+            let ysel = Mat::from_fn(m, sel.len(), |a, b| y[(a, sel[b])]);
+            return Ok(Run {
+                theta: sel.iter().map(|&i| s[i]).collect(),
+                x: basis_combine(v.subcols(0, m), ysel.as_ref()),
+                applications,
+            });
+        }
+        if applications >= max_applications {
+            return Err(applications);
+        }
+        // thick restart: the best `keep` Ritz vectors, then the residual vector
+        let keep = (nev + (mmax - nev) / 2).clamp(1, m - 1);
+        let sel: Vec<usize> = order.iter().take(keep).copied().collect();
+        let ysel = Mat::from_fn(m, keep, |a, b| y[(a, sel[b])]);
+        for basis in [&mut v, &mut mv] {
+            let vk = basis_combine(basis.subcols(0, m), ysel.as_ref());
+            for c in 0..keep {
+                basis
+                    .col_as_slice_mut(c)
+                    .copy_from_slice(vk.col_as_slice(c));
+            }
+            let resid = basis.col_as_slice(m).to_vec();
+            basis.col_as_slice_mut(keep).copy_from_slice(&resid);
+        }
+        h.fill(0.0);
+        for (c, &i) in sel.iter().enumerate() {
+            // the coupling of the kept vectors to the residual vector (β times the last row of
+            // their Ritz vectors) is computed again by the next orthogonalisation
+            h[(c, c)] = s[i];
+        }
+        k = keep;
+    }
+}
+
+/// Krylov–Schur runs at the current shift until the `want` largest θ have converged and the
+/// Sturm check (inertia just above the last of them) finds no eigenvalue missed; a missed one
+/// (the second copy of a multiple eigenvalue) is found by a further run deflated against the
+/// vectors found. Returns the Ritz vectors, their θ and the operator applications used.
+fn lanczos_runs(
+    p: &Problem,
+    op: &mut Shifted,
+    want: usize,
+    max_applications: usize,
+) -> Result<(Mat<f64>, Vec<f64>, usize), ModalError> {
+    let nc = p.nc;
+    let sigma = op.sigma;
+    let mut found: Mat<f64> = Mat::zeros(nc, 0);
+    let mut thetas: Vec<f64> = Vec::new();
+    let mut applications = 0;
+    for run in 0..8u64 {
+        let need = want.saturating_sub(thetas.len()).max(1);
+        let r = krylov_schur(
+            p,
+            op,
+            need,
+            &found,
+            0x5DEE_CE66_D1CE_4E5B ^ (run + 1).wrapping_mul(0x9E37_79B9),
+            max_applications.saturating_sub(applications),
+        )
+        .map_err(|a| ModalError::NotConverged {
+            found: thetas.len(),
+            wanted: want,
+            applications: applications + a,
+        })?;
+        applications += r.applications;
+        if r.theta.is_empty() {
+            break;
+        }
+        let old = found.ncols();
+        let mut all = Mat::<f64>::zeros(nc, old + r.x.ncols());
+        for c in 0..old {
+            all.col_as_slice_mut(c)
+                .copy_from_slice(found.col_as_slice(c));
+        }
+        for c in 0..r.x.ncols() {
+            all.col_as_slice_mut(old + c)
+                .copy_from_slice(r.x.col_as_slice(c));
+        }
+        found = all;
+        thetas.extend(&r.theta);
+        if thetas.len() < want {
+            continue;
+        }
+        let mut lam: Vec<f64> = thetas.iter().map(|&t| sigma + 1.0 / t).collect();
+        lam.sort_by(f64::total_cmp);
+        let last = lam[want - 1];
+        let scale = lam.iter().fold(sigma.abs(), |a, l| a.max(l.abs()));
+        let check = last + 1e-6 * scale.max(f64::MIN_POSITIVE);
+        match op.count_below(p, check) {
+            Some(below) if below > lam.iter().filter(|&&l| l < check).count() => continue,
+            _ => break,
+        }
+    }
+    if thetas.is_empty() {
+        return Err(ModalError::NotConverged {
+            found: 0,
+            wanted: want,
+            applications,
+        });
+    }
+    Ok((found, thetas, applications))
+}
+
+/// The lowest `count` eigenpairs on the sparse path.
+pub(crate) fn sparse_modes(
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+) -> Result<SparseModes, ModalError> {
+    let p = Problem::new(model, step);
+    let nc = p.nc;
+    let n_constraints = p.n - nc;
+    if nc < n_constraints {
+        // more constraints than coordinates: some repeat others (the dense path removes them)
+        return Err(ModalError::SparseSingular);
+    }
+    if nc == n_constraints {
+        return Err(ModalError::NoDof);
+    }
+    if p.m_val.iter().all(|&v| v == 0.0) {
+        return Err(ModalError::NoMass);
+    }
+    let ndof = nc - n_constraints;
+    let mut op = Shifted::new(&p);
+    // scale of the eigenvalues: the largest Rayleigh quotient of a unit coordinate
+    let (kd, md) = p.diagonals();
+    let lambda_ref = kd
+        .iter()
+        .zip(&md)
+        .filter(|(_, &m)| m > 0.0)
+        .map(|(&k, &m)| k.abs() / m)
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    // shift: 0 when K is positive definite on the constrained space, else lowered until no
+    // eigenvalue lies below it (inertia), starting just above the round-off level
+    let mut shifts = vec![0.0];
+    let floor = f64::EPSILON * lambda_ref / nc as f64;
+    shifts.extend((0..12).map(|i| -floor * 100f64.powi(i)));
+    let mut chosen = None;
+    for &s in &shifts {
+        if op.factor(&p, s, false) && op.below == Some(0) {
+            chosen = Some(s);
+            break;
+        }
+    }
+    if chosen.is_none() {
+        // no L D Lᵀ without eigenvalues below the shift: LU, without the inertia check
+        for &s in &shifts {
+            if op.factor(&p, s, true) {
+                chosen = Some(s);
+                break;
+            }
+        }
+    }
+    let Some(mut sigma) = chosen else {
+        let names: Vec<String> = super::massless_nodes(model, &step.x)
+            .iter()
+            .map(|&i| model.nodes[i].name.clone())
+            .collect();
+        if !names.is_empty() {
+            return Err(ModalError::MasslessMechanism {
+                nodes: names.join(", "),
+            });
+        }
+        return Err(ModalError::SparseSingular);
+    };
+    // massless directions: the finite eigenvalues all lie below a shift far above them
+    let massless = match op.count_below(&p, 1e8 * lambda_ref) {
+        Some(finite) if finite <= ndof => ndof - finite,
+        _ => md.iter().filter(|&&m| m <= 0.0).count().min(ndof),
+    };
+    let n_finite = ndof - massless;
+    let want = count.min(n_finite);
+    if want == 0 {
+        return Ok(SparseModes {
+            eigenvalues: Vec::new(),
+            shapes: Vec::new(),
+            ndof,
+            massless,
+        });
+    }
+    let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
+    let (mut found, mut thetas, mut applications) =
+        lanczos_runs(&p, &mut op, want, max_applications)?;
+    // A shift that makes the operator amplify some directions far more than the wanted modes
+    // costs these digits when they are orthogonalised against those directions: a shift far
+    // closer to the lowest eigenvalue than to the last wanted one (zero-frequency motions, an
+    // unstable mode), or a small negative shift that only just regularises a matrix singular
+    // in directions the constraints remove (a massless or stiffness-free part of a rigid
+    // body). Then shift again, clearly below the lowest eigenvalue (the inertia confirms it).
+    let mut lam: Vec<f64> = thetas.iter().map(|&t| sigma + 1.0 / t).collect();
+    lam.sort_by(f64::total_cmp);
+    let (l1, lk) = (lam[0], lam[lam.len().min(want) - 1]);
+    let dominated = lk - sigma > 1e6 * (l1 - sigma);
+    let barely_regular = sigma < 0.0 && -sigma < 1e-3 * (l1 - sigma);
+    if dominated || barely_regular {
+        let s2 = (l1 - 0.1 * (lk - l1)).min(-0.5 * l1.abs());
+        if op.factor(&p, s2, false) && op.below == Some(0) {
+            let budget = max_applications.saturating_sub(applications).max(1);
+            let (f2, t2, a2) = lanczos_runs(&p, &mut op, want, budget)?;
+            (found, thetas, sigma, applications) = (f2, t2, s2, applications + a2);
+        } else if !op.factor(&p, sigma, true) {
+            return Err(ModalError::SparseSingular);
+        }
+    }
+    debug_assert!(applications <= 2 * max_applications);
+    // the lowest `want` by θ; purified by one more application when there are massless
+    // directions (their components then follow the massive ones exactly)
+    let mut order: Vec<usize> = (0..thetas.len()).collect();
+    order.sort_by(|&a, &b| (sigma + 1.0 / thetas[a]).total_cmp(&(sigma + 1.0 / thetas[b])));
+    order.truncate(want);
+    let nf = order.len();
+    let mut y = Mat::<f64>::zeros(nc, nf);
+    for (c, &i) in order.iter().enumerate() {
+        if massless > 0 {
+            let xc = found.col_as_slice(i).to_vec();
+            op.apply(&p, &xc, y.col_as_slice_mut(c));
+        } else {
+            y.col_as_slice_mut(c).copy_from_slice(found.col_as_slice(i));
+        }
+    }
+    // M-orthonormal: the Ritz vectors are (full reorthogonalisation); purified ones are made so
+    // again (Löwdin: Y (YᵀMY)^-½, the nearest M-orthonormal set)
+    let q = if massless > 0 {
+        let mut my = Mat::<f64>::zeros(nc, nf);
+        for c in 0..nf {
+            p.m_times(y.col_as_slice(c), my.col_as_slice_mut(c));
+        }
+        let g = y.transpose() * &my;
+        let g = Mat::from_fn(nf, nf, |a, b| 0.5 * (g[(a, b)] + g[(b, a)]));
+        let (gs, gu) = sym_eigen_seq(g.as_ref())?;
+        if (0..nf).any(|i| gs[i].is_nan() || gs[i] <= 0.0) {
+            return Err(ModalError::Eigen(EigenError::NotPositiveDefinite {
+                what: "projected mass",
+                index: 0,
+                hint: "the converged modes are linearly dependent",
+            }));
+        }
+        let inv_sqrt = Mat::from_fn(nf, nf, |a, b| {
+            (0..nf)
+                .map(|k| gu[(a, k)] * gu[(b, k)] / gs[k].sqrt())
+                .sum::<f64>()
+        });
+        &y * &inv_sqrt
+    } else {
+        y
+    };
+    let shapes: Vec<Vec<f64>> = if nc < PAR_MIN {
+        (0..nf)
+            .map(|k| p.lin.to_x(model, &step.x, q.col_as_slice(k)))
+            .collect()
+    } else {
+        (0..nf)
+            .into_par_iter()
+            .map(|k| p.lin.to_x(model, &step.x, q.col_as_slice(k)))
+            .collect()
+    };
+    // eigenvalues: Rayleigh quotients, the stiffness through the element deformations
+    let e2 = p.lin.material_energy2(model, &step.x, &shapes);
+    let mut g2 = vec![0.0; nf];
+    if p.lin.geo.iter().any(|&v| v != 0.0) {
+        let mut e = 0;
+        p.lin.for_each_entry(|r, c| {
+            let gv = p.lin.geo[e];
+            if gv != 0.0 {
+                for (k, g) in g2.iter_mut().enumerate() {
+                    *g += gv * q[(r, k)] * q[(c, k)];
+                }
+            }
+            e += 1;
+        });
+    }
+    let mut modes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(nf);
+    for (k, shape) in shapes.into_iter().enumerate() {
+        let u = q.col_as_slice(k);
+        let g2 = g2[k];
+        let mut mu = vec![0.0; nc];
+        p.m_times(u, &mut mu);
+        let m2: f64 = u.iter().zip(&mu).map(|(a, b)| a * b).sum();
+        let lam = (e2[k] + g2) / m2;
+        modes.push((lam, shape));
+    }
+    modes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (eigenvalues, shapes) = modes.into_iter().unzip();
+    Ok(SparseModes {
+        eigenvalues,
+        shapes,
+        ndof,
+        massless,
+    })
+}
+
+#[cfg(test)]
+#[path = "sparse_tests.rs"]
+mod tests;

@@ -1,0 +1,324 @@
+//! Steady rotation of the whole model (a rotor, a rotating blade, a spinning stage): analysis in
+//! the co-rotating frame.
+//!
+//! The model turns at a constant angular velocity Ω = Ω n about an axis through the point a.
+//! In the co-rotating frame a static state is an equilibrium under the centrifugal (inertial)
+//! loads (validation.md F03: "steady rotation (or the static centrifugal load) first, then a
+//! linearised modal analysis about it, including the geometric stiffness"):
+//!
+//! - distributed on every beam with mass: f(s) = ρA Ω² P (r(s) − a), P = I − n nᵀ; the nodal
+//!   loads are consistent with the beam's mass model (`dynamics::mass`): r(ξ) is the cubic
+//!   Hermite centre line through the end positions and end tangents, so with
+//!   y = (r_p − a, l₀ t_p, r_q − a, l₀ t_q) and Hᵢⱼ = ∫₀¹ HᵢHⱼ dξ the generalised forces are
+//!   F_p = ρA l₀ Ω² Σⱼ H₁ⱼ P yⱼ, M_p = l₀ t_p × (ρA l₀ Ω² Σⱼ H₂ⱼ P yⱼ) and likewise at q
+//!   (the virtual displacement of the tangent term is l₀ δθ × t);
+//! - point masses: m Ω² P (r − a);
+//! - rotary inertia (the beams' lumped ρI l₀/2 at each end, and `[[inertia]]` tensors): the
+//!   moment −Ω × (I Ω) (Euler's equation of a body turning steadily with the frame).
+//!
+//! The loads are computed on the reference configuration and applied as dead loads that grow
+//! with the load factor like every other load (Ω² ramps linearly). They do not follow the
+//! deflection: this is the classical small-deflection pre-stress analysis of rotating beams
+//! (centrifugal stiffening through the axial force N(x) = ρAΩ²(L² − x²)/2 of a radial beam).
+//! The linearised dynamics add the centrifugal softening −Ω² M_P (the mass matrix with the
+//! projection P, theory.md §13.1's N0 of the centrifugal field) and leave out the Coriolis
+//! (gyroscopic) coupling 2Ω × ṙ: out-of-plane (flapwise) motion is exact, in-plane (lead-lag)
+//! motion follows ω² = ω²_elastic − Ω² without the coupling to axial motion (docs/dynamics.md).
+
+use crate::elements::Element;
+use crate::math::{cross, dot};
+use crate::model::Model;
+
+/// A steady rotation: angular velocity `omega` [rad/s] (global axes) about the axis through
+/// `point` [m].
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Spin {
+    /// Angular velocity vector Ω [rad/s].
+    pub omega: [f64; 3],
+    /// A point on the rotation axis [m].
+    pub point: [f64; 3],
+}
+
+impl Spin {
+    /// Ω² P = Ω² I − Ω Ωᵀ: the centrifugal acceleration of a point at r is Ω² P (r − a).
+    pub fn projector(&self) -> [[f64; 3]; 3] {
+        let w = self.omega;
+        let w2 = dot(w, w);
+        std::array::from_fn(|i| {
+            std::array::from_fn(|k| if i == k { w2 } else { 0.0 } - w[i] * w[k])
+        })
+    }
+
+    /// Centrifugal acceleration Ω² P (r − a) at the point r.
+    pub fn acceleration(&self, r: [f64; 3]) -> [f64; 3] {
+        apply(&self.projector(), sub3(r, self.point))
+    }
+
+    /// Inertial moment −Ω × (I Ω) of a body with inertia tensor `i` (global axes).
+    pub fn moment(&self, i: &[[f64; 3]; 3]) -> [f64; 3] {
+        let h = apply(i, self.omega);
+        let m = cross(self.omega, h);
+        [-m[0], -m[1], -m[2]]
+    }
+}
+
+fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn apply(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| dot(m[i], v))
+}
+
+/// Centrifugal nodal loads of the model's spin on the reference configuration: per node
+/// (force, moment) in global axes [N, N·m]; all zero without a spin.
+pub fn centrifugal_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
+    let mut out = vec![([0.0; 3], [0.0; 3]); model.nodes.len()];
+    let Some(spin) = model.loads.spin else {
+        return out;
+    };
+    let pw = spin.projector();
+    let add = |v: &mut [f64; 3], a: [f64; 3]| {
+        for k in 0..3 {
+            v[k] += a[k];
+        }
+    };
+    for entry in &model.elements {
+        let Element::Beam(b) = &entry.element else {
+            continue;
+        };
+        let Some(p) = &b.props else { continue };
+        let [np, nq] = b.nodes;
+        let (rp, rq) = (model.nodes[np].x0, model.nodes[nq].x0);
+        // straight reference beam: both end tangents are ex
+        let t = b.frame[0];
+        let lt = [b.l0 * t[0], b.l0 * t[1], b.l0 * t[2]];
+        let y = [sub3(rp, spin.point), lt, sub3(rq, spin.point), lt];
+        let py: Vec<[f64; 3]> = y.iter().map(|&v| apply(&pw, v)).collect();
+        let ml = p.rho_a * b.l0;
+        let g: [[f64; 3]; 4] = std::array::from_fn(|i| {
+            std::array::from_fn(|k| {
+                ml * (0..4)
+                    .map(|j| crate::dynamics::mass::HERMITE[i][j] * py[j][k])
+                    .sum::<f64>()
+            })
+        });
+        add(&mut out[np].0, g[0]);
+        add(&mut out[nq].0, g[2]);
+        add(&mut out[np].1, cross(lt, g[1]));
+        add(&mut out[nq].1, cross(lt, g[3]));
+        // lumped rotary inertia, half the element's to each end, in the element axes
+        let d = p.rho_i.map(|v| v * b.l0 / 2.0);
+        let mut it = [[0.0; 3]; 3];
+        for (k, e) in b.frame.iter().enumerate() {
+            for r in 0..3 {
+                for c in 0..3 {
+                    it[r][c] += d[k] * e[r] * e[c];
+                }
+            }
+        }
+        let m = spin.moment(&it);
+        add(&mut out[np].1, m);
+        add(&mut out[nq].1, m);
+    }
+    for &(node, m) in &model.loads.point_masses {
+        let a = spin.acceleration(model.nodes[node].x0);
+        add(&mut out[node].0, a.map(|v| m * v));
+    }
+    for (node, tensor) in &model.loads.inertias {
+        add(&mut out[*node].1, spin.moment(tensor));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::modes;
+    use crate::model::{ElementSpec, ModelBuilder};
+    use crate::section::{BeamProps, Material, Shape};
+    use crate::statics::{solve, StaticOptions};
+
+    const STEEL: Material = Material {
+        e: 210e9,
+        g: 210e9 / 2.6,
+        rho: 7800.0,
+    };
+
+    /// `n` beams along x from the origin, length `l`, width 20 mm along global y and thickness
+    /// 0.2 mm along global z; clamped at the root; an optional tip mass.
+    fn radial_strip(n: usize, l: f64, tip: f64, spin: Spin) -> Model {
+        let mut b = ModelBuilder::new("blade");
+        for i in 0..=n {
+            b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
+                .unwrap();
+        }
+        let props = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.02, t: 0.2e-3 }, true);
+        for i in 0..n {
+            let name = format!("b{i}");
+            b.add_element(
+                &name,
+                &[&format!("n{i}"), &format!("n{}", i + 1)],
+                ElementSpec::Beam {
+                    orient: Some([0.0, 1.0, 0.0]),
+                    ct: 0.0,
+                },
+                &[],
+                &[],
+            )
+            .unwrap();
+            b.set_beam_props(&name, props).unwrap();
+        }
+        if tip > 0.0 {
+            b.add_point_mass(&format!("n{n}"), tip).unwrap();
+        }
+        b.fix("n0", None).unwrap();
+        b.set_spin(spin.omega, spin.point).unwrap();
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn radial_beam_gets_the_consistent_centrifugal_loads() {
+        // ρA = 7800 · 20 mm · 0.2 mm = 0.0312 kg/m, L = 2, Ω = 5 about z through the origin,
+        // tip mass 0.5 kg: q(x) = ρAΩ² x along x. On an element [x1, x1 + h] the Hermite-
+        // consistent end forces are c h (x1/2 + 3h/20) and c h (x1/2 + 7h/20) (∫H1 = ∫H3 = 1/2,
+        // ∫H1 ξ = 3/20, ∫H3 ξ = 7/20); the tip mass adds m Ω² L; no moments (t × P r = 0).
+        let spin = Spin {
+            omega: [0.0, 0.0, 5.0],
+            point: [0.0; 3],
+        };
+        let m = radial_strip(4, 2.0, 0.5, spin);
+        let loads = centrifugal_loads(&m);
+        let (c, h) = (0.0312 * 25.0, 0.5);
+        for (i, load) in loads.iter().enumerate() {
+            let mut want = 0.0;
+            if i > 0 {
+                want += c * h * (h * (i - 1) as f64 / 2.0 + 7.0 * h / 20.0);
+            }
+            if i < 4 {
+                want += c * h * (h * i as f64 / 2.0 + 3.0 * h / 20.0);
+            } else {
+                want += 0.5 * 25.0 * 2.0;
+            }
+            assert!(
+                (load.0[0] - want).abs() < 1e-12 * want.max(1.0),
+                "node {i}: {} vs {want}",
+                load.0[0]
+            );
+            assert!(load.0[1].abs() < 1e-15 && load.0[2].abs() < 1e-15);
+            assert!(load.1.iter().all(|v| v.abs() < 1e-15), "{:?}", load.1);
+        }
+    }
+
+    #[test]
+    fn offset_axis_loads_reproduce_resultant_and_moment() {
+        // a spin Ω = 2 about x through (0, 1, 0): every point of the beam (on y = 0) is 1 m
+        // off the axis, so the load is −ρAΩ² per length along y: resultant −(0.0312·2 + 0.5)·4,
+        // moment about z at the origin −ρAΩ² L²/2 − m Ω² L (tip mass at x = L)
+        let spin = Spin {
+            omega: [2.0, 0.0, 0.0],
+            point: [0.0, 1.0, 0.0],
+        };
+        let m = radial_strip(3, 2.0, 0.5, spin);
+        let loads = centrifugal_loads(&m);
+        let fy: f64 = loads.iter().map(|l| l.0[1]).sum();
+        let fx: f64 = loads.iter().map(|l| l.0[0]).sum();
+        assert!((fy + (0.0312 * 2.0 + 0.5) * 4.0).abs() < 1e-12, "{fy}");
+        assert!(fx.abs() < 1e-15);
+        let mz: f64 = loads
+            .iter()
+            .zip(&m.nodes)
+            .map(|(l, n)| n.x0[0] * l.0[1] - n.x0[1] * l.0[0] + l.1[2])
+            .sum();
+        let want = -0.0312 * 4.0 * 2.0 - 0.5 * 4.0 * 2.0;
+        assert!((mz - want).abs() < 1e-12, "{mz} vs {want}");
+    }
+
+    #[test]
+    fn rigid_body_moment_is_minus_omega_cross_i_omega() {
+        // I = diag(1, 2, 3), Ω = (1, 1, 0): I Ω = (1, 2, 0), Ω × IΩ = (0, 0, 1)
+        let spin = Spin {
+            omega: [1.0, 1.0, 0.0],
+            point: [0.0; 3],
+        };
+        let i = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
+        assert_eq!(spin.moment(&i), [0.0, 0.0, -1.0]);
+    }
+
+    /// Flapwise (global z, out of the plane of rotation) natural frequencies ω̄ = ω √(ρA L⁴/EI)
+    /// of the rotating clamped strip, lowest first.
+    /// The static state of the rotating clamped strip (L = 50 mm) at Ω̄ = Ω √(ρA L⁴/EI), and
+    /// √(EI/(ρA L⁴)).
+    fn blade_state(n: usize, omega_bar: f64) -> (Model, crate::statics::StepResult, f64) {
+        let l: f64 = 0.05;
+        let p = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.02, t: 0.2e-3 }, true);
+        let c = (p.eiy / (p.rho_a * l.powi(4))).sqrt();
+        let spin = Spin {
+            omega: [0.0, 0.0, omega_bar * c],
+            point: [0.0; 3],
+        };
+        let model = radial_strip(n, l, 0.0, spin);
+        let mut sol = solve(
+            &model,
+            &StaticOptions {
+                steps: 1,
+                ..Default::default()
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        let step = sol.steps.pop().unwrap();
+        (model, step, c)
+    }
+    fn flap_frequencies(n: usize, omega_bar: f64) -> Vec<f64> {
+        let (model, step, c) = blade_state(n, omega_bar);
+        let modal = modes(&model, &step, 12).unwrap();
+        modal
+            .modes
+            .iter()
+            .filter(|m| {
+                let (z, all) = m.nodal.iter().fold((0.0, 0.0), |(z, a), (u, _)| {
+                    (z + u[2] * u[2], a + u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+                });
+                let translational: f64 = m.kinetic.iter().map(|k| k.1).sum();
+                translational > 0.5 && z > 0.99 * all
+            })
+            .map(|m| m.frequency * 2.0 * std::f64::consts::PI / c)
+            .collect()
+    }
+
+    #[test]
+    fn f03_rotating_cantilever_flapwise_frequencies() {
+        // validation.md F03, tolerance 0.1 %: ω̄1..3 at Ω̄ = 0, 1, 2, 5, 8, 12
+        let table = [
+            (0.0, [3.5160, 22.0345, 61.6972]),
+            (1.0, [3.6816, 22.1810, 61.8418]),
+            (2.0, [4.1373, 22.6149, 62.2732]),
+            (5.0, [6.4495, 25.4461, 65.2050]),
+            (8.0, [9.2568, 29.9954, 70.2930]),
+            (12.0, [13.1702, 37.6031, 79.6145]),
+        ];
+        for (omega_bar, want) in table {
+            let got = flap_frequencies(24, omega_bar);
+            for k in 0..3 {
+                let rel = (got[k] - want[k]) / want[k];
+                assert!(
+                    rel.abs() < 1e-3,
+                    "Ω̄ = {omega_bar}, mode {}: {} vs {} ({rel:e})",
+                    k + 1,
+                    got[k],
+                    want[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn f03_converges_with_the_number_of_elements() {
+        // Ω̄ = 10: ω̄1 = 11.2023; the error shrinks as the mesh is refined
+        let err = |n| ((flap_frequencies(n, 10.0)[0] - 11.2023) / 11.2023).abs();
+        let (e4, e16) = (err(4), err(16));
+        assert!(e16 < 5e-4, "{e16}");
+        assert!(e16 < e4, "{e4} → {e16}");
+    }
+}
