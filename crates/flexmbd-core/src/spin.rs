@@ -20,10 +20,10 @@
 //! with the load factor like every other load (Ω² ramps linearly). They do not follow the
 //! deflection: this is the classical small-deflection pre-stress analysis of rotating beams
 //! (centrifugal stiffening through the axial force N(x) = ρAΩ²(L² − x²)/2 of a radial beam).
-//! The linearised dynamics add the centrifugal softening −Ω² M_P (the mass matrix with the
-//! projection P, theory.md §13.1's N0 of the centrifugal field) and leave out the Coriolis
-//! (gyroscopic) coupling 2Ω × ṙ: out-of-plane (flapwise) motion is exact, in-plane (lead-lag)
-//! motion follows ω² = ω²_elastic − Ω² without the coupling to axial motion (docs/dynamics.md).
+//! The linearised dynamics add the centrifugal softening −Ω² M_P ([`softening_matrix`]: the
+//! translational mass with the projection P) and leave out the Coriolis (gyroscopic) coupling
+//! 2Ω × ṙ: out-of-plane (flapwise) motion is exact, in-plane (lead-lag) motion follows
+//! ω² = ω²_elastic − Ω² without the coupling to axial motion (docs/dynamics.md).
 
 use crate::elements::Element;
 use crate::math::{cross, dot};
@@ -131,11 +131,47 @@ pub fn centrifugal_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
     out
 }
 
+/// The centrifugal softening −Ω² M_P (nx × nx) at x: the second derivative of the centrifugal
+/// potential −½ ∫ ρA |P^½ Ω (r − a)|² of the beams' translational (Hermite) mass and the point
+/// masses, added to the stiffness of the linearised dynamics. Zero without a spin. The rotary
+/// inertias' centrifugal moments are left out (their stiffness, the "propeller moment", matters
+/// for the torsion of blades turning about their chord).
+pub fn softening_matrix(model: &Model, x: &[f64]) -> faer::Mat<f64> {
+    let mut k = faer::Mat::zeros(model.nx, model.nx);
+    let Some(spin) = model.loads.spin else {
+        return k;
+    };
+    let w = spin.projector();
+    for entry in &model.elements {
+        let Element::Beam(b) = &entry.element else {
+            continue;
+        };
+        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+        let Some(me) = crate::dynamics::mass::beam_local_mass_with(b, &xk, Some(&w), false) else {
+            continue;
+        };
+        for (r, &gr) in entry.xmap.iter().enumerate() {
+            for (c, &gc) in entry.xmap.iter().enumerate() {
+                k[(gr, gc)] -= me[r][c];
+            }
+        }
+    }
+    for &(node, m) in &model.loads.point_masses {
+        let ip = model.nodes[node].ix_pos;
+        for r in 0..3 {
+            for c in 0..3 {
+                k[(ip + r, ip + c)] -= m * w[r][c];
+            }
+        }
+    }
+    k
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::dynamics::modes;
-    use crate::model::{ElementSpec, ModelBuilder};
+    use crate::model::ModelBuilder;
     use crate::section::{BeamProps, Material, Shape};
     use crate::statics::{solve, StaticOptions};
 
@@ -149,26 +185,16 @@ mod tests {
     /// 0.2 mm along global z; clamped at the root; an optional tip mass.
     fn radial_strip(n: usize, l: f64, tip: f64, spin: Spin) -> Model {
         let mut b = ModelBuilder::new("blade");
-        for i in 0..=n {
-            b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
-                .unwrap();
-        }
         let props = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.02, t: 0.2e-3 }, true);
-        for i in 0..n {
-            let name = format!("b{i}");
-            b.add_element(
-                &name,
-                &[&format!("n{i}"), &format!("n{}", i + 1)],
-                ElementSpec::Beam {
-                    orient: Some([0.0, 1.0, 0.0]),
-                    ct: 0.0,
-                },
-                &[],
-                &[],
-            )
-            .unwrap();
-            b.set_beam_props(&name, props).unwrap();
-        }
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [l, 0.0, 0.0],
+            n,
+            Some([0.0, 1.0, 0.0]),
+            Some(props),
+        )
+        .unwrap();
         if tip > 0.0 {
             b.add_point_mass(&format!("n{n}"), tip).unwrap();
         }
@@ -320,5 +346,111 @@ mod tests {
         let (e4, e16) = (err(4), err(16));
         assert!(e16 < 5e-4, "{e16}");
         assert!(e16 < e4, "{e4} → {e16}");
+    }
+
+    #[test]
+    fn f03_lead_lag_is_softened_by_omega_squared() {
+        // validation.md F03: in the plane of rotation ω̄²_lag = ω̄²_flap − Ω̄² (centrifugal
+        // softening, Coriolis coupling to the stiff axial motion neglected). A square
+        // 0.5 × 0.5 mm section has the same EI both ways; Ω̄ = 8: flap 9.2568, 29.9954 and lag
+        // √(9.2568² − 64) = 4.6571, √(29.9954² − 64) = 28.9089.
+        let l: f64 = 0.05;
+        let shape = Shape::Rectangle {
+            w: 0.5e-3,
+            t: 0.5e-3,
+        };
+        let p = BeamProps::from_section(&STEEL, &shape, true);
+        let c = (p.eiy / (p.rho_a * l.powi(4))).sqrt();
+        let mut b = ModelBuilder::new("square blade");
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [l, 0.0, 0.0],
+            24,
+            Some([0.0, 1.0, 0.0]),
+            Some(p),
+        )
+        .unwrap();
+        b.fix("n0", None).unwrap();
+        b.set_spin([0.0, 0.0, 8.0 * c], [0.0; 3]).unwrap();
+        let model = b.build().unwrap();
+        let mut sol = solve(&model, &StaticOptions::default(), |_, _| {}).unwrap();
+        let step = sol.steps.pop().unwrap();
+        let modal = modes(&model, &step, 8).unwrap();
+        let along = |axis: usize| -> Vec<f64> {
+            modal
+                .modes
+                .iter()
+                .filter(|m| {
+                    let (a, all) = m.nodal.iter().fold((0.0, 0.0), |(s, t), (u, _)| {
+                        (
+                            s + u[axis] * u[axis],
+                            t + u.iter().map(|v| v * v).sum::<f64>(),
+                        )
+                    });
+                    a > 0.99 * all
+                })
+                .map(|m| m.frequency * 2.0 * std::f64::consts::PI / c)
+                .collect()
+        };
+        let (flap, lag) = (along(2), along(1));
+        for (k, (f, g)) in [(9.2568f64, 4.6571f64), (29.9954, 28.9089)]
+            .iter()
+            .enumerate()
+        {
+            assert!(
+                (flap[k] - f).abs() < 1e-3 * f,
+                "flap {k}: {} vs {f}",
+                flap[k]
+            );
+            assert!((lag[k] - g).abs() < 1e-3 * g, "lag {k}: {} vs {g}", lag[k]);
+        }
+    }
+
+    #[test]
+    fn sparse_and_dense_agree_with_spin_and_point_masses() {
+        // the same rotating model through both eigen solvers: a strip off the axis (hub radius
+        // 10 mm) with a tip mass, spinning about an inclined axis, so that the softening of
+        // the beams and of the point mass both enter, in every direction
+        use crate::dynamics::{modes_with, EigenSolver, ModalOptions};
+        let p = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.004, t: 0.001 }, true);
+        let mut b = ModelBuilder::new("hub blade");
+        b.add_beam_chain(
+            "",
+            [0.01, 0.0, 0.0],
+            [0.06, 0.0, 0.0],
+            16,
+            Some([0.0, 1.0, 0.0]),
+            Some(p),
+        )
+        .unwrap();
+        b.fix("n0", None).unwrap();
+        b.add_point_mass("n16", 2e-3).unwrap();
+        b.set_spin([0.0, 150.0, 400.0], [0.0, 0.0, 0.0]).unwrap();
+        let model = b.build().unwrap();
+        let mut sol = solve(&model, &StaticOptions::default(), |_, _| {}).unwrap();
+        let step = sol.steps.pop().unwrap();
+        let run = |solver| {
+            modes_with(&model, &step, 6, &ModalOptions { solver })
+                .unwrap()
+                .modes
+                .iter()
+                .map(|m| m.eigenvalue)
+                .collect::<Vec<f64>>()
+        };
+        let (dense, sparse) = (run(EigenSolver::Dense), run(EigenSolver::Sparse));
+        for (k, (d, s)) in dense.iter().zip(&sparse).enumerate() {
+            assert!(
+                (d - s).abs() < 1e-7 * d.abs(),
+                "mode {k}: dense {d}, sparse {s}"
+            );
+        }
+        // and the spin matters: without it the first eigenvalue differs
+        let mut still = model.clone();
+        still.loads.spin = None;
+        let mut sol = solve(&still, &StaticOptions::default(), |_, _| {}).unwrap();
+        let step0 = sol.steps.pop().unwrap();
+        let f0 = modes(&still, &step0, 1).unwrap().modes[0].eigenvalue;
+        assert!((f0 - dense[0]).abs() > 1e-2 * f0, "{f0} vs {}", dense[0]);
     }
 }

@@ -96,6 +96,19 @@ fn rotated_tensor(l: &[f64], frame: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3
 /// [r_p (3), λ_p (4), r_q (3), λ_q (4)] at their values `xk`: the consistent Hermite mass of the
 /// centre line plus the lumped rotary inertia (module docs). `None` for a beam without mass data.
 pub(crate) fn beam_local_mass(b: &Beam, xk: &[f64]) -> Option<[[f64; 14]; 14]> {
+    beam_local_mass_with(b, xk, None, true)
+}
+
+/// [`beam_local_mass`] with the translational kinetic energy weighted by a symmetric `weight`
+/// W (½ ρA ∫ ṙᵀ W ṙ instead of ½ ρA ∫ ṙᵀ ṙ; `None` = I), with or without the rotary
+/// inertia. W = Ω² P without rotary inertia is the centrifugal softening of a steady rotation
+/// (`crate::spin`).
+pub(crate) fn beam_local_mass_with(
+    b: &Beam,
+    xk: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+) -> Option<[[f64; 14]; 14]> {
     let p = b.props.as_ref()?;
     let (lp, lq) = (&xk[3..7], &xk[10..14]);
     let ex = b.frame[0];
@@ -115,10 +128,16 @@ pub(crate) fn beam_local_mass(b: &Beam, xk: &[f64]) -> Option<[[f64; 14]; 14]> {
             let h = ml * HERMITE[a][bb];
             for (r, vr) in ca.iter().enumerate() {
                 for (c, vc) in cb.iter().enumerate() {
-                    m[ia + r][ib + c] += h * crate::math::dot(*vr, *vc);
+                    let wc = weight.map_or(*vc, |w| {
+                        std::array::from_fn(|k| crate::math::dot(w[k], *vc))
+                    });
+                    m[ia + r][ib + c] += h * crate::math::dot(*vr, wc);
                 }
             }
         }
+    }
+    if !rotary {
+        return Some(m);
     }
     // rotary inertia, half the element's to each end
     let d = [

@@ -144,10 +144,7 @@ impl ModalOptions {
         match self.solver {
             EigenSolver::Auto => {
                 let n = velocity_dof(model);
-                if n > SPARSE_THRESHOLD
-                    && count.saturating_mul(3) <= n
-                    && model.loads.spin.is_none()
-                {
+                if n > SPARSE_THRESHOLD && count.saturating_mul(3) <= n {
                     EigenSolver::Sparse
                 } else {
                     EigenSolver::Dense
@@ -189,9 +186,6 @@ pub enum ModalError {
     /// The sparse path found no shift at which the shifted stiffness can be factored.
     #[error("sparse eigen solver: the shifted stiffness matrix [K − σM, Gᵀ; G, 0] is singular at every shift tried, so the model has a motion without both stiffness and inertia, or rigid/prescribed constraints that repeat each other. Check the model with `flexmbd check`, or use the dense solver (--solver dense), which removes repeated constraints")]
     SparseSingular,
-    /// A steady rotation (spin) with the sparse path.
-    #[error("sparse eigen solver: models with a steady rotation ([spin]) are solved by the dense path only (the centrifugal softening is not assembled sparsely yet); use --solver dense or auto")]
-    SparseSpin,
     /// The Lanczos iteration of the sparse path did not converge.
     #[error("sparse eigen solver: only {found} of the {wanted} lowest modes converged after {applications} shift-invert steps (restarted Lanczos, tolerance 1e-10). Ask for fewer modes (--count), or use the dense solver (--solver dense) if the model has at most a few thousand degrees of freedom")]
     NotConverged {
@@ -307,6 +301,9 @@ pub fn reduced_matrices_with(
                 kx[(i, j)] = lin.km[(ui, uj)] + lin.kg[(ui, uj)];
             }
         }
+    }
+    if model.loads.spin.is_some() {
+        kx += crate::spin::softening_matrix(model, &step.x);
     }
     let mx = mass::mass_matrix(model, &step.x);
     let k0 = sym(z.transpose() * &kx * &z);
@@ -572,9 +569,6 @@ fn lowest(
     opts: &ModalOptions,
 ) -> Result<Lowest, ModalError> {
     if opts.resolve(model, count) == EigenSolver::Sparse {
-        if model.loads.spin.is_some() {
-            return Err(ModalError::SparseSpin);
-        }
         match sparse::sparse_modes(model, step, count) {
             Ok(sm) => {
                 return Ok(Lowest {

@@ -154,6 +154,9 @@ pub(crate) struct SparseModes {
 /// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
 struct Problem {
     lin: ReducedLinear,
+    /// Stiffness entries outside the element pattern (softening of point masses), for the
+    /// Rayleigh quotients.
+    extra_k: Vec<(usize, usize, f64)>,
     /// The node of every coordinate.
     group: Vec<usize>,
     /// Size of the saddle-point system.
@@ -194,7 +197,7 @@ fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64], out: &mut
 
 impl Problem {
     fn new(model: &Model, step: &StepResult) -> Self {
-        let lin = ReducedLinear::new(model, step);
+        let mut lin = ReducedLinear::new(model, step);
         let (n, nc) = (lin.n(), lin.n_coords());
         let x = &step.x;
         // element mass blocks, in the order of the element entries
@@ -239,13 +242,44 @@ impl Problem {
                 pieces.into_par_iter().with_min_len(64).for_each(fill);
             }
         }
-        // node masses: point masses and inertia tensors
-        let mut extra: Vec<(usize, usize, f64)> = Vec::new();
+        // centrifugal softening of a steady rotation (crate::spin): −Ω² M_P on the beams, on the
+        // element pattern, counted with the geometric part (it enters the Rayleigh quotients)
+        let w = model.loads.spin.map(|sp| sp.projector());
+        if let Some(w) = &w {
+            for (el, r) in &ranges {
+                let entry = &model.elements[*el];
+                let crate::elements::Element::Beam(b) = &entry.element else {
+                    continue;
+                };
+                let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+                if let Some(ms) = super::mass::beam_local_mass_with(b, &xk, Some(w), false) {
+                    let mut soft = vec![0.0; r.end - r.start];
+                    lin.element_block(model, *el, x, &|a, c| -ms[a][c], &mut soft);
+                    for (i, v) in r.clone().zip(soft) {
+                        lin.vals[i] += v;
+                        lin.geo[i] += v;
+                    }
+                }
+            }
+        }
+        // node masses: point masses (with their softening) and inertia tensors, as
+        // (row, column, K value, M value)
+        let mut extra: Vec<(usize, usize, f64, f64)> = Vec::new();
         for &(node, mass) in &model.loads.point_masses {
             let ip = model.nodes[node].ix_pos;
-            for k in 0..3 {
-                if let Some(i) = lin.coord_index(ip + k) {
-                    extra.push((i, i, mass));
+            for a in 0..3 {
+                let Some(i) = lin.coord_index(ip + a) else {
+                    continue;
+                };
+                for c in 0..3 {
+                    let Some(j) = lin.coord_index(ip + c) else {
+                        continue;
+                    };
+                    let kv = w.map_or(0.0, |w| -mass * w[a][c]);
+                    let mv = if a == c { mass } else { 0.0 };
+                    if kv != 0.0 || mv != 0.0 {
+                        extra.push((i, j, kv, mv));
+                    }
                 }
             }
         }
@@ -254,14 +288,23 @@ impl Problem {
                 continue;
             };
             let blk = super::mass::node_inertia_block(&x[r..r + 4], tensor);
-            extra.extend(lin.lambda_block(x, r, &blk));
+            extra.extend(
+                lin.lambda_block(x, r, &blk)
+                    .into_iter()
+                    .map(|(i, j, v)| (i, j, 0.0, v)),
+            );
         }
+        let extra_k: Vec<(usize, usize, f64)> = extra
+            .iter()
+            .filter(|e| e.2 != 0.0)
+            .map(|e| (e.0, e.1, e.2))
+            .collect();
         // CSC: bucket the entries by column (element entries, node masses, the diagonal), sort
         // each column by row, sum duplicates
         let (n_extra, total) = (extra.len(), ne + extra.len() + n);
         let mut count = vec![0usize; n + 1];
         lin.for_each_entry(|_, c| count[c + 1] += 1);
-        for &(_, c, _) in &extra {
+        for &(_, c, _, _) in &extra {
             count[c + 1] += 1;
         }
         for c in 0..n {
@@ -278,7 +321,7 @@ impl Problem {
             fill[c] += 1;
             i += 1;
         });
-        for &(r, c, _) in &extra {
+        for &(r, c, _, _) in &extra {
             by_col[fill[c]] = (r as u32, i);
             fill[c] += 1;
             i += 1;
@@ -292,7 +335,7 @@ impl Problem {
             if i < ne {
                 (lin.vals[i], m_el[i])
             } else if i < ne + n_extra {
-                (0.0, extra[i - ne].2)
+                (extra[i - ne].2, extra[i - ne].3)
             } else {
                 (0.0, 0.0)
             }
@@ -358,6 +401,7 @@ impl Problem {
         let group = lin.coord_nodes(model);
         Self {
             lin,
+            extra_k,
             group,
             n,
             nc,
@@ -1077,6 +1121,11 @@ pub(crate) fn sparse_modes(
             }
             e += 1;
         });
+    }
+    for &(r, c, kv) in &p.extra_k {
+        for (k, g) in g2.iter_mut().enumerate() {
+            *g += kv * q[(r, k)] * q[(c, k)];
+        }
     }
     let mut modes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(nf);
     for (k, shape) in shapes.into_iter().enumerate() {
