@@ -142,28 +142,7 @@ pub fn softening_matrix(model: &Model, x: &[f64]) -> faer::Mat<f64> {
         return k;
     };
     let w = spin.projector();
-    for entry in &model.elements {
-        let Element::Beam(b) = &entry.element else {
-            continue;
-        };
-        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-        let Some(me) = crate::dynamics::mass::beam_local_mass_with(b, &xk, Some(&w), false) else {
-            continue;
-        };
-        for (r, &gr) in entry.xmap.iter().enumerate() {
-            for (c, &gc) in entry.xmap.iter().enumerate() {
-                k[(gr, gc)] -= me[r][c];
-            }
-        }
-    }
-    for &(node, m) in &model.loads.point_masses {
-        let ip = model.nodes[node].ix_pos;
-        for r in 0..3 {
-            for c in 0..3 {
-                k[(ip + r, ip + c)] -= m * w[r][c];
-            }
-        }
-    }
+    crate::dynamics::mass::for_each_entry(model, x, Some(&w), false, |r, c, v| k[(r, c)] -= v);
     k
 }
 

@@ -174,28 +174,43 @@ pub(crate) fn node_inertia_block(l: &[f64], tensor: &[[f64; 3]; 3]) -> [[f64; 4]
     lambda_block(l, &ig)
 }
 
-/// Dense mass matrix M (nx × nx) at x.
-pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
-    let mut m = Mat::zeros(model.nx, model.nx);
+/// Every entry of the mass matrix at x, element by element, as `f(row, column, value)` in x
+/// (repeated positions add up): the beams' Hermite mass and lumped rotary inertia, point masses
+/// and inertia tensors. With a `weight` W the translational kinetic energy is ½ ṙᵀ W ṙ
+/// (beams and point masses), and `rotary = false` leaves the rotary inertias out
+/// ([`beam_local_mass_with`]; the centrifugal softening of `crate::spin`).
+pub(crate) fn for_each_entry(
+    model: &Model,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    mut f: impl FnMut(usize, usize, f64),
+) {
     for entry in &model.elements {
         let Element::Beam(b) = &entry.element else {
             continue;
         };
         let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-        let Some(me) = beam_local_mass(b, &xk) else {
+        let Some(me) = beam_local_mass_with(b, &xk, weight, rotary) else {
             continue;
         };
         for (r, &gr) in entry.xmap.iter().enumerate() {
             for (c, &gc) in entry.xmap.iter().enumerate() {
-                m[(gr, gc)] += me[r][c];
+                f(gr, gc, me[r][c]);
             }
         }
     }
     for &(node, mass) in &model.loads.point_masses {
         let ip = model.nodes[node].ix_pos;
-        for k in 0..3 {
-            m[(ip + k, ip + k)] += mass;
+        for r in 0..3 {
+            match weight {
+                Some(w) => (0..3).for_each(|c| f(ip + r, ip + c, mass * w[r][c])),
+                None => f(ip + r, ip + r, mass),
+            }
         }
+    }
+    if !rotary {
+        return;
     }
     for (node, tensor) in &model.loads.inertias {
         let Some(r) = model.nodes[*node].ix_rot else {
@@ -204,10 +219,16 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
         let blk = node_inertia_block(&x[r..r + 4], tensor);
         for a in 0..4 {
             for c in 0..4 {
-                m[(r + a, r + c)] += blk[a][c];
+                f(r + a, r + c, blk[a][c]);
             }
         }
     }
+}
+
+/// Dense mass matrix M (nx × nx) at x.
+pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
+    let mut m = Mat::zeros(model.nx, model.nx);
+    for_each_entry(model, x, None, true, |r, c, v| m[(r, c)] += v);
     m
 }
 
@@ -215,44 +236,11 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
 /// products that the energy split of the modes needs, also for models too large for a dense M.
 pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
     let mut out = vec![vec![0.0; model.nx]; vs.len()];
-    for entry in &model.elements {
-        let Element::Beam(b) = &entry.element else {
-            continue;
-        };
-        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-        let Some(me) = beam_local_mass(b, &xk) else {
-            continue;
-        };
+    for_each_entry(model, x, None, true, |r, c, m| {
         for (v, o) in vs.iter().zip(out.iter_mut()) {
-            for (r, &gr) in entry.xmap.iter().enumerate() {
-                o[gr] += entry
-                    .xmap
-                    .iter()
-                    .enumerate()
-                    .map(|(c, &gc)| me[r][c] * v[gc])
-                    .sum::<f64>();
-            }
+            o[r] += m * v[c];
         }
-    }
-    for &(node, mass) in &model.loads.point_masses {
-        let ip = model.nodes[node].ix_pos;
-        for (v, o) in vs.iter().zip(out.iter_mut()) {
-            for k in 0..3 {
-                o[ip + k] += mass * v[ip + k];
-            }
-        }
-    }
-    for (node, tensor) in &model.loads.inertias {
-        let Some(r) = model.nodes[*node].ix_rot else {
-            continue;
-        };
-        let blk = node_inertia_block(&x[r..r + 4], tensor);
-        for (v, o) in vs.iter().zip(out.iter_mut()) {
-            for a in 0..4 {
-                o[r + a] += (0..4).map(|c| blk[a][c] * v[r + c]).sum::<f64>();
-            }
-        }
-    }
+    });
     out
 }
 
@@ -275,42 +263,12 @@ pub fn node_blocks(model: &Model, x: &[f64]) -> Vec<[[f64; 7]; 7]> {
         }
     }
     let mut out = vec![[[0.0; 7]; 7]; model.nodes.len()];
-    for entry in &model.elements {
-        let Element::Beam(b) = &entry.element else {
-            continue;
-        };
-        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-        let Some(me) = beam_local_mass(b, &xk) else {
-            continue;
-        };
-        for (r, &gr) in entry.xmap.iter().enumerate() {
-            for (c, &gc) in entry.xmap.iter().enumerate() {
-                let ((nr, lr), (nc, lc)) = (owner[gr], owner[gc]);
-                if nr == nc && nr != usize::MAX {
-                    out[nr][lr][lc] += me[r][c];
-                }
-            }
+    for_each_entry(model, x, None, true, |gr, gc, v| {
+        let ((nr, lr), (nc, lc)) = (owner[gr], owner[gc]);
+        if nr == nc && nr != usize::MAX {
+            out[nr][lr][lc] += v;
         }
-    }
-    for &(node, mass) in &model.loads.point_masses {
-        let (owner_node, _) = owner[model.nodes[node].ix_pos];
-        if owner_node != usize::MAX {
-            for k in 0..3 {
-                out[owner_node][k][k] += mass;
-            }
-        }
-    }
-    for (node, tensor) in &model.loads.inertias {
-        let Some(r) = model.nodes[*node].ix_rot else {
-            continue;
-        };
-        let blk = node_inertia_block(&x[r..r + 4], tensor);
-        for a in 0..4 {
-            for c in 0..4 {
-                out[*node][3 + a][3 + c] += blk[a][c];
-            }
-        }
-    }
+    });
     out
 }
 
