@@ -3,9 +3,10 @@
 
   report.py flexmbd-record --n N --rc RC --runner-wall S --timeout S --stdout F --stderr F
       Parse the output of `cargo bench -p flexmbd-core --bench cantilever -- N` (one line per N,
-      e.g. "N =   1000: build 0.004 s, solve 9.137 s, 80 Newton iterations, u/L err 2.25e-7,
-      w/L err 3.75e-6") and print one JSON line per N in the peers' record format
-      (peer "flexmbd", problem "cantilever_k3").
+      e.g. "N =   1000: build 0.001 s, solve 0.200 s, 59 Newton iterations, 10 substeps,
+      u/L 0.2544202253560758, w/L 0.6032537459140974, phi 0.986017222259926 (errors ...)") and
+      print one JSON line per N in the peers' record format (peer "flexmbd", problem
+      "cantilever_k3"), with the values and their errors against the exact elastica.
   report.py summarize RESULTS.jsonl [--json OUT.json]
       Print the tables (times, ratios flexmbd/peer, errors against the closed forms) and write the
       summary JSON. The strip-modes records of flexmbd come from
@@ -26,8 +27,6 @@ sys.dont_write_bytecode = True
 # /work/shared/peers/peercommon.py elastica(3); validation.md S01 row k = 3.0 rounds these to
 # 0.25442, 0.60325, 0.98602).
 ELASTICA_K3 = {"u": 0.254420185, "w": 0.603253441, "phi": 0.986016947}
-# The table values the flexmbd bench currently subtracts (rounded to 5 decimals).
-BENCH_ROUNDED_K3 = {"u": 0.25442, "w": 0.60325, "phi": 0.98602}
 # Euler-Bernoulli clamped-free bending frequencies of the peers' steel strip (validation.md F01
 # roots beta_n L = 1.875104, 4.694091, 7.854757 with L = 50 mm, b = 20 mm, t = 0.2 mm,
 # E = 210 GPa, rho = 7800 kg/m^3; peercommon.analytic_bending()).
@@ -51,11 +50,7 @@ def parse_flexmbd_line(line):
          "newton_iterations": _f(r"(\d+)\s+Newton", line, int),
          "substeps": _f(r"(\d+)\s+sub-?steps", line, int),
          "halvings": _f(r"(\d+)\s+(?:step\s+)?halvings", line, int),
-         # errors as printed (against the bench's own reference values)
-         "printed_err_u": _f(r"u/L\s+err\s*[=:]?\s*" + NUM, line),
-         "printed_err_w": _f(r"w/L\s+err\s*[=:]?\s*" + NUM, line),
-         "printed_err_phi": _f(r"(?:phi|φ|rot\w*|theta|θ)\s+err\s*[=:]?\s*" + NUM, line),
-         # values, if the bench prints them ("u/L 0.2544201" or "u/L = 0.2544201")
+         # the computed tip values ("u/L 0.2544201" or "u/L = 0.2544201"; the first match)
          "u_over_L": _f(r"u/L\s*[=:]?\s*" + NUM, line),
          "w_over_L": _f(r"w/L\s*[=:]?\s*" + NUM, line),
          "phi_rad": _f(r"(?:phi|φ|rot\w*|theta|θ)\s*[=:]?\s*" + NUM, line)}
@@ -78,18 +73,15 @@ def cmd_flexmbd_record(a):
         tb, ts = p["t_build_s"] or 0.0, p["t_solve_s"]
         rec["wall_s"] = (tb + ts) if ts is not None else None
         rec["n_dof"] = 7 * (p["n_elements"] + 1)   # 3 positions + 4 Euler parameters per node
-        # errors against the exact elastica when the bench prints values; otherwise the printed
-        # errors (against the 5-decimal table, i.e. uncertain by up to 3.4e-6)
-        errs, basis = {}, None
+        # errors against the exact elastica, from the values the bench prints (as the Exudyn
+        # script computes its own)
+        errs = {}
         for q, key in (("u", "u_over_L"), ("w", "w_over_L"), ("phi", "phi_rad")):
+            rec["ref_" + key] = ELASTICA_K3[q]
             if p[key] is not None:
-                errs[q], basis = abs(p[key] - ELASTICA_K3[q]), "exact elastica"
-            elif p["printed_err_" + q] is not None:
-                errs[q] = p["printed_err_" + q]
-                basis = basis or "bench (5-decimal table)"
-        for q in ("u", "w", "phi"):
+                errs[q] = abs(p[key] - ELASTICA_K3[q])
             rec["err_" + q] = errs.get(q)
-        rec["err_basis"] = basis
+        rec["err_basis"] = "exact elastica"
         rec["max_abs_err"] = max(errs.values()) if errs else None
         # the bench unwraps statics::solve with StaticOptions::default(): a printed line means
         # that Newton converged at the default settings
@@ -169,7 +161,7 @@ def cmd_summarize(a):
             ELASTICA_K3["u"], ELASTICA_K3["w"], ELASTICA_K3["phi"]))
         print("   times: build + solve inside the process (flexmbd: bench's build + solve; Exudyn: the")
         print("   successful attempt; 'exu total' also counts failed attempts at stricter tolerances)")
-        hdr = ("%6s | %9s %5s %4s | %9s %9s %5s %6s %4s | %8s %8s | %-26s | %-26s" % (
+        hdr = ("%6s | %9s %5s %4s | %9s %9s %5s %6s %4s | %8s %8s | %-28s | %-28s" % (
             "N", "flex s", "iters", "conv", "exu s", "exu total", "iters", "rtol", "conv",
             "flex/exu", "flex/tot", "flexmbd err u, w, phi", "Exudyn err u, w, phi"))
         print(hdr)
@@ -182,10 +174,9 @@ def cmd_summarize(a):
             def errs(r):
                 if not r or r.get("status") != "ok":
                     return (r or {}).get("status", "not run")
-                s = ", ".join(fmt(r.get("err_" + q), "%.2e") for q in ("u", "w", "phi"))
-                if r.get("err_basis", "").startswith("bench"):
-                    s += " *"
-                return s
+                if r.get("peer") == "flexmbd" and r.get("err_basis") != "exact elastica":
+                    return "no values (older bench)"
+                return ", ".join(fmt(r.get("err_" + q), "%.2e") for q in ("u", "w", "phi"))
 
             fw = fr.get("wall_s") if fr and fr.get("status") == "ok" else None
             ew = er.get("wall_s") if er and er.get("status") == "ok" else None
@@ -201,16 +192,12 @@ def cmd_summarize(a):
                 return "yes" if r.get("converged_default") else "no"
             fstat = fmt(fw, "%.4g") if fw else (fr or {}).get("status", "-")
             estat = fmt(ew, "%.4g") if ew else (er or {}).get("status", "-")
-            print("%6d | %9s %5s %4s | %9s %9s %5s %6s %4s | %8s %8s | %-26s | %-26s" % (
+            print("%6d | %9s %5s %4s | %9s %9s %5s %6s %4s | %8s %8s | %-28s | %-28s" % (
                 n, fstat, fmt((fr or {}).get("newton_iterations"), "%d"), conv(fr),
                 estat, fmt(et, "%.4g"), fmt((er or {}).get("newton_iterations"), "%d"),
                 fmt((er or {}).get("rtol"), "%.0e"), conv(er),
                 fmt(ratio, "%.3g"), fmt(ratio_t, "%.3g"), errs(fr), errs(er)))
             out["cantilever_k3"].append(row)
-        if any((pick(recs, "flexmbd", "cantilever_k3", n) or {}).get("err_basis", "").startswith("bench")
-               for n in ns):
-            print("   * flexmbd errors as printed by the bench, against the 5-decimal table values "
-                  "(0.25442, 0.60325): uncertain by up to 3.4e-6; no tip rotation printed")
         print("   flex/exu = flexmbd wall / Exudyn wall of its successful attempt, flex/tot = flexmbd wall /"
               " Exudyn total incl. failed attempts (< 1: flexmbd faster)")
         print("   conv = converged at default settings (flexmbd: StaticOptions::default(); Exudyn: "

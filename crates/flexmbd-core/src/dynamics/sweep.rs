@@ -97,7 +97,7 @@ pub fn sweep_with(
 mod tests {
     use super::*;
     use crate::dynamics::modes;
-    use crate::model::{ElementSpec, ModelBuilder};
+    use crate::model::ModelBuilder;
     use crate::section::BeamProps;
     use crate::statics::{solve, StaticOptions};
 
@@ -105,37 +105,24 @@ mod tests {
     fn sweep_equals_modes_and_compliance_at_every_step() {
         // a cantilever with a tip mass under a growing compressive and lateral tip load
         let mut b = ModelBuilder::new("c");
-        for i in 0..=4 {
-            b.add_node(&format!("n{i}"), [0.025 * i as f64, 0.0, 0.0], false)
-                .unwrap();
-        }
-        for i in 0..4 {
-            let name = format!("b{i}");
-            b.add_element(
-                &name,
-                &[&format!("n{i}"), &format!("n{}", i + 1)],
-                ElementSpec::Beam {
-                    orient: Some([0.0, 0.0, 1.0]),
-                    ct: 0.0,
-                },
-                &[],
-                &[],
-            )
-            .unwrap();
-            b.set_beam_props(
-                &name,
-                BeamProps {
-                    ea: 1e6,
-                    gj: 1.0,
-                    eiy: 1.0,
-                    eiz: 2.0,
-                    rho_a: 0.1,
-                    rho_i: [1e-6, 5e-7, 5e-7],
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-        }
+        let props = BeamProps {
+            ea: 1e6,
+            gj: 1.0,
+            eiy: 1.0,
+            eiz: 2.0,
+            rho_a: 0.1,
+            rho_i: [1e-6, 5e-7, 5e-7],
+            ..Default::default()
+        };
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [0.1, 0.0, 0.0],
+            4,
+            Some([0.0, 0.0, 1.0]),
+            Some(props),
+        )
+        .unwrap();
         b.fix("n0", None).unwrap();
         b.add_point_mass("n4", 0.02).unwrap();
         b.add_load("n4", [-100.0, 0.0, 5.0], [0.0; 3]).unwrap();

@@ -2,7 +2,7 @@
 
 use super::mass::mass_matrix;
 use super::*;
-use crate::model::{ElementSpec, ModelBuilder};
+use crate::model::ModelBuilder;
 use crate::section::{BeamProps, Material, Shape};
 use crate::statics::{solve, StaticOptions};
 
@@ -10,25 +10,15 @@ use crate::statics::{solve, StaticOptions};
 /// so out-of-plane bending moves the nodes along y.
 fn strip(n: usize, l: f64, props: BeamProps, clamp: bool) -> ModelBuilder {
     let mut b = ModelBuilder::new("strip");
-    for i in 0..=n {
-        b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
-            .unwrap();
-    }
-    for i in 0..n {
-        let name = format!("b{i}");
-        b.add_element(
-            &name,
-            &[&format!("n{i}"), &format!("n{}", i + 1)],
-            ElementSpec::Beam {
-                orient: Some([0.0, 0.0, 1.0]),
-                ct: 0.0,
-            },
-            &[],
-            &[],
-        )
-        .unwrap();
-        b.set_beam_props(&name, props).unwrap();
-    }
+    b.add_beam_chain(
+        "",
+        [0.0; 3],
+        [l, 0.0, 0.0],
+        n,
+        Some([0.0, 0.0, 1.0]),
+        Some(props),
+    )
+    .unwrap();
     if clamp {
         b.fix("n0", None).unwrap();
     }

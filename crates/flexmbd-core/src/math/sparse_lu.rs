@@ -118,7 +118,28 @@ impl SparseLu {
             )
             .map_err(|e| format!("column ordering failed: {e:?}"))?;
         }
-        Ok(Self {
+        Ok(Self::unfactored(n, q, diag_pref))
+    }
+
+    /// The symmetric strategy with a given column (and pivot) order `q` (step k factors column
+    /// `q[k]`), for a structurally symmetric matrix with every diagonal entry present: for
+    /// example a saddle-point matrix whose constraint rows are ordered after the coordinates
+    /// they couple, so that L D Lᵀ with diagonal pivots exists. Follow with
+    /// [`SparseLu::set_diagonal_pivots`].
+    pub fn with_order(n: usize, q: Vec<usize>) -> Result<Self, String> {
+        let mut seen = vec![false; n];
+        if q.len() != n
+            || q.iter()
+                .any(|&c| c >= n || std::mem::replace(&mut seen[c], true))
+        {
+            return Err("the column order is not a permutation".into());
+        }
+        Ok(Self::unfactored(n, q, true))
+    }
+
+    /// No factors yet, for the column order `q` (step k factors column `q[k]`).
+    fn unfactored(n: usize, q: Vec<usize>, diag_pref: bool) -> Self {
+        Self {
             n,
             q,
             diag_pref,
@@ -143,48 +164,7 @@ impl SparseLu {
             pivot_tol: PIVOT_TOL,
             n_negative: 0,
             diagonal_structure: false,
-        })
-    }
-
-    /// The symmetric strategy with a given column (and pivot) order `q` (step k factors column
-    /// `q[k]`), for a structurally symmetric matrix with every diagonal entry present: for
-    /// example a saddle-point matrix whose constraint rows are ordered after the coordinates
-    /// they couple, so that L D Lᵀ with diagonal pivots exists. Follow with
-    /// [`SparseLu::set_diagonal_pivots`].
-    pub fn with_order(n: usize, q: Vec<usize>) -> Result<Self, String> {
-        let mut seen = vec![false; n];
-        if q.len() != n
-            || q.iter()
-                .any(|&c| c >= n || std::mem::replace(&mut seen[c], true))
-        {
-            return Err("the column order is not a permutation".into());
         }
-        Ok(Self {
-            n,
-            q,
-            diag_pref: true,
-            pinv: vec![usize::MAX; n],
-            l_ptr: vec![0; n + 1],
-            l_idx: Vec::new(),
-            l_val: Vec::new(),
-            u_ptr: vec![0; n + 1],
-            u_idx: Vec::new(),
-            u_val: Vec::new(),
-            u_diag: vec![0.0; n],
-            work: vec![0.0; n],
-            mark: vec![usize::MAX; n],
-            stack: Vec::with_capacity(n),
-            pstack: Vec::with_capacity(n),
-            reach: Vec::with_capacity(n),
-            factored: false,
-            symmetric_factors: false,
-            next: Vec::new(),
-            lower_ptr: Vec::new(),
-            lower_row: Vec::new(),
-            pivot_tol: PIVOT_TOL,
-            n_negative: 0,
-            diagonal_structure: false,
-        })
     }
 
     /// Set the smallest accepted |pivot| / max |column entry| of
@@ -243,17 +223,7 @@ impl SparseLu {
             return false;
         }
         // L columns by ascending row (for the symmetric refactorisation)
-        let mut pairs: Vec<(usize, f64)> = Vec::new();
-        for k in 0..n {
-            let (lo, hi) = (self.l_ptr[k], self.l_ptr[k + 1]);
-            pairs.clear();
-            pairs.extend((lo..hi).map(|p| (self.l_idx[p], self.l_val[p])));
-            pairs.sort_unstable_by_key(|p| p.0);
-            for (o, (i, v)) in pairs.iter().enumerate() {
-                self.l_idx[lo + o] = *i;
-                self.l_val[lo + o] = *v;
-            }
-        }
+        sort_columns(&self.l_ptr, &mut self.l_idx, &mut self.l_val);
         self.diagonal_structure = true;
         true
     }
@@ -406,24 +376,17 @@ impl SparseLu {
                 }
                 self.next[s] = start + 1;
             }
-            let d = x[k];
-            x[k] = 0.0;
+            let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
+            let (d, ok) = pivot_step(
+                x,
+                k,
+                &self.l_idx[llo..lhi],
+                &mut self.l_val[llo..lhi],
+                pivot_tol,
+                &mut min_ratio,
+            );
             all_positive &= d > 0.0;
             self.n_negative += usize::from(d < 0.0);
-            let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
-            let mut cmax: f64 = 0.0;
-            for &i in &self.l_idx[llo..lhi] {
-                cmax = cmax.max(x[i].abs());
-            }
-            let ok = d.abs() >= pivot_tol * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
-            if d.abs() < min_ratio * cmax {
-                min_ratio = d.abs() / cmax;
-            }
-            let inv = 1.0 / d;
-            for (&i, l) in self.l_idx[llo..lhi].iter().zip(&mut self.l_val[llo..lhi]) {
-                *l = x[i] * inv;
-                x[i] = 0.0;
-            }
             self.u_diag[k] = d;
             if !ok {
                 return Err(LuFailure::PivotTooSmall);
@@ -543,17 +506,7 @@ impl SparseLu {
         for r in self.l_idx.iter_mut() {
             *r = self.pinv[*r];
         }
-        let mut pairs: Vec<(usize, f64)> = Vec::new();
-        for k in 0..n {
-            let (lo, hi) = (self.u_ptr[k], self.u_ptr[k + 1]);
-            pairs.clear();
-            pairs.extend((lo..hi).map(|p| (self.u_idx[p], self.u_val[p])));
-            pairs.sort_unstable_by_key(|p| p.0);
-            for (o, (i, v)) in pairs.iter().enumerate() {
-                self.u_idx[lo + o] = *i;
-                self.u_val[lo + o] = *v;
-            }
-        }
+        sort_columns(&self.u_ptr, &mut self.u_idx, &mut self.u_val);
         self.factored = true;
         Ok(())
     }
@@ -592,22 +545,15 @@ impl SparseLu {
                     x[i] -= l * u;
                 }
             }
-            let d = x[k];
-            x[k] = 0.0;
             let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
-            let mut cmax: f64 = 0.0;
-            for &i in &self.l_idx[llo..lhi] {
-                cmax = cmax.max(x[i].abs());
-            }
-            let ok = d.abs() >= PIVOT_TOL * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
-            if d.abs() < min_ratio * cmax {
-                min_ratio = d.abs() / cmax;
-            }
-            let inv = 1.0 / d;
-            for (&i, l) in self.l_idx[llo..lhi].iter().zip(&mut self.l_val[llo..lhi]) {
-                *l = x[i] * inv;
-                x[i] = 0.0;
-            }
+            let (d, ok) = pivot_step(
+                x,
+                k,
+                &self.l_idx[llo..lhi],
+                &mut self.l_val[llo..lhi],
+                PIVOT_TOL,
+                &mut min_ratio,
+            );
             self.u_diag[k] = d;
             if !ok {
                 // the work vector is clean: only column k was scattered, and it is cleared
@@ -629,29 +575,6 @@ impl SparseLu {
         for i in 0..n {
             y[self.pinv[i]] = b[i];
         }
-        if self.symmetric_factors {
-            // L D Lᵀ
-            for k in 0..n {
-                let v = y[k];
-                if v != 0.0 {
-                    for p in self.l_ptr[k]..self.l_ptr[k + 1] {
-                        y[self.l_idx[p]] -= self.l_val[p] * v;
-                    }
-                }
-            }
-            for k in (0..n).rev() {
-                let mut v = y[k] / self.u_diag[k];
-                for p in self.l_ptr[k]..self.l_ptr[k + 1] {
-                    v -= self.l_val[p] * y[self.l_idx[p]];
-                }
-                y[k] = v;
-            }
-            for k in 0..n {
-                b[self.q[k]] = y[k];
-                y[k] = 0.0;
-            }
-            return;
-        }
         for k in 0..n {
             let v = y[k];
             if v != 0.0 {
@@ -660,12 +583,23 @@ impl SparseLu {
                 }
             }
         }
-        for k in (0..n).rev() {
-            let v = y[k] / self.u_diag[k];
-            y[k] = v;
-            if v != 0.0 {
-                for p in self.u_ptr[k]..self.u_ptr[k + 1] {
-                    y[self.u_idx[p]] -= self.u_val[p] * v;
+        if self.symmetric_factors {
+            // L D Lᵀ: U = D Lᵀ
+            for k in (0..n).rev() {
+                let mut v = y[k] / self.u_diag[k];
+                for p in self.l_ptr[k]..self.l_ptr[k + 1] {
+                    v -= self.l_val[p] * y[self.l_idx[p]];
+                }
+                y[k] = v;
+            }
+        } else {
+            for k in (0..n).rev() {
+                let v = y[k] / self.u_diag[k];
+                y[k] = v;
+                if v != 0.0 {
+                    for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                        y[self.u_idx[p]] -= self.u_val[p] * v;
+                    }
                 }
             }
         }
@@ -674,6 +608,53 @@ impl SparseLu {
             y[k] = 0.0;
         }
     }
+}
+
+/// Sort the entries of every column (`ptr`: column starts, n + 1 of them) by index.
+fn sort_columns(ptr: &[usize], idx: &mut [usize], val: &mut [f64]) {
+    let mut pairs: Vec<(usize, f64)> = Vec::new();
+    for col in ptr.windows(2) {
+        let (lo, hi) = (col[0], col[1]);
+        pairs.clear();
+        pairs.extend((lo..hi).map(|p| (idx[p], val[p])));
+        pairs.sort_unstable_by_key(|p| p.0);
+        for (o, (i, v)) in pairs.iter().enumerate() {
+            idx[lo + o] = *i;
+            val[lo + o] = *v;
+        }
+    }
+}
+
+/// The pivot of step k of a refactorisation, from the work vector `x` after the updates of
+/// column k: the pivot d = x[k] and, scaled by 1/d, the entries of column k of L (`l_idx`: rows
+/// in step numbering, values into `l_val`); clears those entries of `x`. Lowers `min_ratio` to
+/// |d| / max |column entry| and returns d with whether that ratio is at least `tol` (and d is
+/// non-zero, everything finite).
+#[inline(always)]
+fn pivot_step(
+    x: &mut [f64],
+    k: usize,
+    l_idx: &[usize],
+    l_val: &mut [f64],
+    tol: f64,
+    min_ratio: &mut f64,
+) -> (f64, bool) {
+    let d = x[k];
+    x[k] = 0.0;
+    let mut cmax: f64 = 0.0;
+    for &i in l_idx {
+        cmax = cmax.max(x[i].abs());
+    }
+    let ok = d.abs() >= tol * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
+    if d.abs() < *min_ratio * cmax {
+        *min_ratio = d.abs() / cmax;
+    }
+    let inv = 1.0 / d;
+    for (&i, l) in l_idx.iter().zip(l_val) {
+        *l = x[i] * inv;
+        x[i] = 0.0;
+    }
+    (d, ok)
 }
 
 /// Depth-first search from row `r` in the graph of L (column s = pinv[row] lists the rows it
@@ -751,6 +732,17 @@ mod tests {
         (cp, ri, v)
     }
 
+    /// A x for A in CSC form.
+    fn csc_mul(cp: &[usize], ri: &[usize], v: &[f64], x: &[f64]) -> Vec<f64> {
+        let mut b = vec![0.0; x.len()];
+        for (j, xj) in x.iter().enumerate() {
+            for p in cp[j]..cp[j + 1] {
+                b[ri[p]] += v[p] * xj;
+            }
+        }
+        b
+    }
+
     #[test]
     fn factor_and_refactor_solve_random_sparse_systems() {
         let mut rng = crate::elements::testing::Rng(42);
@@ -778,12 +770,7 @@ mod tests {
                     lu.factor(&cp, &ri, &v2).unwrap();
                 }
                 let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
-                let mut b = vec![0.0; n];
-                for j in 0..n {
-                    for p in cp[j]..cp[j + 1] {
-                        b[ri[p]] += v2[p] * xs[j];
-                    }
-                }
+                let mut b = csc_mul(&cp, &ri, &v2, &xs);
                 lu.solve(&mut b);
                 for i in 0..n {
                     assert!(
@@ -826,24 +813,14 @@ mod tests {
                 let lower: Vec<f64> = slots.iter().map(|&p| v2[p]).collect();
                 lu.refactor_symmetric(&lower).unwrap();
                 let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
-                let mut b = vec![0.0; n];
-                for j in 0..n {
-                    for p in cp[j]..cp[j + 1] {
-                        b[ri[p]] += v2[p] * xs[j];
-                    }
-                }
+                let mut b = csc_mul(&cp, &ri, &v2, &xs);
                 lu.solve(&mut b);
                 for i in 0..n {
                     assert!((b[i] - xs[i]).abs() < 1e-10, "n {n}: {} vs {}", b[i], xs[i]);
                 }
                 // the LU refactorisation with the same pivots agrees
                 lu.refactor(&cp, &ri, &v2).unwrap();
-                let mut b2 = vec![0.0; n];
-                for j in 0..n {
-                    for p in cp[j]..cp[j + 1] {
-                        b2[ri[p]] += v2[p] * xs[j];
-                    }
-                }
+                let mut b2 = csc_mul(&cp, &ri, &v2, &xs);
                 lu.solve(&mut b2);
                 for i in 0..n {
                     assert!((b2[i] - xs[i]).abs() < 1e-10);

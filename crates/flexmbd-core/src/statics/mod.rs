@@ -311,7 +311,7 @@ fn setup(model: &Model) -> Setup {
         }
     }
     let l_ref = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max).max(1e-12);
-    let red = Reduction::new(model, &unknown, &constraint, nf, nk, &norm);
+    let red = Reduction::new(model, &unknown, &constraint, nf, nk, &norm, &is_lambda);
     Setup {
         roles,
         unknown,
@@ -407,24 +407,16 @@ impl Pattern {
                 .elem_free
                 .iter()
                 .zip(&self.elem_constraints)
-                .map(|(f, c)| f.len() * f.len() + 2 * c.len() * f.len())
+                .map(|(f, c)| element_entry_count(f.len(), c.len()))
                 .sum();
             let (mut rows, mut cols) = (Vec::with_capacity(total), Vec::with_capacity(total));
             let mut elem_start = Vec::with_capacity(self.elem_free.len() + 1);
             for (free, cons) in self.elem_free.iter().zip(&self.elem_constraints) {
                 elem_start.push(rows.len());
-                for &(_, ua) in free {
-                    for &(_, ub) in free {
-                        rows.push(ua);
-                        cols.push(ub);
-                    }
-                }
-                for &kc in cons {
-                    for &(_, ub) in free {
-                        rows.extend([nf + kc, ub]);
-                        cols.extend([ub, nf + kc]);
-                    }
-                }
+                element_entries(free, cons.iter().map(|&kc| nf + kc), &mut |r, c| {
+                    rows.push(r);
+                    cols.push(c);
+                });
             }
             elem_start.push(rows.len());
             PatternLayout {
@@ -499,6 +491,7 @@ impl Reduction {
         nf: usize,
         nk: usize,
         norm: &[(usize, usize)],
+        is_lambda: &[bool],
     ) -> Self {
         // candidates: all four λ free; every element uses them as one block λ0..λ3
         let mut node_ok = vec![false; model.nx];
@@ -544,12 +537,6 @@ impl Reduction {
         let mut nodes = Vec::new();
         let mut node_at = vec![None; model.nx];
         let mut is_trans = Vec::new();
-        let mut is_lambda = vec![false; model.nx];
-        for n in &model.nodes {
-            if let Some(r) = n.ix_rot {
-                is_lambda[r..r + 4].iter_mut().for_each(|v| *v = true);
-            }
-        }
         let mut nfr = 0;
         let norm_of: std::collections::HashMap<usize, usize> = norm.iter().cloned().collect();
         let mut i = 0;
@@ -610,7 +597,7 @@ impl Reduction {
                 .filter_map(|m| constraint[entry.ie + m])
                 .map(|kc| map[nf + kc].expect("element constraints are kept"))
                 .collect();
-            n_entries += ec.len() * ec.len() + 2 * cons.len() * ec.len();
+            n_entries += element_entry_count(ec.len(), cons.len());
             elem_cons.push(cons);
             let full = matches!(entry.element, Element::Beam(_))
                 && ec.len() == 12
@@ -656,19 +643,35 @@ impl Reduction {
     /// the pairs (G, Gᵀ). Generated, not stored (millions of entries on large models).
     fn for_each_entry(&self, mut f: impl FnMut(usize, usize)) {
         for (ec, cons) in self.elem_cols.iter().zip(&self.elem_cons) {
-            for &(_, ua) in ec {
-                for &(_, ub) in ec {
-                    f(ua, ub);
-                }
-            }
-            for &kr in cons {
-                for &(_, ub) in ec {
-                    f(kr, ub);
-                    f(ub, kr);
-                }
-            }
+            element_entries(ec, cons.iter().copied(), &mut f);
         }
     }
+}
+
+/// The order of one element's KKT entries ([`Pattern`], [`Reduction`]): the block on its
+/// columns (the unknown of each is the second of its pair), row-major, then for each of the
+/// constraint rows `cons` the pairs (G, Gᵀ) over the columns.
+fn element_entries<T>(
+    cols: &[(T, usize)],
+    cons: impl Iterator<Item = usize>,
+    f: &mut impl FnMut(usize, usize),
+) {
+    for (_, ua) in cols {
+        for (_, ub) in cols {
+            f(*ua, *ub);
+        }
+    }
+    for kr in cons {
+        for (_, ub) in cols {
+            f(kr, *ub);
+            f(*ub, kr);
+        }
+    }
+}
+
+/// Number of entries [`element_entries`] writes for `nc` columns and `ncons` constraint rows.
+fn element_entry_count(nc: usize, ncons: usize) -> usize {
+    nc * nc + 2 * ncons * nc
 }
 
 /// Scale of the Euler-parameter increment N δ of a reduced node (|λ| = 1, ‖δ‖² = `d2`) so that

@@ -7,26 +7,15 @@ use crate::section::BeamProps;
 /// A straight cantilever along +x of `n` beams, clamped at x = 0, with given constants.
 fn cantilever(n: usize, l: f64, props: BeamProps) -> ModelBuilder {
     let mut b = ModelBuilder::new("cantilever");
-    for i in 0..=n {
-        b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
-            .unwrap();
-    }
-    for i in 0..n {
-        let (p, q) = (format!("n{i}"), format!("n{}", i + 1));
-        let name = format!("b{i}");
-        b.add_element(
-            &name,
-            &[&p, &q],
-            ElementSpec::Beam {
-                orient: Some([0.0, 1.0, 0.0]),
-                ct: 0.0,
-            },
-            &[],
-            &[],
-        )
-        .unwrap();
-        b.set_beam_props(&name, props).unwrap();
-    }
+    b.add_beam_chain(
+        "",
+        [0.0; 3],
+        [l, 0.0, 0.0],
+        n,
+        Some([0.0, 1.0, 0.0]),
+        Some(props),
+    )
+    .unwrap();
     b.fix("n0", None).unwrap();
     b
 }
@@ -307,25 +296,15 @@ mod linearised {
         // width along local y (= global z), thickness along local z: weak axis is local y
         let p = BeamProps::from_section(&steel, &Shape::Rectangle { w: 0.02, t: 0.5e-3 }, true);
         let mut b = ModelBuilder::new("column");
-        for i in 0..=n {
-            b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
-                .unwrap();
-        }
-        for i in 0..n {
-            let name = format!("b{i}");
-            b.add_element(
-                &name,
-                &[&format!("n{i}"), &format!("n{}", i + 1)],
-                ElementSpec::Beam {
-                    orient: Some([0.0, 0.0, 1.0]),
-                    ct: 0.0,
-                },
-                &[],
-                &[],
-            )
-            .unwrap();
-            b.set_beam_props(&name, p).unwrap();
-        }
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [l, 0.0, 0.0],
+            n,
+            Some([0.0, 0.0, 1.0]),
+            Some(p),
+        )
+        .unwrap();
         let top = format!("n{n}");
         match supports {
             "clamped-free" => b.fix("n0", None).unwrap(),
@@ -440,25 +419,15 @@ mod guided_leaf {
         let p_e = std::f64::consts::PI.powi(2) * ei / (l * l);
         for (ratio, want) in X02 {
             let mut b = ModelBuilder::new("guided leaf");
-            for i in 0..=n {
-                b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
-                    .unwrap();
-            }
-            for i in 0..n {
-                let name = format!("b{i}");
-                b.add_element(
-                    &name,
-                    &[&format!("n{i}"), &format!("n{}", i + 1)],
-                    ElementSpec::Beam {
-                        orient: Some([0.0, 0.0, 1.0]),
-                        ct: 0.0,
-                    },
-                    &[],
-                    &[],
-                )
-                .unwrap();
-                b.set_beam_props(&name, props).unwrap();
-            }
+            b.add_beam_chain(
+                "",
+                [0.0; 3],
+                [l, 0.0, 0.0],
+                n,
+                Some([0.0, 0.0, 1.0]),
+                Some(props),
+            )
+            .unwrap();
             b.fix("n0", None).unwrap();
             // guided end: no rotation; free to translate
             b.fix(&format!("n{n}"), Some(&[Dof::Rx, Dof::Ry, Dof::Rz]))
@@ -526,30 +495,8 @@ mod toggle {
         assert!((props.eiy / mat.e - 9.00394e-4).abs() < 1e-8);
         let (clamp, apex) = ([12.943, 0.0, 0.0], [0.0, 0.386, 0.0]);
         let mut b = ModelBuilder::new("toggle");
-        for i in 0..=n {
-            let f = i as f64 / n as f64;
-            let p = [
-                clamp[0] + f * (apex[0] - clamp[0]),
-                clamp[1] + f * (apex[1] - clamp[1]),
-                0.0,
-            ];
-            b.add_node(&format!("n{i}"), p, false).unwrap();
-        }
-        for i in 0..n {
-            let name = format!("b{i}");
-            b.add_element(
-                &name,
-                &[&format!("n{i}"), &format!("n{}", i + 1)],
-                ElementSpec::Beam {
-                    orient: Some([0.0, 0.0, 1.0]),
-                    ct: 0.0,
-                },
-                &[],
-                &[],
-            )
+        b.add_beam_chain("", clamp, apex, n, Some([0.0, 0.0, 1.0]), Some(props))
             .unwrap();
-            b.set_beam_props(&name, props).unwrap();
-        }
         b.fix("n0", None).unwrap();
         let top = format!("n{n}");
         b.fix(&top, Some(&[Dof::X, Dof::Z, Dof::Rx, Dof::Ry, Dof::Rz]))
@@ -634,33 +581,17 @@ mod cross_spring {
         b.add_node("c", [0.0, 0.0, 0.0], true).unwrap();
         for (k, dir) in [[s, 0.0, s], [-s, 0.0, s]].iter().enumerate() {
             // leaf from -L/2 dir to +L/2 dir; width along y (the pivot axis)
-            let p = [-0.5 * l * dir[0], 0.0, -0.5 * l * dir[2]];
-            let names: Vec<String> = (0..=n).map(|i| format!("l{k}n{i}")).collect();
-            for (i, name) in names.iter().enumerate() {
-                let f = i as f64 / n as f64;
-                b.add_node(
-                    name,
-                    [p[0] + f * l * dir[0], 0.0, p[2] + f * l * dir[2]],
-                    false,
-                )
-                .unwrap();
-            }
-            for i in 0..n {
-                let id = format!("l{k}b{i}");
-                b.add_element(
-                    &id,
-                    &[&names[i], &names[i + 1]],
-                    ElementSpec::Beam {
-                        orient: Some([0.0, 1.0, 0.0]),
-                        ct: 0.0,
-                    },
-                    &[],
-                    &[],
-                )
-                .unwrap();
-                b.set_beam_props(&id, props).unwrap();
-            }
-            b.fix(&names[0], None).unwrap();
+            let half = [0.5 * l * dir[0], 0.0, 0.5 * l * dir[2]];
+            b.add_beam_chain(
+                &format!("l{k}"),
+                [-half[0], 0.0, -half[2]],
+                half,
+                n,
+                Some([0.0, 1.0, 0.0]),
+                Some(props),
+            )
+            .unwrap();
+            b.fix(&format!("l{k}n0"), None).unwrap();
         }
         b.add_element(
             "platform",
