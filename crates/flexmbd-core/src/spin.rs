@@ -152,7 +152,7 @@ mod tests {
     use crate::dynamics::modes;
     use crate::model::ModelBuilder;
     use crate::section::{BeamProps, Material, Shape};
-    use crate::statics::{solve, StaticOptions};
+    use crate::statics::{last_step, StaticOptions};
 
     const STEEL: Material = Material {
         e: 210e9,
@@ -263,16 +263,7 @@ mod tests {
             point: [0.0; 3],
         };
         let model = radial_strip(n, l, 0.0, spin);
-        let mut sol = solve(
-            &model,
-            &StaticOptions {
-                steps: 1,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
-        let step = sol.steps.pop().unwrap();
+        let step = last_step(&model, 1);
         (model, step, c)
     }
     fn flap_frequencies(n: usize, omega_bar: f64) -> Vec<f64> {
@@ -353,8 +344,7 @@ mod tests {
         b.fix("n0", None).unwrap();
         b.set_spin([0.0, 0.0, 8.0 * c], [0.0; 3]).unwrap();
         let model = b.build().unwrap();
-        let mut sol = solve(&model, &StaticOptions::default(), |_, _| {}).unwrap();
-        let step = sol.steps.pop().unwrap();
+        let step = last_step(&model, StaticOptions::default().steps);
         let modal = modes(&model, &step, 8).unwrap();
         let along = |axis: usize| -> Vec<f64> {
             modal
@@ -407,8 +397,7 @@ mod tests {
         b.add_point_mass("n16", 2e-3).unwrap();
         b.set_spin([0.0, 150.0, 400.0], [0.0, 0.0, 0.0]).unwrap();
         let model = b.build().unwrap();
-        let mut sol = solve(&model, &StaticOptions::default(), |_, _| {}).unwrap();
-        let step = sol.steps.pop().unwrap();
+        let step = last_step(&model, StaticOptions::default().steps);
         let run = |solver| {
             modes_with(&model, &step, 6, &ModalOptions { solver })
                 .unwrap()
@@ -427,8 +416,7 @@ mod tests {
         // and the spin matters: without it the first eigenvalue differs
         let mut still = model.clone();
         still.loads.spin = None;
-        let mut sol = solve(&still, &StaticOptions::default(), |_, _| {}).unwrap();
-        let step0 = sol.steps.pop().unwrap();
+        let step0 = last_step(&still, StaticOptions::default().steps);
         let f0 = modes(&still, &step0, 1).unwrap().modes[0].eigenvalue;
         assert!((f0 - dense[0]).abs() > 1e-2 * f0, "{f0} vs {}", dense[0]);
     }

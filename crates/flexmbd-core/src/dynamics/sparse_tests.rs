@@ -8,20 +8,7 @@ use super::super::{
 };
 use crate::model::{Dof, ElementSpec, Model, ModelBuilder};
 use crate::section::{BeamProps, Material, Shape};
-use crate::statics::{solve, StaticOptions, StepResult};
-
-fn last_step(model: &Model, steps: usize) -> StepResult {
-    let mut sol = solve(
-        model,
-        &StaticOptions {
-            steps,
-            ..Default::default()
-        },
-        |_, _| {},
-    )
-    .unwrap();
-    sol.steps.pop().unwrap()
-}
+use crate::statics::{last_step, StepResult};
 
 fn run(model: &Model, step: &StepResult, count: usize, solver: EigenSolver) -> Modal {
     let m = modes_with(model, step, count, &ModalOptions { solver }).unwrap();

@@ -1759,6 +1759,26 @@ fn newton(
     unreachable!("the loop returns at it == max_iterations")
 }
 
+/// [`solve`] with `steps` load steps and default settings otherwise, no progress (tests).
+#[cfg(test)]
+pub(crate) fn solve_steps(model: &Model, steps: usize) -> Result<StaticSolution, SolveError> {
+    solve(
+        model,
+        &StaticOptions {
+            steps,
+            ..Default::default()
+        },
+        |_, _| {},
+    )
+}
+
+/// The last step of [`solve_steps`], which must converge (tests).
+#[cfg(test)]
+pub(crate) fn last_step(model: &Model, steps: usize) -> StepResult {
+    let mut sol = solve_steps(model, steps).expect("the static solution converges");
+    sol.steps.pop().expect("at least one step")
+}
+
 /// Solve the static equilibrium over the load steps.
 pub fn solve(
     model: &Model,

@@ -50,15 +50,7 @@ fn s02_end_moment_matches_discrete_closed_form() {
     b.add_load(&format!("n{n}"), [0.0; 3], [0.0, 0.0, m])
         .unwrap();
     let model = b.build().unwrap();
-    let sol = solve(
-        &model,
-        &StaticOptions {
-            steps: 4,
-            ..Default::default()
-        },
-        |_, _| {},
-    )
-    .unwrap();
+    let sol = crate::statics::solve_steps(&model, 4).unwrap();
     let x = &sol.steps.last().unwrap().x;
     let (xt, yt, phi) = tip(&model, x);
     let l0 = l / n as f64;
@@ -103,15 +95,7 @@ fn s02_rolls_up_with_error_falling_as_one_over_n_squared() {
         b.add_load(&format!("n{n}"), [0.0; 3], [0.0, 0.0, m])
             .unwrap();
         let model = b.build().unwrap();
-        let sol = solve(
-            &model,
-            &StaticOptions {
-                steps: 8,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&model, 8).unwrap();
         let (xt, yt, phi) = tip(&model, &sol.steps.last().unwrap().x);
         let err = ((xt - 0.0).powi(2) + (yt - 2.0 * l / std::f64::consts::PI).powi(2)).sqrt();
         errors.push((n, err, phi));
@@ -150,15 +134,7 @@ fn s01_tip_load_matches_mattiasson_table() {
     b.add_load(&format!("n{n}"), [0.0, -10.0, 0.0], [0.0; 3])
         .unwrap();
     let model = b.build().unwrap();
-    let sol = solve(
-        &model,
-        &StaticOptions {
-            steps: 10,
-            ..Default::default()
-        },
-        |_, _| {},
-    )
-    .unwrap();
+    let sol = crate::statics::solve_steps(&model, 10).unwrap();
     for (k, u, w, phi) in S01 {
         let step = sol
             .steps
@@ -195,15 +171,7 @@ fn prescribed_tip_rotation_gives_the_end_moment() {
     b.prescribe_coordinate(&format!("n{n}"), Dof::Rz, phi)
         .unwrap();
     let model = b.build().unwrap();
-    let sol = solve(
-        &model,
-        &StaticOptions {
-            steps: 5,
-            ..Default::default()
-        },
-        |_, _| {},
-    )
-    .unwrap();
+    let sol = crate::statics::solve_steps(&model, 5).unwrap();
     let last = sol.steps.last().unwrap();
     let tipn = model.nodes.last().unwrap();
     let r = tipn.ix_rot.unwrap();
@@ -248,15 +216,7 @@ mod linearised {
         let mut b = cantilever(n, l, p);
         b.add_load(&format!("n{n}"), [0.0; 3], [0.0; 3]).unwrap();
         let model = b.build().unwrap();
-        let sol = solve(
-            &model,
-            &StaticOptions {
-                steps: 1,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&model, 1).unwrap();
         let step = &sol.steps[1];
         let lin = linearize(&model, step);
         let c = compliance(&model, &lin, step, n).unwrap();
@@ -334,15 +294,7 @@ mod linearised {
             ("clamped-clamped", 4.0 * std::f64::consts::PI.powi(2)),
         ] {
             let (model, ei) = column(8, supports);
-            let sol = solve(
-                &model,
-                &StaticOptions {
-                    steps: 1,
-                    ..Default::default()
-                },
-                |_, _| {},
-            )
-            .unwrap();
+            let sol = crate::statics::solve_steps(&model, 1).unwrap();
             let step = &sol.steps[1];
             let lin = linearize(&model, step);
             let bk = buckling(&model, &lin, 3).unwrap();
@@ -365,15 +317,7 @@ mod linearised {
         let p = 1.2 * std::f64::consts::PI.powi(2) / 4.0 * ei / 0.01;
         let mut scaled = model.clone();
         scaled.loads.nodal[0].force[0] = -p;
-        let sol = solve(
-            &scaled,
-            &StaticOptions {
-                steps: 1,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&scaled, 1).unwrap();
         let last = &sol.steps[1];
         let tip = scaled.nodes.last().unwrap().ix_pos;
         assert!(last.x[tip + 1].abs() < 1e-12, "still straight");
@@ -435,15 +379,7 @@ mod guided_leaf {
             b.add_load(&format!("n{n}"), [ratio * p_e, 0.0, 0.0], [0.0; 3])
                 .unwrap();
             let model = b.build().unwrap();
-            let sol = solve(
-                &model,
-                &StaticOptions {
-                    steps: 1,
-                    ..Default::default()
-                },
-                |_, _| {},
-            )
-            .unwrap();
+            let sol = crate::statics::solve_steps(&model, 1).unwrap();
             let step = &sol.steps[1];
             let c = compliance(&model, &linearize(&model, step), step, n).unwrap();
             let k = 1.0 / c.global[1][1] * l.powi(3) / ei;
@@ -503,15 +439,7 @@ mod toggle {
             .unwrap();
         b.prescribe_coordinate(&top, Dof::Y, -0.7).unwrap();
         let model = b.build().unwrap();
-        let sol = solve(
-            &model,
-            &StaticOptions {
-                steps: 14,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&model, 14).unwrap();
         let iy = model.nodes[n].ix_pos + 1;
         for (k, (delta, p_ref)) in S05.iter().enumerate() {
             let step = &sol.steps[k + 1];
@@ -529,15 +457,7 @@ mod toggle {
         // sampled every 0.0025 in up to 0.35 in, refined by a parabola through the top three
         let mut fine = model.clone();
         fine.loads.prescribed[0].value = -0.35;
-        let sol = solve(
-            &fine,
-            &StaticOptions {
-                steps: 140,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&fine, 140).unwrap();
         let curve: Vec<(f64, f64)> = sol
             .steps
             .iter()
@@ -602,15 +522,7 @@ mod cross_spring {
         )
         .unwrap();
         let model = b.build().unwrap();
-        let sol = solve(
-            &model,
-            &StaticOptions {
-                steps: 1,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&model, 1).unwrap();
         let step = &sol.steps[1];
         let c = compliance(&model, &linearize(&model, step), step, 0).unwrap();
         let k = 1.0 / c.global[4][4];
@@ -639,15 +551,7 @@ mod material_part {
         b.add_load(&format!("n{n}"), [0.0; 3], [0.3, 0.0, 2.0])
             .unwrap();
         let model = b.build().unwrap();
-        let sol = solve(
-            &model,
-            &StaticOptions {
-                steps: 2,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        let sol = crate::statics::solve_steps(&model, 2).unwrap();
         let step = sol.steps.last().unwrap();
         let mut unloaded = model.clone();
         unloaded.loads.nodal.clear();
