@@ -3,7 +3,7 @@
 use crate::{emit, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    log_space, state_space, Input, Output, OutputKind, StateSpaceOptions,
+    log_space, state_space_with_motions, Input, Motion, Output, OutputKind, StateSpaceOptions,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{EigenSolver, ModalOptions};
@@ -21,10 +21,13 @@ pub struct StatespaceArgs {
     /// Model file (.toml, or a SPACAR .dat file).
     model: PathBuf,
     /// An input: a force along (x, y, z) or a moment about (rx, ry, rz) a global axis on a node.
-    /// `NODE:x:moment` is the moment about x. Repeatable; the order is the column order of B.
+    /// `NODE:x:moment` is the moment about x. `NODE:x:motion` is a prescribed motion of a held
+    /// translation (support, [inputs] or [[prescribe]]); its input is the acceleration [m/s²].
+    /// Repeatable; forces and moments come first in the columns of B, in command-line order,
+    /// then the motions.
     #[arg(
         long = "input",
-        value_name = "NODE:DIR[:force|moment]",
+        value_name = "NODE:DIR[:force|moment|motion]",
         required = true
     )]
     inputs: Vec<String>,
@@ -223,11 +226,38 @@ fn needs_rotation(
     Ok(())
 }
 
-/// Parse `--input NODE:DIR[:force|moment]`.
-pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<Input, BadInput> {
+/// A parsed `--input`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InputSpec {
+    /// Force or moment.
+    Load(Input),
+    /// Prescribed motion (acceleration input).
+    Motion(Motion),
+}
+
+/// Parse `--input NODE:DIR[:force|moment|motion]`.
+pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<InputSpec, BadInput> {
     let flag = "--input";
-    let (name, dof, kind) = split_spec(flag, spec, &["force", "moment"])?;
+    let (name, dof, kind) = split_spec(flag, spec, &["force", "moment", "motion"])?;
     let node = node_of(model, path, flag, spec, &name)?;
+    if kind.map(str::to_ascii_lowercase).as_deref() == Some("motion") {
+        if dof.is_rotation() {
+            return Err(BadInput(format!(
+                "{flag} `{spec}`: a prescribed motion is a translation along x, y or z; a rotation cannot be enforced as a motion input (use {name}:{}:moment for a moment)",
+                dof.name()
+            )));
+        }
+        let i = model.nodes[node].ix_pos + dof.index();
+        if model.partition.x[i] == flexmbd_core::model::CoordKind::Free {
+            return Err(BadInput(format!(
+                "{flag} `{spec}`: coordinate {} of node `{name}` is free in {}; a prescribed motion needs a held coordinate (a support, [inputs] or [[prescribe]]). Hold it in the model, or use {name}:{}:force for a force input",
+                dof.name(),
+                path.display(),
+                dof.name()
+            )));
+        }
+        return Ok(InputSpec::Motion(Motion { node, dof }));
+    }
     let dof = match kind.map(str::to_ascii_lowercase).as_deref() {
         None => dof,
         Some("force") if dof.is_rotation() => {
@@ -243,12 +273,12 @@ pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<Input, BadI
         Some("moment") => Dof::ALL[dof.index() + 3],
         Some(k) => {
             return Err(BadInput(format!(
-                "{flag} `{spec}`: unknown input kind `{k}` (expected force or moment)"
+                "{flag} `{spec}`: unknown input kind `{k}` (expected force, moment or motion)"
             )))
         }
     };
     needs_rotation(model, flag, spec, node, dof)?;
-    Ok(Input { node, dof })
+    Ok(InputSpec::Load(Input { node, dof }))
 }
 
 /// Parse `--output NODE:DIR[:disp|vel|acc]`.
@@ -283,11 +313,25 @@ fn write_file(path: &Path, text: &str) -> anyhow::Result<()> {
 /// `flexmbd statespace`.
 pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     let (model, settings) = crate::load_with_settings(&a.model)?;
-    let inputs = a
+    let specs = a
         .inputs
         .iter()
         .map(|s| parse_input(&model, &a.model, s))
         .collect::<Result<Vec<_>, _>>()?;
+    let inputs: Vec<Input> = specs
+        .iter()
+        .filter_map(|s| match s {
+            InputSpec::Load(i) => Some(*i),
+            InputSpec::Motion(_) => None,
+        })
+        .collect();
+    let motions: Vec<Motion> = specs
+        .iter()
+        .filter_map(|s| match s {
+            InputSpec::Motion(m) => Some(*m),
+            InputSpec::Load(_) => None,
+        })
+        .collect();
     let outputs = a
         .outputs
         .iter()
@@ -337,10 +381,11 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         ))
         .into());
     };
-    let ss = state_space(
+    let ss = state_space_with_motions(
         &model,
         step,
         &inputs,
+        &motions,
         &outputs,
         &StateSpaceOptions {
             damping: a.damping,

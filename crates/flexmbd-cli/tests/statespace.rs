@@ -404,3 +404,217 @@ fn bad_specs_exit_with_2_and_name_the_argument() {
     assert_eq!(ss["inputs"][0]["name"], "b:2:rx:moment");
     assert_eq!(ss["outputs"][0]["name"], "b:2:rx:disp");
 }
+
+/// Point mass 0.5 kg on a truss (k = EA/L = 2000 N/m) whose base x is an `[inputs]`
+/// coordinate.
+const SPRING_MASS: &str = r#"
+[model]
+name = "spring-mass"
+
+[nodes]
+base = [0.0, 0.0, 0.0]
+m = [0.1, 0.0, 0.0]
+
+[fix]
+base = ["y", "z"]
+m = ["y", "z"]
+
+[inputs]
+base = "x"
+
+[[truss]]
+id = "t"
+nodes = ["base", "m"]
+EA = 200.0
+
+[[mass]]
+node = "m"
+m = 0.5
+"#;
+
+/// `NODE:DIR:motion` through the binary: labels and units in JSON, .m and Bode; the Bode of
+/// the mass displacement per base acceleration times (2πf)² is the base-excitation
+/// transmissibility X/U = (2ζωₙs + ωₙ²)/(s² + 2ζωₙs + ωₙ²) (modal damping on the spring's
+/// deformation, ωₙ² = k/m = 4000 s⁻²); the quasi-static column is 1 (the mass follows a slow base).
+#[test]
+fn motion_input_spring_mass_closed_form() {
+    let p = tmp("spring_mass_motion.toml");
+    std::fs::write(&p, SPRING_MASS).unwrap();
+    let model = p.to_str().unwrap();
+    let bode = tmp("spring_mass_motion.csv");
+    let mfile = tmp("spring_mass_motion.m");
+    let zeta = 0.05;
+    let j = ok(&[
+        "statespace",
+        model,
+        "--input",
+        "m:x",
+        "--input",
+        "base:x:motion",
+        "--output",
+        "m:x",
+        "--output",
+        "m:x:acc",
+        "--damping",
+        "0.05",
+        "--json",
+        "--bode",
+        bode.to_str().unwrap(),
+        "--bode-points",
+        "7",
+        "--m",
+        mfile.to_str().unwrap(),
+    ]);
+    let inp = &j["inputs"][1];
+    assert_eq!(inp["name"], "base:x:motion");
+    assert_eq!(inp["kind"], "motion");
+    assert_eq!(inp["unit"], "m/s²");
+    let states: Vec<&str> = j["states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert_eq!(states, ["eta_1", "deta_1", "u_2", "du_2"]);
+    let dc = matrix(&j["dc_gain"]);
+    // force column: compliance 1/k; motion column: quasi-static gain 1 (disp), 0 (acc)
+    assert!((dc[0][0] - 1.0 / 2000.0).abs() < 1e-12);
+    assert!((dc[0][1] - 1.0).abs() < 1e-12);
+    assert!(dc[1][1].abs() < 1e-12);
+    let m = std::fs::read_to_string(&mfile).unwrap();
+    assert!(m.contains("'base:x:motion'") && m.contains("base:x:motion [m/s²]"));
+    let csv = std::fs::read_to_string(&bode).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "mag(m:x:disp/base:x:motion)")
+        .expect("motion column");
+    let wn2: f64 = 4000.0;
+    let wn = wn2.sqrt();
+    let mut rows = 0;
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        let w = 2.0 * std::f64::consts::PI * v[0];
+        // |X/U| = |ωₙ² + 2iζωₙω| / |ωₙ² − ω² + 2iζωₙω|
+        let num = (wn2 * wn2 + (2.0 * zeta * wn * w).powi(2)).sqrt();
+        let den = ((wn2 - w * w).powi(2) + (2.0 * zeta * wn * w).powi(2)).sqrt();
+        let xu = v[col] * w * w;
+        assert!(
+            (xu - num / den).abs() < 1e-9 * num / den,
+            "{}: {xu} vs {}",
+            v[0],
+            num / den
+        );
+        rows += 1;
+    }
+    assert_eq!(rows, 7);
+}
+
+/// Clamped–guided beam under tension whose guided end `e` moves in y: the quasi-static gain of
+/// the state-space model equals the response of `flexmbd static` to a small `[[prescribe]]`
+/// stroke of e.y (central difference of two static runs, same tension); and a motion input on a
+/// free coordinate is refused with exit code 2.
+#[test]
+fn motion_input_static_gain_equals_prescribed_statics() {
+    let model_text = |prescribe: &str| {
+        format!(
+            r#"
+[model]
+name = "clamped-guided"
+
+[nodes]
+a = {{ x = [0.0, 0.0, 0.0], rot = true }}
+e = {{ x = [0.2, 0.0, 0.0], rot = true }}
+
+[fix]
+a = "all"
+e = ["z", "rx", "ry", "rz"]
+
+{prescribe}
+
+[[beam]]
+id = "b"
+nodes = ["a", "e"]
+orient = [0.0, 1.0, 0.0]
+EA = 2e5
+GJ = 0.7
+EIy = 1.0
+EIz = 3.0
+rho_a = 0.1
+segments = 4
+
+[[load]]
+node = "e"
+force = [30.0, 0.0, 0.0]
+
+[static]
+steps = 2
+"#
+        )
+    };
+    let h = 1e-5;
+    let ss_model = tmp("guided_motion.toml");
+    std::fs::write(&ss_model, model_text("[inputs]\ne = \"y\"")).unwrap();
+    let nodes = ["b:1", "b:2", "b:3", "e"];
+    let mut args: Vec<String> = vec![
+        "statespace".into(),
+        ss_model.to_str().unwrap().into(),
+        "--json".into(),
+        "--input".into(),
+        "e:y:motion".into(),
+    ];
+    for n in nodes {
+        for d in ["x", "y"] {
+            args.push("--output".into());
+            args.push(format!("{n}:{d}"));
+        }
+    }
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let j = ok(&refs);
+    let dc = matrix(&j["dc_gain"]);
+    let stat = |v: f64, name: &str| {
+        let p = tmp(name);
+        let pre = format!("[[prescribe]]\nnode = \"e\"\ndof = \"y\"\nvalue = {v:e}");
+        std::fs::write(&p, model_text(&pre)).unwrap();
+        let s = ok(&["static", p.to_str().unwrap(), "--json"]);
+        let last = s["steps"].as_array().unwrap().last().unwrap().clone();
+        last["nodes"].as_array().unwrap().clone()
+    };
+    let plus = stat(h, "guided_plus.toml");
+    let minus = stat(-h, "guided_minus.toml");
+    let pos = |list: &[Value], n: &str, k: usize| {
+        let node = list.iter().find(|x| x["node"] == n).expect("node");
+        node["position"][k].as_f64().unwrap()
+    };
+    let mut fd = Vec::new();
+    for n in nodes {
+        for k in 0..2 {
+            fd.push((pos(&plus, n, k) - pos(&minus, n, k)) / (2.0 * h));
+        }
+    }
+    let scale = fd.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (o, v) in fd.iter().enumerate() {
+        assert!(
+            (dc[o][0] - v).abs() < 1e-6 * scale,
+            "output {o}: {} vs {v}",
+            dc[o][0]
+        );
+    }
+    assert!((dc[7][0] - 1.0).abs() < 1e-12);
+    // a motion on a free coordinate is an input error
+    let (out, _) = run(&[
+        "statespace",
+        ss_model.to_str().unwrap(),
+        "--input",
+        "b:2:y:motion",
+        "--output",
+        "e:y",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("b:2:y:motion") && err.contains("free"),
+        "{err}"
+    );
+}

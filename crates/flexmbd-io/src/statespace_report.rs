@@ -43,16 +43,16 @@ fn title(model: &Model) -> String {
 /// Input and output descriptions as JSON objects.
 fn io_json(model: &Model, ss: &StateSpace) -> (Vec<Value>, Vec<Value>) {
     let inputs = ss
-        .inputs
-        .iter()
+        .input_info(model)
+        .into_iter()
         .map(|i| {
             json!({
-                "name": i.name(model),
+                "name": i.name,
                 "node": model.nodes[i.node].name,
                 "direction": i.dof.name(),
-                "kind": i.kind_name(),
-                "unit": i.unit(),
-                "description": i.describe(model),
+                "kind": i.kind,
+                "unit": i.unit,
+                "description": i.description,
             })
         })
         .collect();
@@ -77,11 +77,7 @@ fn io_json(model: &Model, ss: &StateSpace) -> (Vec<Value>, Vec<Value>) {
 /// the kept frequencies and the damping ratio; the DC gain when it exists.
 pub fn statespace_json(model: &Model, origin: Origin, ss: &StateSpace) -> Value {
     let (inputs, outputs) = io_json(model, ss);
-    let n = ss.n_modes();
-    let states: Vec<String> = (1..=n)
-        .map(|k| format!("eta_{k}"))
-        .chain((1..=n).map(|k| format!("deta_{k}")))
-        .collect();
+    let states = ss.state_names();
     json!({
         "file": origin.file,
         "model": model.name,
@@ -95,7 +91,7 @@ pub fn statespace_json(model: &Model, origin: Origin, ss: &StateSpace) -> Value 
         "modes_available": ss.available_modes,
         "static_correction": ss.static_correction,
         "states": states,
-        "state_description": "modal coordinates eta_k of the mass-normalised modes (dq = Phi eta), then their rates",
+        "state_description": state_description(ss),
         "inputs": inputs,
         "outputs": outputs,
         "A": rows(&ss.a),
@@ -105,6 +101,17 @@ pub fn statespace_json(model: &Model, origin: Origin, ss: &StateSpace) -> Value 
         "dc_gain": ss.dc_gain().ok().map(|g| rows(&g)),
         "warnings": ss.warnings,
     })
+}
+
+/// What the states are, in words.
+fn state_description(ss: &StateSpace) -> String {
+    let mut s = String::from(
+        "modal coordinates eta_k of the mass-normalised modes (dq = Phi eta), then their rates",
+    );
+    if !ss.motions.is_empty() {
+        s += "; then per prescribed-motion input j the enforced displacement u_j and velocity du_j";
+    }
+    s
 }
 
 /// A matrix as MATLAB text: `NAME = [a b; c d];` one row per line (full precision).
@@ -150,10 +157,11 @@ pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
         "% linearised at step {} (load factor {}); damping ratio zeta = {}",
         origin.step, origin.load_factor, ss.damping
     );
-    let n = ss.n_modes();
     let _ = writeln!(
         s,
-        "% state x = [eta_1..eta_{n}, deta_1..deta_{n}]: modal coordinates of the mass-normalised modes and their rates"
+        "% state x = [{}]: {}",
+        ss.state_names().join(" "),
+        state_description(ss)
     );
     let f: Vec<String> = ss
         .frequencies()
@@ -162,10 +170,10 @@ pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
         .collect();
     let _ = writeln!(s, "% frequencies [Hz]: {}", f.join(" "));
     let ins: Vec<String> = ss
-        .inputs
+        .input_info(model)
         .iter()
         .enumerate()
-        .map(|(k, i)| format!("{} {} [{}]", k + 1, i.name(model), i.unit()))
+        .map(|(k, i)| format!("{} {} [{}]", k + 1, i.name, i.unit))
         .collect();
     let outs: Vec<String> = ss
         .outputs
@@ -192,7 +200,7 @@ pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
     let _ = writeln!(
         s,
         "input_names = {{{}}};",
-        names(ss.inputs.iter().map(|i| i.name(model)).collect())
+        names(ss.input_info(model).into_iter().map(|i| i.name).collect())
     );
     let _ = writeln!(
         s,
@@ -214,19 +222,20 @@ pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
 }
 
 /// Column header of a pair.
-fn pair(model: &Model, ss: &StateSpace, o: usize, j: usize) -> String {
-    format!("{}/{}", ss.outputs[o].name(model), ss.inputs[j].name(model))
+fn pair(model: &Model, ss: &StateSpace, o: usize, input: &str) -> String {
+    format!("{}/{}", ss.outputs[o].name(model), input)
 }
 
 /// Bode table as CSV: `frequency_hz`, then for every output–input pair (outputs outer, inputs
 /// inner) the magnitude |G| in absolute units (output unit per input unit, not dB) and the
 /// phase in degrees, unwrapped along the frequencies.
 pub fn bode_csv(model: &Model, ss: &StateSpace, freqs: &[f64]) -> String {
-    let (no, ni) = (ss.outputs.len(), ss.inputs.len());
+    let (no, ni) = (ss.outputs.len(), ss.n_inputs());
+    let info = ss.input_info(model);
     let mut s = String::from("frequency_hz");
     for o in 0..no {
-        for j in 0..ni {
-            let p = pair(model, ss, o, j);
+        for inp in &info {
+            let p = pair(model, ss, o, &inp.name);
             let _ = write!(s, ",mag({p}),phase_deg({p})");
         }
     }
@@ -271,9 +280,17 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
     );
     let _ = writeln!(
         s,
-        "{n} of {} modes kept: {} states (eta_1..eta_{n}, then their rates); modal damping ratio {}{}\n",
+        "{n} of {} modes kept: {} states (eta_1..eta_{n}, then their rates{}); modal damping ratio {}{}\n",
         ss.available_modes,
-        2 * n,
+        ss.n_states(),
+        if ss.motions.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", then u, du of the {} prescribed-motion input(s)",
+                ss.motions.len()
+            )
+        },
         ss.damping,
         if ss.static_correction && n < ss.available_modes {
             "; D carries the static correction of the dropped modes"
@@ -300,17 +317,10 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
     s += &table(&["mode", "f [Hz]"], &modes);
     s.push('\n');
     let ins: Vec<Vec<String>> = ss
-        .inputs
-        .iter()
+        .input_info(model)
+        .into_iter()
         .enumerate()
-        .map(|(k, i)| {
-            vec![
-                format!("u{}", k + 1),
-                i.name(model),
-                i.describe(model),
-                i.unit().into(),
-            ]
-        })
+        .map(|(k, i)| vec![format!("u{}", k + 1), i.name, i.description, i.unit.into()])
         .collect();
     s += &table(&["input", "name", "meaning", "unit"], &ins);
     s.push('\n');
@@ -332,17 +342,25 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
         Ok(g) => {
             s += "\nstatic (DC) gain −C A⁻¹ B + D (rows: outputs, columns: inputs):\n";
             let mut header = vec!["".to_string()];
-            header.extend((1..=ss.inputs.len()).map(|k| format!("u{k}")));
+            header.extend((1..=ss.n_inputs()).map(|k| format!("u{k}")));
             let hdr: Vec<&str> = header.iter().map(String::as_str).collect();
             let g = rows(&g);
             let table_rows: Vec<Vec<String>> = (0..ss.outputs.len())
                 .map(|o| {
                     let mut r = vec![format!("y{}", o + 1)];
-                    r.extend((0..ss.inputs.len()).map(|j| fmt_num(g[o][j])));
+                    r.extend((0..ss.n_inputs()).map(|j| fmt_num(g[o][j])));
                     r
                 })
                 .collect();
             s += &table(&hdr, &table_rows);
+            if !ss.motions.is_empty() {
+                let first = ss.inputs.len() + 1;
+                let _ = writeln!(
+                    s,
+                    "  (columns u{first}..u{}: prescribed motions; their input is the acceleration, so the column is the quasi-static response per unit enforced displacement, output unit per m)",
+                    ss.n_inputs()
+                );
+            }
             if ss.n_modes() < ss.available_modes
                 && !ss.static_correction
                 && ss.outputs.iter().any(|o| o.kind == OutputKind::Disp)

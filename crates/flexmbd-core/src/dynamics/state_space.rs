@@ -29,8 +29,23 @@
 //!   the instantaneous massless response (it would need u̇, ü): where it is non-zero the
 //!   model warns.
 //!
-//! Prescribed-motion inputs are not supported: the prescribed coordinates are held (their
-//! columns are not in Z), like supports.
+//! Prescribed-motion inputs (base excitation, enforced motion): a held translational
+//! coordinate m (support, `[inputs]` or `[[prescribe]]`) moves by u_m(t). With t_m its unit
+//! direction in x, lifted onto the rigid constraints (G t_m = 0 through free coordinates),
+//! δx = Z δq + t_m u_m and
+//!
+//! ```text
+//! M0 q̈ + K0 q = −(Zᵀ K t_m) u_m − (Zᵀ M t_m) ü_m
+//! q = ψ u_m + r,   ψ = −K0⁻¹ Zᵀ K t_m   (quasi-static response to a unit enforced motion)
+//! M0 r̈ + K0 r = −(M0 ψ + Zᵀ M t_m) ü_m
+//! ```
+//!
+//! so r is driven like a force input with Bq = −(M0 ψ + Zᵀ M t_m), and the input is the
+//! acceleration ü_m. Each motion input adds the states (u_m, u̇_m), a double integrator
+//! (A block [[0, 1], [0, 0]], B entry 1 on u̇_m). An output row w gives the absolute motion
+//! δy = Cx r + g u_m with g = Cx ψ + w·t_m: g enters C on u_m (displacement), on u̇_m
+//! (velocity) or D (acceleration). K0 is solved directly (dense LU), so massless directions
+//! are part of ψ exactly. Only translations can be moved this way.
 
 use super::{reduced_matrices_with, ModalError, Reduced};
 use crate::math::lambda_bar;
@@ -95,6 +110,57 @@ pub struct Output {
     pub dof: Dof,
     /// Displacement, velocity or acceleration.
     pub kind: OutputKind,
+}
+
+/// A prescribed-motion (enforced-motion) input: the acceleration ü [m/s²] of a held
+/// translational coordinate of a node along a global axis (a support, `[inputs]` or
+/// `[[prescribe]]` coordinate).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Motion {
+    /// Node index.
+    pub node: usize,
+    /// x, y or z.
+    pub dof: Dof,
+}
+
+impl Motion {
+    /// `motion`.
+    pub fn kind_name(&self) -> &'static str {
+        "motion"
+    }
+    /// Name `NODE:DIR:motion`.
+    pub fn name(&self, model: &Model) -> String {
+        format!("{}:{}:motion", model.nodes[self.node].name, self.dof.name())
+    }
+    /// SI unit of the input (an acceleration).
+    pub fn unit(&self) -> &'static str {
+        "m/s²"
+    }
+    /// Words, e.g. "enforced acceleration of base along global y".
+    pub fn describe(&self, model: &Model) -> String {
+        format!(
+            "enforced acceleration of {} along global {} (prescribed motion)",
+            model.nodes[self.node].name,
+            axis_name(self.dof)
+        )
+    }
+}
+
+/// Description of one input column (a force/moment or a prescribed motion), for reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InputInfo {
+    /// `NODE:DIR:KIND`.
+    pub name: String,
+    /// Node index.
+    pub node: usize,
+    /// Direction.
+    pub dof: Dof,
+    /// `force`, `moment` or `motion`.
+    pub kind: &'static str,
+    /// SI unit.
+    pub unit: &'static str,
+    /// Words.
+    pub description: String,
 }
 
 impl Input {
@@ -227,6 +293,31 @@ pub enum StateSpaceError {
     /// A kept mode has ω² ≈ 0: A is singular.
     #[error("a kept mode has zero frequency (a rigid-body motion or mechanism): the static gain is unbounded")]
     Singular,
+    /// A motion input on a coordinate that is not held.
+    #[error("input {input}: a prescribed-motion input needs a coordinate held by a support, `[inputs]` or `[[prescribe]]`, and this one is free; apply a force input (NODE:DIR:force) instead, or hold the coordinate in the model")]
+    MotionNotHeld {
+        /// Input name.
+        input: String,
+    },
+    /// A motion input about a rotation axis.
+    #[error("input {input}: prescribed-motion inputs are translations (x, y, z); a rotation cannot be enforced this way. Model the rotation drive as a moment input, or move a translational support")]
+    MotionRotation {
+        /// Input name.
+        input: String,
+    },
+    /// A motion that the rigid constraints do not allow.
+    #[error("input {input}: the rigid or prescribed deformations do not allow this coordinate to move on its own (it is tied to other held coordinates); enforce the motion on a coordinate that can move, or make the connecting element flexible")]
+    MotionConstrained {
+        /// Input name.
+        input: String,
+    },
+    /// The stiffness of the minimal coordinates is singular, so there is no quasi-static
+    /// response to an enforced motion.
+    #[error("input {input}: the stiffness K0 with the moved coordinate held is singular (a mechanism or a rigid-body motion remains), so the quasi-static response to the enforced motion is undefined; hold the remaining rigid-body motions")]
+    MotionSingular {
+        /// Input name.
+        input: String,
+    },
 }
 
 /// A state-space model in modal coordinates with named inputs and outputs.
@@ -242,6 +333,9 @@ pub struct StateSpace {
     pub d: Mat<f64>,
     /// Inputs, in the order of the columns of B and D.
     pub inputs: Vec<Input>,
+    /// Prescribed-motion inputs: the columns after those of `inputs` (input = ü [m/s²]);
+    /// each adds the states (u, u̇) after the modal ones.
+    pub motions: Vec<Motion>,
     /// Outputs, in the order of the rows of C and D.
     pub outputs: Vec<Output>,
     /// ω² [rad²/s²] of the kept modes, ascending (the eigenvalues of `modes`).
@@ -264,6 +358,140 @@ pub struct StateSpace {
     modal_c: Mat<f64>,
     /// Static feedthrough of displacement outputs (outputs × inputs, zero rows otherwise).
     d_static: Mat<f64>,
+    /// Quasi-static gain g = Cx ψ + w·t_m of the outputs per unit enforced displacement
+    /// (outputs × motions).
+    motion_gain: Mat<f64>,
+}
+
+/// The generalised loads of a unit enforced motion: k = Zᵀ K t_m, m = Zᵀ M t_m, and the lifted
+/// direction t_m in x.
+struct MotionLoad {
+    t: Vec<f64>,
+    k: Vec<f64>,
+    m: Vec<f64>,
+}
+
+/// Loads of unit enforced motions. K on the moved coordinates comes from a linearisation of a
+/// copy of the model in which they are free (same constraints and multipliers: only
+/// translations are freed, which adds no Euler normalisation); the direction is lifted onto the
+/// rigid/prescribed deformation constraints by the least-squares particular solution
+/// t_m = e_m + T w, G T w = −G e_m.
+fn motion_loads(
+    model: &Model,
+    step: &StepResult,
+    red: &Reduced,
+    motions: &[Motion],
+) -> Result<Vec<MotionLoad>, StateSpaceError> {
+    if motions.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut free = model.clone();
+    let mut moved = Vec::with_capacity(motions.len());
+    for mo in motions {
+        let name = mo.name(model);
+        if mo.dof.is_rotation() {
+            return Err(StateSpaceError::MotionRotation { input: name });
+        }
+        let i = model.nodes[mo.node].ix_pos + mo.dof.index();
+        if model.partition.x[i] == CoordKind::Free {
+            return Err(StateSpaceError::MotionNotHeld { input: name });
+        }
+        free.partition.x[i] = CoordKind::Free;
+        moved.push(i);
+    }
+    free.loads
+        .prescribed
+        .retain(|p| !matches!(p.target, crate::model::Target::Coordinate(i) if moved.contains(&i)));
+    let lin = linearize(&free, step);
+    let nx = model.nx;
+    let mut kx = Mat::zeros(nx, nx);
+    for i in 0..nx {
+        let Some(ui) = lin.unknown[i] else { continue };
+        for j in 0..nx {
+            if let Some(uj) = lin.unknown[j] {
+                kx[(i, j)] = lin.km[(ui, uj)] + lin.kg[(ui, uj)];
+            }
+        }
+    }
+    if model.loads.spin.is_some() {
+        kx += crate::spin::softening_matrix(model, &step.x);
+    }
+    // rigid/prescribed deformation constraints, and the velocity basis of the free coordinates
+    let ev = crate::assembly::evaluate(model, &step.x);
+    let role = crate::statics::roles(model);
+    let rows: Vec<usize> = (0..model.ne)
+        .filter(|&i| role[i] != crate::statics::Role::Flexible)
+        .collect();
+    let gt = if rows.is_empty() {
+        None
+    } else {
+        let part = crate::model::Partition {
+            x: model.partition.x.clone(),
+            e: vec![crate::model::DefKind::Free; model.ne],
+        };
+        let cols = crate::kinematics::columns(model, &part, &step.x);
+        let mut t = Mat::zeros(nx, cols.len());
+        for (j, c) in cols.iter().enumerate() {
+            let n = &model.nodes[c.node];
+            match (c.dof.is_rotation(), n.ix_rot) {
+                (true, Some(r)) => {
+                    for k in 0..4 {
+                        t[(r + k, j)] = c.lambda_rate[k];
+                    }
+                }
+                _ => t[(n.ix_pos + c.dof.index(), j)] = 1.0,
+            }
+        }
+        let g = Mat::from_fn(rows.len(), nx, |r, c| ev.D[(rows[r], c)]);
+        let gt = &g * &t;
+        Some((g, t, gt))
+    };
+    let ndof = red.ndof();
+    let mut out = Vec::with_capacity(motions.len());
+    for (mo, &i) in motions.iter().zip(&moved) {
+        let name = mo.name(model);
+        let mut tm = vec![0.0; nx];
+        tm[i] = 1.0;
+        if let Some((g, t, gt)) = &gt {
+            let ge = Mat::from_fn(g.nrows(), 1, |r, _| g[(r, i)]);
+            if ge.norm_max() > 0.0 {
+                // least squares G T w = −G e_m through the normal equations of the SVD
+                let f = crate::linalg::svd(gt.as_ref(), "constraint Jacobian").map_err(|_| {
+                    StateSpaceError::MotionConstrained {
+                        input: name.clone(),
+                    }
+                })?;
+                let smax = f.s.first().copied().unwrap_or(0.0);
+                let tol = f64::EPSILON.sqrt() * smax;
+                let mut w = Mat::<f64>::zeros(gt.ncols(), 1);
+                for (k, &sk) in f.s.iter().enumerate() {
+                    if sk > tol {
+                        let c: f64 = (0..g.nrows()).map(|r| f.U[(r, k)] * ge[(r, 0)]).sum();
+                        for a in 0..gt.ncols() {
+                            w[(a, 0)] -= f.V[(a, k)] * c / sk;
+                        }
+                    }
+                }
+                let tw = t * &w;
+                for a in 0..nx {
+                    tm[a] += tw[(a, 0)];
+                }
+                let res = g * Mat::from_fn(nx, 1, |a, _| tm[a]);
+                if res.norm_max() > 1e-8 * ge.norm_max().max(smax) {
+                    return Err(StateSpaceError::MotionConstrained { input: name });
+                }
+            }
+        }
+        let tmv = Mat::from_fn(nx, 1, |a, _| tm[a]);
+        let k = red.z.transpose() * (&kx * &tmv);
+        let m = red.z.transpose() * (&red.mx * &tmv);
+        out.push(MotionLoad {
+            t: tm,
+            k: (0..ndof).map(|r| k[(r, 0)]).collect(),
+            m: (0..ndof).map(|r| m[(r, 0)]).collect(),
+        });
+    }
+    Ok(out)
 }
 
 /// Force vector in x of a unit input; or the row of an output in x (same vector): for a
@@ -308,9 +536,23 @@ pub fn state_space(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
+    state_space_with_motions(model, step, inputs, &[], outputs, opts)
+}
+
+/// [`state_space`] with prescribed-motion inputs as well: B and D get the columns of `inputs`
+/// (forces, moments), then those of `motions` (enforced accelerations ü [m/s²]); the state
+/// gets (u, u̇) of every motion after the modal coordinates (module docs).
+pub fn state_space_with_motions(
+    model: &Model,
+    step: &StepResult,
+    inputs: &[Input],
+    motions: &[Motion],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+) -> Result<StateSpace, StateSpaceError> {
     let lin = linearize(model, step);
     let red = reduced_matrices_with(model, step, &lin)?;
-    state_space_from(model, step, &red, inputs, outputs, opts)
+    build(model, step, &red, inputs, motions, outputs, opts)
 }
 
 /// [`state_space`] from reduced matrices already at hand.
@@ -322,6 +564,18 @@ pub fn state_space_from(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
+    build(model, step, red, inputs, &[], outputs, opts)
+}
+
+fn build(
+    model: &Model,
+    step: &StepResult,
+    red: &Reduced,
+    inputs: &[Input],
+    motions: &[Motion],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+) -> Result<StateSpace, StateSpaceError> {
     let zeta = opts.damping;
     if !(zeta.is_finite() && zeta >= 0.0) {
         return Err(StateSpaceError::BadDamping(zeta));
@@ -329,7 +583,7 @@ pub fn state_space_from(
     if opts.modes == Some(0) {
         return Err(StateSpaceError::NoModes);
     }
-    if inputs.is_empty() || outputs.is_empty() {
+    if (inputs.is_empty() && motions.is_empty()) || outputs.is_empty() {
         return Err(StateSpaceError::NoInputOutput);
     }
     let mut warnings = Vec::new();
@@ -344,9 +598,39 @@ pub fn state_space_from(
         }
     }
     let ndof = red.ndof();
-    let (ni, no) = (inputs.len(), outputs.len());
+    let mloads = motion_loads(model, step, red, motions)?;
+    let (nf, nm, no) = (inputs.len(), motions.len(), outputs.len());
+    let ni = nf + nm;
+    // quasi-static responses ψ = −K0⁻¹ Zᵀ K t_m (ndof × motions), dense LU of K0
+    let mut psi = Mat::<f64>::zeros(ndof, nm);
+    if nm > 0 {
+        let kt = Mat::from_fn(ndof, nm, |r, j| mloads[j].k[r]);
+        let lu = red.k0.partial_piv_lu();
+        let sol = faer::prelude::Solve::solve(&lu, &kt);
+        let res = &red.k0 * &sol - &kt;
+        for j in 0..nm {
+            let sn = sol.col(j).norm_max();
+            let ok = sn.is_finite()
+                && res.col(j).norm_max() <= 1e-8 * (red.k0.norm_max() * sn + kt.col(j).norm_max());
+            if !ok {
+                return Err(StateSpaceError::MotionSingular {
+                    input: motions[j].name(model),
+                });
+            }
+            for r in 0..ndof {
+                psi[(r, j)] = -sol[(r, j)];
+            }
+        }
+    }
+    let m0psi = &red.m0 * &psi;
     // Bq = Zᵀ f (ndof × inputs), Cx = rows of the outputs in q (outputs × ndof)
     let mut bq = Mat::zeros(ndof, ni);
+    for j in 0..nm {
+        // r is driven by −(M0 ψ + Zᵀ M t_m) ü
+        for r in 0..ndof {
+            bq[(r, nf + j)] = -(m0psi[(r, j)] + mloads[j].m[r]);
+        }
+    }
     for (j, inp) in inputs.iter().enumerate() {
         let f = unit_vector(model, step, inp.node, inp.dof)?;
         if held(model, inp.node, inp.dof) {
@@ -360,9 +644,21 @@ pub fn state_space_from(
         }
     }
     let mut cx = Mat::zeros(no, ndof);
+    let mut motion_gain = Mat::zeros(no, nm);
     for (o, out) in outputs.iter().enumerate() {
         let w = unit_vector(model, step, out.node, out.dof)?;
-        if held(model, out.node, out.dof) {
+        for (j, ml) in mloads.iter().enumerate() {
+            let direct: f64 = (0..model.nx).map(|i| w[i] * ml.t[i]).sum();
+            let quasi: f64 = (0..ndof)
+                .map(|r| (0..model.nx).map(|i| w[i] * red.z[(i, r)]).sum::<f64>() * psi[(r, j)])
+                .sum();
+            motion_gain[(o, j)] = direct + quasi;
+        }
+        if held(model, out.node, out.dof)
+            && !mloads
+                .iter()
+                .any(|ml| (0..model.nx).map(|i| w[i] * ml.t[i]).sum::<f64>() != 0.0)
+        {
             warnings.push(format!(
                 "output {} is a held direction (support or prescribed input): it is zero",
                 out.name(model)
@@ -402,13 +698,13 @@ pub fn state_space_from(
                 warnings.push(format!(
                     "{} responds instantaneously to {} through coordinates without inertia; that part (proportional to the input's derivative) is not in the model",
                     out.name(model),
-                    inputs[j].name(model)
+                    input_name(model, inputs, motions, j)
                 ));
             }
         }
     }
-    // assemble A, B, C, D
-    let ns = 2 * n;
+    // assemble A, B, C, D: state (η, η̇, then (u, u̇) of every motion)
+    let ns = 2 * n + 2 * nm;
     let mut a = Mat::zeros(ns, ns);
     for k in 0..n {
         a[(k, n + k)] = 1.0;
@@ -420,6 +716,10 @@ pub fn state_space_from(
         for j in 0..ni {
             b[(n + k, j)] = modal_b[(k, j)];
         }
+    }
+    for j in 0..nm {
+        a[(2 * n + 2 * j, 2 * n + 2 * j + 1)] = 1.0;
+        b[(2 * n + 2 * j + 1, nf + j)] = 1.0;
     }
     let mut c = Mat::zeros(no, ns);
     let mut d = Mat::zeros(no, ni);
@@ -442,6 +742,14 @@ pub fn state_space_from(
                 OutputKind::Acc => (0..n).map(|k| modal_c[(o, k)] * modal_b[(k, j)]).sum(),
             };
         }
+        for j in 0..nm {
+            let g = motion_gain[(o, j)];
+            match out.kind {
+                OutputKind::Disp => c[(o, 2 * n + 2 * j)] = g,
+                OutputKind::Vel => c[(o, 2 * n + 2 * j + 1)] = g,
+                OutputKind::Acc => d[(o, nf + j)] += g,
+            }
+        }
     }
     Ok(StateSpace {
         a,
@@ -449,6 +757,7 @@ pub fn state_space_from(
         c,
         d,
         inputs: inputs.to_vec(),
+        motions: motions.to_vec(),
         outputs: outputs.to_vec(),
         eigenvalues: lam[..n].to_vec(),
         damping: zeta,
@@ -460,7 +769,16 @@ pub fn state_space_from(
         modal_b,
         modal_c,
         d_static,
+        motion_gain,
     })
+}
+
+/// Name of input column j (forces first, then motions).
+fn input_name(model: &Model, inputs: &[Input], motions: &[Motion], j: usize) -> String {
+    match inputs.get(j) {
+        Some(i) => i.name(model),
+        None => motions[j - inputs.len()].name(model),
+    }
 }
 
 impl StateSpace {
@@ -483,9 +801,77 @@ impl StateSpace {
             .collect()
     }
 
-    /// Static (DC) gain −C A⁻¹ B + D (outputs × inputs), from a dense LU of A.
+    /// Number of input columns (forces and moments, then motions).
+    pub fn n_inputs(&self) -> usize {
+        self.inputs.len() + self.motions.len()
+    }
+
+    /// Number of states: 2 per kept mode, 2 per motion input.
+    pub fn n_states(&self) -> usize {
+        self.a.nrows()
+    }
+
+    /// State names: `eta_k`, `deta_k`, then `u_j`, `du_j` (enforced displacement and velocity
+    /// of input column j, 1-based).
+    pub fn state_names(&self) -> Vec<String> {
+        let n = self.n_modes();
+        let nf = self.inputs.len();
+        (1..=n)
+            .map(|k| format!("eta_{k}"))
+            .chain((1..=n).map(|k| format!("deta_{k}")))
+            .chain(
+                (0..self.motions.len())
+                    .flat_map(|j| [format!("u_{}", nf + j + 1), format!("du_{}", nf + j + 1)]),
+            )
+            .collect()
+    }
+
+    /// Descriptions of the input columns, in order (forces and moments, then motions).
+    pub fn input_info(&self, model: &Model) -> Vec<InputInfo> {
+        self.inputs
+            .iter()
+            .map(|i| InputInfo {
+                name: i.name(model),
+                node: i.node,
+                dof: i.dof,
+                kind: i.kind_name(),
+                unit: i.unit(),
+                description: i.describe(model),
+            })
+            .chain(self.motions.iter().map(|m| InputInfo {
+                name: m.name(model),
+                node: m.node,
+                dof: m.dof,
+                kind: m.kind_name(),
+                unit: m.unit(),
+                description: m.describe(model),
+            }))
+            .collect()
+    }
+
+    /// Quasi-static response of the outputs per unit enforced displacement of each motion
+    /// input (outputs × motions): Cx ψ + w·t_m for displacement outputs, 0 for velocity and
+    /// acceleration outputs. For a slow enforced displacement u the outputs are this times u.
+    pub fn motion_static_gain(&self) -> Mat<f64> {
+        Mat::from_fn(self.outputs.len(), self.motions.len(), |o, j| {
+            if self.outputs[o].kind == OutputKind::Disp {
+                self.motion_gain[(o, j)]
+            } else {
+                0.0
+            }
+        })
+    }
+
+    /// Static (DC) gain (outputs × inputs). Force and moment columns: −C A⁻¹ B + D from a
+    /// dense LU of the modal block of A. Motion columns (whose input ü would give an unbounded
+    /// displacement): the static response per unit enforced displacement,
+    /// [`StateSpace::motion_static_gain`].
     pub fn dc_gain(&self) -> Result<Mat<f64>, StateSpaceError> {
-        let amax = self.a.norm_max();
+        let ns = 2 * self.n_modes();
+        let am = Mat::from_fn(ns, ns, |i, j| self.a[(i, j)]);
+        let bm = Mat::from_fn(ns, self.b.ncols(), |i, j| self.b[(i, j)]);
+        let cm = Mat::from_fn(self.c.nrows(), ns, |i, j| self.c[(i, j)]);
+        let amax = am.norm_max();
         if self
             .eigenvalues
             .iter()
@@ -493,20 +879,28 @@ impl StateSpace {
         {
             return Err(StateSpaceError::Singular);
         }
-        let lu = self.a.partial_piv_lu();
-        let sol = faer::prelude::Solve::solve(&lu, &self.b);
-        let res = &self.a * &sol - &self.b;
+        let lu = am.partial_piv_lu();
+        let sol = faer::prelude::Solve::solve(&lu, &bm);
+        let res = &am * &sol - &bm;
         if !sol.norm_max().is_finite()
-            || res.norm_max() > 1e-8 * (amax * sol.norm_max() + self.b.norm_max())
+            || res.norm_max() > 1e-8 * (amax * sol.norm_max() + bm.norm_max())
         {
             return Err(StateSpaceError::Singular);
         }
-        Ok(&self.d - &self.c * &sol)
+        let mut g = &self.d - &cm * &sol;
+        let nf = self.inputs.len();
+        let ms = self.motion_static_gain();
+        for o in 0..self.outputs.len() {
+            for j in 0..self.motions.len() {
+                g[(o, nf + j)] = ms[(o, j)];
+            }
+        }
+        Ok(g)
     }
 
     /// Frequency response G(i2πf) = C (i2πf I − A)⁻¹ B + D (outputs × inputs), evaluated mode
     /// by mode: Σₖ cₖ bₖ sᵖ / (s² + 2ζωₖ s + ωₖ²) plus the static feedthrough, with p = 0, 1, 2
-    /// for displacement, velocity and acceleration outputs.
+    /// for displacement, velocity and acceleration outputs; motion columns add g sᵖ / s².
     pub fn frequency_response(&self, f_hz: f64) -> Vec<Vec<c64>> {
         let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f_hz);
         let n = self.n_modes();
@@ -516,16 +910,21 @@ impl StateSpace {
                 s * s + s * (2.0 * self.damping * w) + self.eigenvalues[k]
             })
             .collect();
+        let nf = self.inputs.len();
         self.outputs
             .iter()
             .enumerate()
             .map(|(o, out)| {
                 let sp = s.powi(out.kind.order());
-                (0..self.inputs.len())
+                (0..self.n_inputs())
                     .map(|j| {
                         let mut g = c64::new(self.d_static[(o, j)], 0.0);
                         for k in 0..n {
                             g += sp * (self.modal_c[(o, k)] * self.modal_b[(k, j)]) / den[k];
+                        }
+                        if j >= nf {
+                            // the enforced motion u = ü / s² and its quasi-static response
+                            g += sp * self.motion_gain[(o, j - nf)] / (s * s);
                         }
                         g
                     })
@@ -586,10 +985,14 @@ pub fn magnitude_phase(g: &[c64]) -> Vec<(f64, f64)> {
 }
 
 #[cfg(test)]
+#[path = "state_space_motion_tests.rs"]
+mod motion_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::dynamics::modes;
-    use crate::model::{ElementSpec, ModelBuilder};
+    use crate::model::ModelBuilder;
     use crate::section::BeamProps;
     use crate::statics::linear::compliance;
     use crate::statics::{solve, StaticOptions};
@@ -601,10 +1004,6 @@ mod tests {
     fn cantilever(n: usize, rotary: bool, axial_load: f64) -> Model {
         let l = 0.1;
         let mut b = ModelBuilder::new("cantilever");
-        for i in 0..=n {
-            b.add_node(&format!("n{i}"), [l * i as f64 / n as f64, 0.0, 0.0], false)
-                .unwrap();
-        }
         let props = BeamProps {
             ea: 2e6,
             gj: 0.7,
@@ -614,21 +1013,15 @@ mod tests {
             rho_i: if rotary { [2e-6, 1e-6, 1e-6] } else { [0.0; 3] },
             ..Default::default()
         };
-        for i in 0..n {
-            let name = format!("b{i}");
-            b.add_element(
-                &name,
-                &[&format!("n{i}"), &format!("n{}", i + 1)],
-                ElementSpec::Beam {
-                    orient: Some([0.0, 0.0, 1.0]),
-                    ct: 0.0,
-                },
-                &[],
-                &[],
-            )
-            .unwrap();
-            b.set_beam_props(&name, props).unwrap();
-        }
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [l, 0.0, 0.0],
+            n,
+            Some([0.0, 0.0, 1.0]),
+            Some(props),
+        )
+        .unwrap();
         b.fix("n0", None).unwrap();
         let tip = format!("n{n}");
         b.add_point_mass(&tip, 0.05).unwrap();
