@@ -23,6 +23,8 @@ pub struct StatespaceArgs {
     /// An input: a force along (x, y, z) or a moment about (rx, ry, rz) a global axis on a node.
     /// `NODE:x:moment` is the moment about x. `NODE:x:motion` is a prescribed motion of a held
     /// translation (support, [inputs] or [[prescribe]]); its input is the acceleration [m/s²].
+    /// `NODE:rz:motion` is an enforced small rotation about z of a held rotation; its input is
+    /// the angular acceleration [rad/s²].
     /// Repeatable; forces and moments come first in the columns of B, in command-line order,
     /// then the motions.
     #[arg(
@@ -241,16 +243,14 @@ pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<InputSpec, 
     let (name, dof, kind) = split_spec(flag, spec, &["force", "moment", "motion"])?;
     let node = node_of(model, path, flag, spec, &name)?;
     if kind.map(str::to_ascii_lowercase).as_deref() == Some("motion") {
-        if dof.is_rotation() {
+        needs_rotation(model, flag, spec, node, dof)?;
+        let held = model.nodes[node]
+            .x_index(dof)
+            .is_some_and(|i| model.partition.x[i] != flexmbd_core::model::CoordKind::Free);
+        if !held {
+            let load = if dof.is_rotation() { "moment" } else { "force" };
             return Err(BadInput(format!(
-                "{flag} `{spec}`: a prescribed motion is a translation along x, y or z; a rotation cannot be enforced as a motion input (use {name}:{}:moment for a moment)",
-                dof.name()
-            )));
-        }
-        let i = model.nodes[node].ix_pos + dof.index();
-        if model.partition.x[i] == flexmbd_core::model::CoordKind::Free {
-            return Err(BadInput(format!(
-                "{flag} `{spec}`: coordinate {} of node `{name}` is free in {}; a prescribed motion needs a held coordinate (a support, [inputs] or [[prescribe]]). Hold it in the model, or use {name}:{}:force for a force input",
+                "{flag} `{spec}`: coordinate {} of node `{name}` is free in {}; a prescribed motion needs a held coordinate (a support, [inputs] or [[prescribe]]). Hold it in the model, or use {name}:{}:{load} for a {load} input",
                 dof.name(),
                 path.display(),
                 dof.name()

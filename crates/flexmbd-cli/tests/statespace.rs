@@ -618,3 +618,92 @@ steps = 2
         "{err}"
     );
 }
+
+/// `NODE:rz:motion` through the binary: a cantilever (L = 0.2 m, no load) whose clamp rotation
+/// about z is an input. Labels and the unit rad/s² in JSON and .m; the quasi-static column is
+/// the rigid rotation of the whole beam (tip y = L per radian, tip and clamp rotation 1, tip
+/// x 0), and the DC gain of the tip rotation per tip moment is the compliance L/EI = 0.1.
+#[test]
+fn rotation_motion_input_of_clamp_is_rigid_rotation() {
+    let p = tmp("rotated_clamp.toml");
+    std::fs::write(
+        &p,
+        r#"
+[model]
+name = "rotated-clamp"
+
+[nodes]
+a = { x = [0.0, 0.0, 0.0], rot = true }
+t = [0.2, 0.0, 0.0]
+
+[fix]
+a = ["x", "y", "z", "rx", "ry"]
+
+[inputs]
+a = "rz"
+
+[[beam]]
+id = "b"
+nodes = ["a", "t"]
+orient = [0.0, 0.0, 1.0]
+EA = 2e5
+GJ = 0.7
+EIy = 2.0
+EIz = 2.0
+rho_a = 0.1
+segments = 4
+"#,
+    )
+    .unwrap();
+    let mfile = tmp("rotated_clamp.m");
+    let j = ok(&[
+        "statespace",
+        p.to_str().unwrap(),
+        "--input",
+        "t:rz",
+        "--input",
+        "a:rz:motion",
+        "--output",
+        "t:y",
+        "--output",
+        "t:rz",
+        "--output",
+        "t:x",
+        "--output",
+        "a:rz",
+        "--json",
+        "--m",
+        mfile.to_str().unwrap(),
+    ]);
+    let inp = &j["inputs"][1];
+    assert_eq!(inp["name"], "a:rz:motion");
+    assert_eq!(inp["kind"], "motion");
+    assert_eq!(inp["unit"], "rad/s²");
+    let m = std::fs::read_to_string(&mfile).unwrap();
+    assert!(m.contains("'a:rz:motion'") && m.contains("a:rz:motion [rad/s²]"));
+    let dc = matrix(&j["dc_gain"]);
+    for (o, e) in [0.2, 1.0, 0.0, 1.0].iter().enumerate() {
+        assert!(
+            (dc[o][1] - e).abs() < 1e-9,
+            "output {o}: {} vs {e}",
+            dc[o][1]
+        );
+    }
+    // the moment column: tip rotation per tip moment L/EI = 0.1 rad/(N·m)
+    assert!((dc[1][0] - 0.1).abs() < 1e-9, "{}", dc[1][0]);
+    // a free rotation (the beam's tip) cannot be moved: exit 2, pointing to a moment input
+    let (out, _) = run(&[
+        "statespace",
+        p.to_str().unwrap(),
+        "--input",
+        "t:rz:motion",
+        "--output",
+        "t:y",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("t:rz:motion") && err.contains("free") && err.contains("t:rz:moment"),
+        "{err}"
+    );
+}

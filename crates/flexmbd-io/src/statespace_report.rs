@@ -357,7 +357,7 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
                 let first = ss.inputs.len() + 1;
                 let _ = writeln!(
                     s,
-                    "  (columns u{first}..u{}: prescribed motions; their input is the acceleration, so the column is the quasi-static response per unit enforced displacement, output unit per m)",
+                    "  (columns u{first}..u{}: prescribed motions; their input is the acceleration, so the column is the quasi-static response per unit enforced displacement, output unit per m, or per rad for a rotation)",
                     ss.n_inputs()
                 );
             }

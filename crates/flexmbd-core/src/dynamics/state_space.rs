@@ -29,10 +29,12 @@
 //!   the instantaneous massless response (it would need u̇, ü): where it is non-zero the
 //!   model warns.
 //!
-//! Prescribed-motion inputs (base excitation, enforced motion): a held translational
-//! coordinate m (support, `[inputs]` or `[[prescribe]]`) moves by u_m(t). With t_m its unit
-//! direction in x, lifted onto the rigid constraints (G t_m = 0 through free coordinates),
-//! δx = Z δq + t_m u_m and
+//! Prescribed-motion inputs (base excitation, enforced motion): a held coordinate m (support,
+//! `[inputs]` or `[[prescribe]]`) moves by u_m(t): a translation along a global axis, or a
+//! small rotation about a global axis of a node whose rotation component is held (a rotary
+//! actuator). With t_m its unit direction in x — e_i for a translation, the Euler-parameter
+//! rate of a unit rotation δλ = ½ Λ̄ᵀ e_k (so that ω = 2 Λ̄ δλ = e_k) for a rotation — lifted
+//! onto the rigid constraints (G t_m = 0 through free coordinates), δx = Z δq + t_m u_m and
 //!
 //! ```text
 //! M0 q̈ + K0 q = −(Zᵀ K t_m) u_m − (Zᵀ M t_m) ü_m
@@ -45,7 +47,8 @@
 //! (A block [[0, 1], [0, 0]], B entry 1 on u̇_m). An output row w gives the absolute motion
 //! δy = Cx r + g u_m with g = Cx ψ + w·t_m: g enters C on u_m (displacement), on u̇_m
 //! (velocity) or D (acceleration). K0 is solved directly (dense LU), so massless directions
-//! are part of ψ exactly. Only translations can be moved this way.
+//! are part of ψ exactly. A rotation output of the moved node about the moved axis has
+//! w·t_m = 2 e_kᵀ Λ̄ ½ Λ̄ᵀ e_k = 1: the outputs stay absolute.
 
 use super::{reduced_matrices_with, ModalError, Reduced};
 use crate::math::lambda_bar;
@@ -113,13 +116,14 @@ pub struct Output {
 }
 
 /// A prescribed-motion (enforced-motion) input: the acceleration ü [m/s²] of a held
-/// translational coordinate of a node along a global axis (a support, `[inputs]` or
+/// translational coordinate of a node along a global axis, or the angular acceleration
+/// [rad/s²] of a held rotation component about a global axis (a support, `[inputs]` or
 /// `[[prescribe]]` coordinate).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Motion {
     /// Node index.
     pub node: usize,
-    /// x, y or z.
+    /// x, y, z (translation) or rx, ry, rz (rotation).
     pub dof: Dof,
 }
 
@@ -132,14 +136,23 @@ impl Motion {
     pub fn name(&self, model: &Model) -> String {
         format!("{}:{}:motion", model.nodes[self.node].name, self.dof.name())
     }
-    /// SI unit of the input (an acceleration).
+    /// SI unit of the input (an acceleration or angular acceleration).
     pub fn unit(&self) -> &'static str {
-        "m/s²"
+        if self.dof.is_rotation() {
+            "rad/s²"
+        } else {
+            "m/s²"
+        }
     }
     /// Words, e.g. "enforced acceleration of base along global y".
     pub fn describe(&self, model: &Model) -> String {
+        let (what, prep) = if self.dof.is_rotation() {
+            ("angular acceleration", "about")
+        } else {
+            ("acceleration", "along")
+        };
         format!(
-            "enforced acceleration of {} along global {} (prescribed motion)",
+            "enforced {what} of {} {prep} global {} (prescribed motion)",
             model.nodes[self.node].name,
             axis_name(self.dof)
         )
@@ -299,12 +312,6 @@ pub enum StateSpaceError {
         /// Input name.
         input: String,
     },
-    /// A motion input about a rotation axis.
-    #[error("input {input}: prescribed-motion inputs are translations (x, y, z); a rotation cannot be enforced this way. Model the rotation drive as a moment input, or move a translational support")]
-    MotionRotation {
-        /// Input name.
-        input: String,
-    },
     /// A motion that the rigid constraints do not allow.
     #[error("input {input}: the rigid or prescribed deformations do not allow this coordinate to move on its own (it is tied to other held coordinates); enforce the motion on a coordinate that can move, or make the connecting element flexible")]
     MotionConstrained {
@@ -372,10 +379,12 @@ struct MotionLoad {
 }
 
 /// Loads of unit enforced motions. K on the moved coordinates comes from a linearisation of a
-/// copy of the model in which they are free (same constraints and multipliers: only
-/// translations are freed, which adds no Euler normalisation); the direction is lifted onto the
-/// rigid/prescribed deformation constraints by the least-squares particular solution
-/// t_m = e_m + T w, G T w = −G e_m.
+/// copy of the model in which they are free: a translation alone, for a rotation all of
+/// λ1..λ3 of the node. This keeps the constraints and multipliers: λ0 is always free, so every
+/// rotational node already has its normalisation and multiplier, whose term 2μ I acts only on
+/// the node's own (held) rows, which Zᵀ does not see. The direction (e_i, or ½ Λ̄ᵀ e_k on λ)
+/// is lifted onto the rigid/prescribed deformation constraints by the least-squares particular
+/// solution t_m = t⁰_m + T w, G T w = −G t⁰_m.
 fn motion_loads(
     model: &Model,
     step: &StepResult,
@@ -386,22 +395,38 @@ fn motion_loads(
         return Ok(Vec::new());
     }
     let mut free = model.clone();
-    let mut moved = Vec::with_capacity(motions.len());
+    let mut freed = Vec::new();
+    // unit directions t⁰_m in x before the lifting
+    let mut dirs = Vec::with_capacity(motions.len());
     for mo in motions {
         let name = mo.name(model);
-        if mo.dof.is_rotation() {
-            return Err(StateSpaceError::MotionRotation { input: name });
-        }
-        let i = model.nodes[mo.node].ix_pos + mo.dof.index();
+        let n = &model.nodes[mo.node];
+        let Some(i) = n.x_index(mo.dof) else {
+            return Err(StateSpaceError::NoRotation {
+                node: n.name.clone(),
+            });
+        };
         if model.partition.x[i] == CoordKind::Free {
             return Err(StateSpaceError::MotionNotHeld { input: name });
         }
-        free.partition.x[i] = CoordKind::Free;
-        moved.push(i);
+        let own: Vec<usize> = match (mo.dof.is_rotation(), n.ix_rot) {
+            (true, Some(r)) => (r + 1..r + 4).collect(),
+            _ => vec![i],
+        };
+        for j in own {
+            free.partition.x[j] = CoordKind::Free;
+            freed.push(j);
+        }
+        let mut t0 = unit_vector(model, step, mo.node, mo.dof)?;
+        if mo.dof.is_rotation() {
+            // ½ Λ̄ᵀ e_k (the output row is 2 Λ̄ᵀ e_k)
+            t0.iter_mut().for_each(|v| *v *= 0.25);
+        }
+        dirs.push(t0);
     }
     free.loads
         .prescribed
-        .retain(|p| !matches!(p.target, crate::model::Target::Coordinate(i) if moved.contains(&i)));
+        .retain(|p| !matches!(p.target, crate::model::Target::Coordinate(i) if freed.contains(&i)));
     let lin = linearize(&free, step);
     let nx = model.nx;
     let mut kx = Mat::zeros(nx, nx);
@@ -448,12 +473,11 @@ fn motion_loads(
     };
     let ndof = red.ndof();
     let mut out = Vec::with_capacity(motions.len());
-    for (mo, &i) in motions.iter().zip(&moved) {
+    for (mo, t0) in motions.iter().zip(dirs) {
         let name = mo.name(model);
-        let mut tm = vec![0.0; nx];
-        tm[i] = 1.0;
+        let mut tm = t0;
         if let Some((g, t, gt)) = &gt {
-            let ge = Mat::from_fn(g.nrows(), 1, |r, _| g[(r, i)]);
+            let ge = g * Mat::from_fn(nx, 1, |a, _| tm[a]);
             if ge.norm_max() > 0.0 {
                 // least squares G T w = −G e_m through the normal equations of the SVD
                 let f = crate::linalg::svd(gt.as_ref(), "constraint Jacobian").map_err(|_| {

@@ -322,9 +322,10 @@ fn support_motion_of_cantilever_is_rigid_plus_inertial_load() {
     assert!(ss.warnings.is_empty(), "{:?}", ss.warnings);
 }
 
-/// A motion input on a free coordinate or a rotation is refused with a specific error.
+/// A motion input on a free coordinate, or a rotation of a node without rotation
+/// coordinates, is refused with a specific error.
 #[test]
-fn motion_on_free_or_rotation_is_refused() {
+fn motion_on_free_or_missing_coordinate_is_refused() {
     let model = spring_mass(0.5, 200.0, 0.1);
     let step = last_step(&model);
     let outputs = [out(&model, "m", Dof::X, OutputKind::Disp)];
@@ -341,7 +342,18 @@ fn motion_on_free_or_rotation_is_refused() {
     };
     let e = state_space_with_motions(&model, &step, &[], &[rot], &outputs, &Default::default())
         .unwrap_err();
-    assert!(matches!(e, StateSpaceError::MotionRotation { .. }), "{e}");
+    assert!(matches!(e, StateSpaceError::NoRotation { .. }), "{e}");
+    // a free rotation (the tip of a cantilever) cannot be moved
+    let model = point_mass_cantilever(0.0);
+    let step = last_step(&model);
+    let outputs = [out(&model, "n3", Dof::Y, OutputKind::Disp)];
+    let tip = Motion {
+        node: model.node_id("n3").unwrap(),
+        dof: Dof::Rz,
+    };
+    let e = state_space_with_motions(&model, &step, &[], &[tip], &outputs, &Default::default())
+        .unwrap_err();
+    assert!(matches!(e, StateSpaceError::MotionNotHeld { .. }), "{e}");
 }
 
 /// A held coordinate tied to a free one by a rigid truss: the enforced motion is lifted onto
@@ -404,5 +416,272 @@ fn motion_through_a_rigid_link_is_lifted_onto_the_constraint() {
         assert!((g[1][0] - 1.0).norm() < 1e-9);
         let exact = (s * (2.0 * zeta * wn) + wn * wn) / (s * s + s * (2.0 * zeta * wn) + wn * wn);
         assert!((g[2][0] * s * s - exact).norm() < 1e-9 * exact.norm());
+    }
+}
+
+/// A rotor (inertia J about z) on a torsion spring k (hinge about z) whose base rotation about
+/// z is enforced: θ/θ_base = (2ζωₙs + ωₙ²)/(s² + 2ζωₙs + ωₙ²), ωₙ² = k/J (modal damping on the
+/// spring's twist, the relative rotation, as for the translational base excitation). The input
+/// is the angular acceleration, so θ/θ_base = G(s) s²; the base itself follows with gain 1.
+#[test]
+fn torsion_spring_base_rotation_matches_closed_form() {
+    let (k, j) = (0.8, 2e-4);
+    let mut b = ModelBuilder::new("rotor");
+    b.add_node("b", [0.0; 3], true).unwrap();
+    b.add_node_at("m", "b").unwrap();
+    b.add_element(
+        "h",
+        &["b", "m"],
+        ElementSpec::Hinge {
+            axis: [0.0, 0.0, 1.0],
+            k,
+        },
+        &[1],
+        &[],
+    )
+    .unwrap();
+    b.fix("b", Some(&[Dof::X, Dof::Y, Dof::Z, Dof::Rx, Dof::Ry]))
+        .unwrap();
+    b.input("b", Some(&[Dof::Rz])).unwrap();
+    b.add_inertia("m", [j, 0.0, 0.0, j, 0.0, j]).unwrap();
+    let model = b.build().unwrap();
+    let step = last_step(&model);
+    let wn = (k / j).sqrt();
+    let motion = Motion {
+        node: model.node_id("b").unwrap(),
+        dof: Dof::Rz,
+    };
+    assert_eq!(motion.unit(), "rad/s²");
+    assert_eq!(motion.name(&model), "b:rz:motion");
+    let outputs = [
+        out(&model, "m", Dof::Rz, OutputKind::Disp),
+        out(&model, "m", Dof::Rz, OutputKind::Vel),
+        out(&model, "m", Dof::Rz, OutputKind::Acc),
+        out(&model, "b", Dof::Rz, OutputKind::Disp),
+        out(&model, "m", Dof::Rx, OutputKind::Disp),
+    ];
+    for zeta in [0.0, 0.03] {
+        let ss = state_space_with_motions(
+            &model,
+            &step,
+            &[],
+            &[motion],
+            &outputs,
+            &StateSpaceOptions {
+                damping: zeta,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(ss.n_modes(), 1);
+        assert!((ss.eigenvalues[0] - wn * wn).abs() < 1e-9 * wn * wn);
+        let g0 = ss.motion_static_gain();
+        for (o, e) in [1.0, 0.0, 0.0, 1.0, 0.0].iter().enumerate() {
+            assert!((g0[(o, 0)] - e).abs() < 1e-12, "{o}: {}", g0[(o, 0)]);
+        }
+        let fn_hz = wn / (2.0 * std::f64::consts::PI);
+        for f in [
+            0.01 * fn_hz,
+            0.5 * fn_hz,
+            0.97 * fn_hz,
+            1.1 * fn_hz,
+            8.0 * fn_hz,
+        ] {
+            let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f);
+            let exact =
+                (s * (2.0 * zeta * wn) + wn * wn) / (s * s + s * (2.0 * zeta * wn) + wn * wn);
+            let g = ss.frequency_response(f);
+            let dense = resolvent(&ss, s);
+            for (o, p) in [(0usize, 0i32), (1, 1), (2, 2)] {
+                let tt = g[o][0] * s * s / s.powi(p);
+                assert!(
+                    (tt - exact).norm() < 1e-9 * exact.norm(),
+                    "f {f} o {o}: {tt} vs {exact}"
+                );
+                assert!((dense[o][0] - g[o][0]).norm() < 1e-9 * g[o][0].norm());
+            }
+            assert!((g[3][0] * s * s - 1.0).norm() < 1e-12);
+            assert!(g[4][0].norm() < 1e-12 * g[0][0].norm());
+        }
+    }
+}
+
+/// Cantilever of 3 beams along x (L = 0.3 m) with point masses, clamped at n0 except for rz,
+/// which is an input (prescribed to `rz` when given); dead tip load `load`.
+fn rotated_clamp(load: [f64; 3], rz: Option<f64>) -> Model {
+    let mut b = ModelBuilder::new("rotated-clamp");
+    let props = BeamProps {
+        ea: 2e4,
+        gj: 0.7,
+        eiy: 1.0,
+        eiz: 3.0,
+        ..Default::default()
+    };
+    b.add_beam_chain(
+        "",
+        [0.0; 3],
+        [0.3, 0.0, 0.0],
+        3,
+        Some([0.0, 0.0, 1.0]),
+        Some(props),
+    )
+    .unwrap();
+    b.fix("n0", Some(&[Dof::X, Dof::Y, Dof::Z, Dof::Rx, Dof::Ry]))
+        .unwrap();
+    match rz {
+        Some(v) => b.prescribe_coordinate("n0", Dof::Rz, v).unwrap(),
+        None => b.input("n0", Some(&[Dof::Rz])).unwrap(),
+    }
+    for (k, m) in [(1, 0.01), (2, 0.02), (3, 0.05)] {
+        b.add_point_mass(&format!("n{k}"), m).unwrap();
+    }
+    if load != [0.0; 3] {
+        b.add_load("n3", load, [0.0; 3]).unwrap();
+    }
+    b.build().unwrap()
+}
+
+/// Rotation angle about z of a node rotated in the xy plane, from its Euler parameters.
+fn angle_z(model: &Model, x: &[f64], node: &str) -> f64 {
+    let r = model.nodes[model.node_id(node).unwrap()].ix_rot.unwrap();
+    2.0 * x[r + 3].atan2(x[r])
+}
+
+/// Rotating the clamp of a cantilever about z: unloaded, the quasi-static response is the rigid
+/// rotation of the whole beam (y of a node = its distance from the clamp per radian, x = 0, every
+/// rotation 1); under a dead tip load (pre-stress, the load does not turn with the beam) it
+/// equals the central difference of statics solves with the clamp rotation prescribed to ±h.
+#[test]
+fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
+    let outputs_of = |model: &Model| -> Vec<Output> {
+        ["n1", "n2", "n3"]
+            .iter()
+            .flat_map(|nd| {
+                [
+                    out(model, nd, Dof::X, OutputKind::Disp),
+                    out(model, nd, Dof::Y, OutputKind::Disp),
+                    out(model, nd, Dof::Rz, OutputKind::Disp),
+                ]
+            })
+            .chain([out(model, "n0", Dof::Rz, OutputKind::Disp)])
+            .collect()
+    };
+    // unloaded: rigid rotation
+    let model = rotated_clamp([0.0; 3], None);
+    let step = last_step(&model);
+    let motion = Motion {
+        node: model.node_id("n0").unwrap(),
+        dof: Dof::Rz,
+    };
+    let outputs = outputs_of(&model);
+    let ss = state_space_with_motions(
+        &model,
+        &step,
+        &[],
+        &[motion],
+        &outputs,
+        &StateSpaceOptions::default(),
+    )
+    .unwrap();
+    let g = ss.motion_static_gain();
+    let rigid = [0.0, 0.1, 1.0, 0.0, 0.2, 1.0, 0.0, 0.3, 1.0, 1.0];
+    for (o, e) in rigid.iter().enumerate() {
+        assert!(
+            (g[(o, 0)] - e).abs() < 1e-10,
+            "{}: {} vs {e}",
+            outputs[o].name(&model),
+            g[(o, 0)]
+        );
+    }
+    assert!(ss.warnings.is_empty(), "{:?}", ss.warnings);
+    // at low frequency every output follows the clamp: Θ/Θ_base → the rigid gains
+    let f = 1e-4 * ss.frequencies()[0];
+    let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f);
+    let fr = ss.frequency_response(f);
+    for (o, e) in rigid.iter().enumerate() {
+        assert!((fr[o][0] * s * s - e).norm() < 1e-6, "{o}");
+    }
+    // pre-stressed: against the statics solver
+    let load = [20.0, 4.0, 0.0];
+    let model = rotated_clamp(load, None);
+    let step = last_step(&model);
+    let outputs = outputs_of(&model);
+    let ss = state_space_with_motions(
+        &model,
+        &step,
+        &[],
+        &[motion],
+        &outputs,
+        &StateSpaceOptions::default(),
+    )
+    .unwrap();
+    let g = ss.dc_gain().unwrap();
+    let h = 1e-5;
+    let plus = last_step(&rotated_clamp(load, Some(h)));
+    let minus = last_step(&rotated_clamp(load, Some(-h)));
+    let dth = angle_z(&model, &plus.x, "n0") - angle_z(&model, &minus.x, "n0");
+    assert!((dth - 2.0 * h).abs() < 1e-3 * h, "{dth}");
+    let mut differs = 0.0f64;
+    for (o, e) in rigid.iter().enumerate() {
+        let op = &outputs[o];
+        let name = &model.nodes[op.node].name;
+        let v = if op.dof.is_rotation() {
+            (angle_z(&model, &plus.x, name) - angle_z(&model, &minus.x, name)) / dth
+        } else {
+            let i = model.nodes[op.node].ix_pos + op.dof.index();
+            (plus.x[i] - minus.x[i]) / dth
+        };
+        assert!(
+            (g[(o, 0)] - v).abs() < 1e-6 * e.abs().max(0.3),
+            "{}: {} vs {v}",
+            op.name(&model),
+            g[(o, 0)]
+        );
+        differs = differs.max((v - e).abs());
+    }
+    // the dead load makes the response differ from the rigid rotation
+    assert!(differs > 1e-3, "{differs}");
+}
+
+/// The same clamp, first turned by 0.3 rad (`[[prescribe]]`), then moved: the direction
+/// ½ Λ̄ᵀ e_z is taken at the current orientation, so the quasi-static response is the rigid
+/// rotation of the turned beam: node at distance r from the clamp moves by r (−sin 0.3, cos 0.3)
+/// per radian, every rotation 1.
+#[test]
+fn motion_of_a_turned_clamp_is_rigid_rotation_about_the_current_state() {
+    let th: f64 = 0.3;
+    let model = rotated_clamp([0.0; 3], Some(th));
+    let step = last_step(&model);
+    assert!((angle_z(&model, &step.x, "n3") - th).abs() < 1e-9);
+    let motion = Motion {
+        node: model.node_id("n0").unwrap(),
+        dof: Dof::Rz,
+    };
+    let mut outputs = Vec::new();
+    let mut expect = Vec::new();
+    for (nd, r) in [("n1", 0.1), ("n2", 0.2), ("n3", 0.3)] {
+        outputs.push(out(&model, nd, Dof::X, OutputKind::Disp));
+        outputs.push(out(&model, nd, Dof::Y, OutputKind::Disp));
+        outputs.push(out(&model, nd, Dof::Rz, OutputKind::Disp));
+        outputs.push(out(&model, nd, Dof::Rx, OutputKind::Disp));
+        expect.extend([-r * th.sin(), r * th.cos(), 1.0, 0.0]);
+    }
+    let ss = state_space_with_motions(
+        &model,
+        &step,
+        &[],
+        &[motion],
+        &outputs,
+        &StateSpaceOptions::default(),
+    )
+    .unwrap();
+    let g = ss.motion_static_gain();
+    for (o, e) in expect.iter().enumerate() {
+        assert!(
+            (g[(o, 0)] - e).abs() < 1e-9,
+            "{}: {} vs {e}",
+            outputs[o].name(&model),
+            g[(o, 0)]
+        );
     }
 }
