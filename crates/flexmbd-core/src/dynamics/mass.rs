@@ -80,7 +80,7 @@ fn lambda_block(l: &[f64], i: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
 /// R(λ) diag(d) Rᵀ in the frame whose reference axes are the rows of `frame`.
 fn rotated_tensor(l: &[f64], frame: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {
     let lam = [l[0], l[1], l[2], l[3]];
-    let axes: Vec<[f64; 3]> = frame.iter().map(|e| rotate(&lam, *e)).collect();
+    let axes: [[f64; 3]; 3] = std::array::from_fn(|k| rotate(&lam, frame[k]));
     let mut i = [[0.0; 3]; 3];
     for k in 0..3 {
         for r in 0..3 {
@@ -115,19 +115,21 @@ pub(crate) fn beam_local_mass_with(
     // ∂r(ξ)/∂x_k for the four Hermite terms: 3 × (3 or 4) blocks
     let dtp = d_rotated(lp, ex);
     let dtq = d_rotated(lq, ex);
-    let blocks: [(usize, Vec<[f64; 3]>); 4] = [
-        (0, (0..3).map(unit).collect()),
-        (3, (0..4).map(|c| col(&dtp, c, b.l0)).collect()),
-        (7, (0..3).map(unit).collect()),
-        (10, (0..4).map(|c| col(&dtq, c, b.l0)).collect()),
+    // (first row, number of columns, columns) of each term, without allocations
+    let units = [unit(0), unit(1), unit(2), [0.0; 3]];
+    let blocks: [(usize, usize, [[f64; 3]; 4]); 4] = [
+        (0, 3, units),
+        (3, 4, std::array::from_fn(|c| col(&dtp, c, b.l0))),
+        (7, 3, units),
+        (10, 4, std::array::from_fn(|c| col(&dtq, c, b.l0))),
     ];
     let mut m = [[0.0; 14]; 14];
     let ml = p.rho_a * b.l0;
-    for (a, (ia, ca)) in blocks.iter().enumerate() {
-        for (bb, (ib, cb)) in blocks.iter().enumerate() {
+    for (a, (ia, na, ca)) in blocks.iter().enumerate() {
+        for (bb, (ib, nb, cb)) in blocks.iter().enumerate() {
             let h = ml * HERMITE[a][bb];
-            for (r, vr) in ca.iter().enumerate() {
-                for (c, vc) in cb.iter().enumerate() {
+            for (r, vr) in ca[..*na].iter().enumerate() {
+                for (c, vc) in cb[..*nb].iter().enumerate() {
                     let wc = weight.map_or(*vc, |w| {
                         std::array::from_fn(|k| crate::math::dot(w[k], *vc))
                     });
@@ -160,7 +162,7 @@ pub(crate) fn beam_local_mass_with(
 /// reference orientation: the tensor turns with the node (R I Rᵀ), then 4 Λ̄ᵀ (R I Rᵀ) Λ̄.
 pub(crate) fn node_inertia_block(l: &[f64], tensor: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
     let lam = [l[0], l[1], l[2], l[3]];
-    let cols: Vec<[f64; 3]> = (0..3).map(|k| rotate(&lam, unit(k))).collect();
+    let cols: [[f64; 3]; 3] = std::array::from_fn(|k| rotate(&lam, unit(k)));
     let mut ig = [[0.0; 3]; 3];
     for a in 0..3 {
         for b in 0..3 {
@@ -186,20 +188,48 @@ pub(crate) fn for_each_entry(
     rotary: bool,
     mut f: impl FnMut(usize, usize, f64),
 ) {
+    for_each_beam(model, x, weight, rotary, |xmap, me| {
+        for (r, &gr) in xmap.iter().enumerate() {
+            for (c, &gc) in xmap.iter().enumerate() {
+                f(gr, gc, me[r][c]);
+            }
+        }
+    });
+    for_each_node_entry(model, x, weight, rotary, f);
+}
+
+/// The beams' mass matrices ([`beam_local_mass_with`]) with their coordinates in x, as
+/// `f(xmap, matrix)`, in the order of the elements.
+fn for_each_beam(
+    model: &Model,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    mut f: impl FnMut(&[usize], &[[f64; 14]; 14]),
+) {
+    let mut xk = [0.0; 14];
     for entry in &model.elements {
         let Element::Beam(b) = &entry.element else {
             continue;
         };
-        let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-        let Some(me) = beam_local_mass_with(b, &xk, weight, rotary) else {
+        let xk = &mut xk[..entry.xmap.len()];
+        xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
+        let Some(me) = beam_local_mass_with(b, xk, weight, rotary) else {
             continue;
         };
-        for (r, &gr) in entry.xmap.iter().enumerate() {
-            for (c, &gc) in entry.xmap.iter().enumerate() {
-                f(gr, gc, me[r][c]);
-            }
-        }
+        f(&entry.xmap, &me);
     }
+}
+
+/// The entries of point masses and inertia tensors (the part of [`for_each_entry`] after the
+/// beams).
+fn for_each_node_entry(
+    model: &Model,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    mut f: impl FnMut(usize, usize, f64),
+) {
     for &(node, mass) in &model.loads.point_masses {
         let ip = model.nodes[node].ix_pos;
         for r in 0..3 {
@@ -236,7 +266,19 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
 /// products that the energy split of the modes needs, also for models too large for a dense M.
 pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
     let mut out = vec![vec![0.0; model.nx]; vs.len()];
-    for_each_entry(model, x, None, true, |r, c, m| {
+    // per vector the same additions in the same order as entry by entry
+    for_each_beam(model, x, None, true, |xmap, me| {
+        for (v, o) in vs.iter().zip(out.iter_mut()) {
+            for (r, &gr) in xmap.iter().enumerate() {
+                let mut acc = o[gr];
+                for (c, &gc) in xmap.iter().enumerate() {
+                    acc += me[r][c] * v[gc];
+                }
+                o[gr] = acc;
+            }
+        }
+    });
+    for_each_node_entry(model, x, None, true, |r, c, m| {
         for (v, o) in vs.iter().zip(out.iter_mut()) {
             o[r] += m * v[c];
         }

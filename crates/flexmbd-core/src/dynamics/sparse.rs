@@ -80,12 +80,32 @@ fn col_slice<'a>(v: MatRef<'a, f64>, i: usize) -> &'a [f64] {
         .as_slice()
 }
 
+/// a · b with eight independent partial sums (the additions pipeline instead of waiting for
+/// each other).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut acc = [0.0f64; 8];
+    let (ac, ar) = a.split_at(n - n % 8);
+    let (bc, br) = b.split_at(n - n % 8);
+    for (x, y) in ac.chunks_exact(8).zip(bc.chunks_exact(8)) {
+        for k in 0..8 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let mut tail = 0.0;
+    for (x, y) in ar.iter().zip(br) {
+        tail += x * y;
+    }
+    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
+}
+
 /// c[i] = V[:, i] · y for the first `j` columns of `v`.
 fn basis_dots(v: MatRef<'_, f64>, j: usize, y: &[f64]) -> Vec<f64> {
     let n = y.len();
     let col = |i: usize, r: std::ops::Range<usize>| -> f64 {
         let c = &col_slice(v, i)[r.clone()];
-        c.iter().zip(&y[r]).map(|(a, b)| a * b).sum()
+        dot(c, &y[r])
     };
     if n < PAR_MIN {
         return (0..j).map(|i| col(i, 0..n)).collect();
@@ -559,6 +579,8 @@ struct Shifted {
     sym: Option<(SparseLu, Vec<usize>)>,
     /// LU with partial pivoting (created when L D Lᵀ fails).
     lu: Option<SparseLu>,
+    /// A copy of the L D Lᵀ for the inertia counts at other shifts ([`Shifted::count_below`]).
+    counter: Option<SparseLu>,
     /// Which factorisation holds A(σ): true L D Lᵀ, false LU.
     use_sym: bool,
     sigma: f64,
@@ -583,6 +605,7 @@ impl Shifted {
         Self {
             sym,
             lu: None,
+            counter: None,
             use_sym: false,
             sigma: f64::NAN,
             below: None,
@@ -668,13 +691,14 @@ impl Shifted {
     }
 
     /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it (the
-    /// factorisation at σ is kept: a copy of the symbolic structure is used).
-    fn count_below(&self, p: &Problem, s: f64) -> Option<usize> {
+    /// factorisation at σ is kept: a copy of the symbolic structure is used, made once and
+    /// refactored at every count).
+    fn count_below(&mut self, p: &Problem, s: f64) -> Option<usize> {
         let (lu, slots) = self.sym.as_ref()?;
-        let mut lu = lu.clone();
         let lower: Vec<f64> = slots.iter().map(|&q| p.k[q] - s * p.m[q]).collect();
-        lu.refactor_symmetric(&lower).ok()?;
-        lu.negative_pivots().checked_sub(p.n - p.nc)
+        let counter = self.counter.get_or_insert_with(|| lu.clone());
+        counter.refactor_symmetric(&lower).ok()?;
+        counter.negative_pivots().checked_sub(p.n - p.nc)
     }
 }
 
@@ -688,8 +712,8 @@ struct Basis<'a> {
 
 /// M-inner-product Gram–Schmidt of `w` against the bases (classical Gram–Schmidt with one
 /// reorthogonalisation); returns the coefficients against the first basis and the M-norm of
-/// the result, with `mw` = M w on return. Two products with M: at the start and at the end (in
-/// between, M w follows the updates through the stored products).
+/// the result, with `mw` = M w on return. One product with M, at the end: the coefficients are
+/// the products of w with the stored M vᵢ.
 fn orthogonalise(
     p: &Problem,
     main: &Basis<'_>,
@@ -698,23 +722,21 @@ fn orthogonalise(
     mw: &mut [f64],
 ) -> (Vec<f64>, f64) {
     let mut h = vec![0.0; main.j];
-    p.m_times(w, mw);
     for _pass in 0..2 {
         for (b, is_main) in [(Some(main), true), (locked, false)] {
             let Some(b) = b else { continue };
             if b.j == 0 {
                 continue;
             }
-            let c = basis_dots(b.v, b.j, mw);
+            let c = basis_dots(b.mv, b.j, w);
             basis_subtract(b.v, &c, w);
-            basis_subtract(b.mv, &c, mw);
             if is_main {
                 h.iter_mut().zip(&c).for_each(|(a, x)| *a += x);
             }
         }
     }
     p.m_times(w, mw);
-    let norm2: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum();
+    let norm2 = dot(w, mw);
     (h, norm2.max(0.0).sqrt())
 }
 

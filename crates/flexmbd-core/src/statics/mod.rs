@@ -2023,6 +2023,27 @@ impl ReducedLinear {
             if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
                 return vec![0.0; shapes.len()];
             }
+            if let (Element::Beam(b), 6, 14) = (&entry.element, ne, entry.xmap.len()) {
+                // the same sums as below, without allocations per shape
+                let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+                let d = b.first(&xk).d;
+                return shapes
+                    .iter()
+                    .map(|dx| {
+                        let de: [f64; 6] = std::array::from_fn(|r| {
+                            entry
+                                .xmap
+                                .iter()
+                                .enumerate()
+                                .map(|(c, &i)| d[r][c] * dx[i])
+                                .sum()
+                        });
+                        (0..6)
+                            .map(|a| de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>())
+                            .sum()
+                    })
+                    .collect();
+            }
             let d: Mat<f64> = match &entry.element {
                 Element::Beam(b) => {
                     let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
