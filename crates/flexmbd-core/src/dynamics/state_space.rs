@@ -1018,8 +1018,8 @@ mod tests {
     use crate::dynamics::modes;
     use crate::model::ModelBuilder;
     use crate::section::BeamProps;
+    use crate::statics::last_step;
     use crate::statics::linear::compliance;
-    use crate::statics::{solve, StaticOptions};
 
     /// Cantilever of `n` beams along x, clamped at n0, tip mass at the free end. With
     /// `rotary` the beams carry rotary inertia; without it the twist of every node is massless
@@ -1055,19 +1055,6 @@ mod tests {
         b.build().unwrap()
     }
 
-    fn last_step(model: &Model) -> StepResult {
-        let mut sol = solve(
-            model,
-            &StaticOptions {
-                steps: 2,
-                ..Default::default()
-            },
-            |_, _| {},
-        )
-        .unwrap();
-        sol.steps.pop().unwrap()
-    }
-
     fn all_io(model: &Model, node: usize) -> (Vec<Input>, Vec<Output>) {
         let _ = model;
         let inputs = Dof::ALL.iter().map(|&dof| Input { node, dof }).collect();
@@ -1098,7 +1085,7 @@ mod tests {
     }
 
     fn check_dc_gain(model: &Model, opts: &StateSpaceOptions) -> (StateSpace, f64) {
-        let step = last_step(model);
+        let step = last_step(model, 2);
         let tip = model
             .node_id(&format!("n{}", model.nodes.len() - 1))
             .unwrap();
@@ -1170,7 +1157,7 @@ mod tests {
     fn eigenvalues_of_a_are_the_damped_modal_poles() {
         // (b) eig(A) = −ζω ± iω√(1 − ζ²) for the frequencies of `modes`
         let model = cantilever(4, true, 30.0);
-        let step = last_step(&model);
+        let step = last_step(&model, 2);
         let tip = model.node_id("n4").unwrap();
         let zeta = 0.05;
         let ss = state_space(
@@ -1218,7 +1205,7 @@ mod tests {
         // phase ~ 2ζ f/f1 rad, so at f = 1e-5 f1 both are below 1e-6
         for rotary in [true, false] {
             let model = cantilever(4, rotary, 0.0);
-            let step = last_step(&model);
+            let step = last_step(&model, 2);
             let tip = model.node_id("n4").unwrap();
             let (inputs, outputs) = all_io(&model, tip);
             let ss = state_space(
@@ -1254,7 +1241,7 @@ mod tests {
     fn frequency_response_matches_dense_resolvent() {
         // the modal evaluation equals C (sI − A)⁻¹ B + D for every output kind
         let model = cantilever(3, true, 10.0);
-        let step = last_step(&model);
+        let step = last_step(&model, 2);
         let tip = model.node_id("n3").unwrap();
         let mid = model.node_id("n2").unwrap();
         let inputs = [
@@ -1342,7 +1329,7 @@ mod tests {
         };
         assert_eq!(o.name(&model), "n2:x:acc");
         assert_eq!(o.unit(), "m/s²");
-        let step = last_step(&model);
+        let step = last_step(&model, 2);
         let bad = StateSpaceOptions {
             damping: -0.1,
             ..Default::default()

@@ -5,21 +5,8 @@ use super::*;
 use crate::model::ElementSpec;
 use crate::model::ModelBuilder;
 use crate::section::BeamProps;
-use crate::statics::{solve, StaticOptions};
+use crate::statics::last_step;
 use faer::c64;
-
-fn last_step(model: &Model) -> StepResult {
-    let mut sol = solve(
-        model,
-        &StaticOptions {
-            steps: 2,
-            ..Default::default()
-        },
-        |_, _| {},
-    )
-    .unwrap();
-    sol.steps.pop().unwrap()
-}
 
 /// Point mass `m` at x = L on a truss (k = EA/L) whose other end `base` has its x as an input
 /// coordinate; y and z of both nodes fixed.
@@ -51,7 +38,7 @@ fn out(model: &Model, node: &str, dof: Dof, kind: OutputKind) -> Output {
 fn spring_mass_base_excitation_matches_closed_form() {
     let (m, ea, l) = (0.5, 200.0, 0.1);
     let model = spring_mass(m, ea, l);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let wn = (ea / l / m).sqrt();
     let motion = Motion {
         node: model.node_id("base").unwrap(),
@@ -170,7 +157,7 @@ fn motion_static_gain_matches_statics_solver() {
     let n = 4;
     let tension = 30.0;
     let model = clamped_guided(n, tension, None);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let end = format!("n{n}");
     let outputs: Vec<Output> = ["n1", "n2", "n3", end.as_str()]
         .iter()
@@ -196,8 +183,8 @@ fn motion_static_gain_matches_statics_solver() {
     .unwrap();
     let g = ss.dc_gain().unwrap();
     let h = 1e-6;
-    let plus = last_step(&clamped_guided(n, tension, Some(h)));
-    let minus = last_step(&clamped_guided(n, tension, Some(-h)));
+    let plus = last_step(&clamped_guided(n, tension, Some(h)), 2);
+    let minus = last_step(&clamped_guided(n, tension, Some(-h)), 2);
     let mut scale = 0.0f64;
     let fd: Vec<f64> = outputs
         .iter()
@@ -267,7 +254,7 @@ fn point_mass_cantilever(gravity_y: f64) -> Model {
 #[test]
 fn support_motion_of_cantilever_is_rigid_plus_inertial_load() {
     let model = point_mass_cantilever(0.0);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let motion = Motion {
         node: model.node_id("n0").unwrap(),
         dof: Dof::Y,
@@ -296,7 +283,7 @@ fn support_motion_of_cantilever_is_rigid_plus_inertial_load() {
     }
     // static tip deflection per unit acceleration −y (linear: small g)
     let grav = 1e-3;
-    let loaded = last_step(&point_mass_cantilever(-grav));
+    let loaded = last_step(&point_mass_cantilever(-grav), 2);
     let iy = model.nodes[model.node_id("n3").unwrap()].ix_pos + 1;
     let delta = (loaded.x[iy] - step.x[iy]) / grav;
     assert!(delta < 0.0);
@@ -327,7 +314,7 @@ fn support_motion_of_cantilever_is_rigid_plus_inertial_load() {
 #[test]
 fn motion_on_free_or_missing_coordinate_is_refused() {
     let model = spring_mass(0.5, 200.0, 0.1);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let outputs = [out(&model, "m", Dof::X, OutputKind::Disp)];
     let free = Motion {
         node: model.node_id("m").unwrap(),
@@ -345,7 +332,7 @@ fn motion_on_free_or_missing_coordinate_is_refused() {
     assert!(matches!(e, StateSpaceError::NoRotation { .. }), "{e}");
     // a free rotation (the tip of a cantilever) cannot be moved
     let model = point_mass_cantilever(0.0);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let outputs = [out(&model, "n3", Dof::Y, OutputKind::Disp)];
     let tip = Motion {
         node: model.node_id("n3").unwrap(),
@@ -384,7 +371,7 @@ fn motion_through_a_rigid_link_is_lifted_onto_the_constraint() {
     b.add_point_mass("m", m).unwrap();
     b.add_point_mass("c", 0.1).unwrap();
     let model = b.build().unwrap();
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let motion = Motion {
         node: model.node_id("base").unwrap(),
         dof: Dof::X,
@@ -445,7 +432,7 @@ fn torsion_spring_base_rotation_matches_closed_form() {
     b.input("b", Some(&[Dof::Rz])).unwrap();
     b.add_inertia("m", [j, 0.0, 0.0, j, 0.0, j]).unwrap();
     let model = b.build().unwrap();
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let wn = (k / j).sqrt();
     let motion = Motion {
         node: model.node_id("b").unwrap(),
@@ -568,7 +555,7 @@ fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
     };
     // unloaded: rigid rotation
     let model = rotated_clamp([0.0; 3], None);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let motion = Motion {
         node: model.node_id("n0").unwrap(),
         dof: Dof::Rz,
@@ -604,7 +591,7 @@ fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
     // pre-stressed: against the statics solver
     let load = [20.0, 4.0, 0.0];
     let model = rotated_clamp(load, None);
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     let outputs = outputs_of(&model);
     let ss = state_space_with_motions(
         &model,
@@ -617,8 +604,8 @@ fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
     .unwrap();
     let g = ss.dc_gain().unwrap();
     let h = 1e-5;
-    let plus = last_step(&rotated_clamp(load, Some(h)));
-    let minus = last_step(&rotated_clamp(load, Some(-h)));
+    let plus = last_step(&rotated_clamp(load, Some(h)), 2);
+    let minus = last_step(&rotated_clamp(load, Some(-h)), 2);
     let dth = angle_z(&model, &plus.x, "n0") - angle_z(&model, &minus.x, "n0");
     assert!((dth - 2.0 * h).abs() < 1e-3 * h, "{dth}");
     let mut differs = 0.0f64;
@@ -651,7 +638,7 @@ fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
 fn motion_of_a_turned_clamp_is_rigid_rotation_about_the_current_state() {
     let th: f64 = 0.3;
     let model = rotated_clamp([0.0; 3], Some(th));
-    let step = last_step(&model);
+    let step = last_step(&model, 2);
     assert!((angle_z(&model, &step.x, "n3") - th).abs() < 1e-9);
     let motion = Motion {
         node: model.node_id("n0").unwrap(),
