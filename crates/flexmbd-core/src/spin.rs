@@ -107,16 +107,8 @@ pub fn centrifugal_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
         add(&mut out[nq].0, g[2]);
         add(&mut out[np].1, cross(lt, g[1]));
         add(&mut out[nq].1, cross(lt, g[3]));
-        // lumped rotary inertia, half the element's to each end, in the element axes
-        let d = p.rho_i.map(|v| v * b.l0 / 2.0);
-        let mut it = [[0.0; 3]; 3];
-        for (k, e) in b.frame.iter().enumerate() {
-            for r in 0..3 {
-                for c in 0..3 {
-                    it[r][c] += d[k] * e[r] * e[c];
-                }
-            }
-        }
+        // lumped rotary inertia, half the element's to each end (reference orientation)
+        let it = crate::dynamics::mass::beam_end_inertia(b, p, &crate::elements::EULER_IDENTITY);
         let m = spin.moment(&it);
         add(&mut out[np].1, m);
         add(&mut out[nq].1, m);

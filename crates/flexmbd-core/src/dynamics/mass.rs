@@ -14,6 +14,7 @@
 use crate::elements::{Beam, Element};
 use crate::math::{lambda_bar, rotate};
 use crate::model::Model;
+use crate::section::BeamProps;
 use faer::Mat;
 
 /// ∫₀¹ Hᵢ Hⱼ dξ for the cubic Hermite functions H1 = 1 − 3ξ² + 2ξ³, H2 = ξ − 2ξ² + ξ³,
@@ -78,6 +79,12 @@ fn lambda_block(l: &[f64], i: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
 }
 
 /// R(λ) diag(d) Rᵀ in the frame whose reference axes are the rows of `frame`.
+/// The lumped rotary inertia at one end of a beam (half the element's, ρI l₀/2 about its
+/// current axes) as a tensor in global axes, with the end's Euler parameters `l`.
+pub(crate) fn beam_end_inertia(b: &Beam, p: &BeamProps, l: &[f64]) -> [[f64; 3]; 3] {
+    rotated_tensor(l, &b.frame, p.rho_i.map(|v| v * b.l0 / 2.0))
+}
+
 fn rotated_tensor(l: &[f64], frame: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {
     let lam = [l[0], l[1], l[2], l[3]];
     let axes: [[f64; 3]; 3] = std::array::from_fn(|k| rotate(&lam, frame[k]));
@@ -141,14 +148,8 @@ pub(crate) fn beam_local_mass_with(
     if !rotary {
         return Some(m);
     }
-    // rotary inertia, half the element's to each end
-    let d = [
-        p.rho_i[0] * b.l0 / 2.0,
-        p.rho_i[1] * b.l0 / 2.0,
-        p.rho_i[2] * b.l0 / 2.0,
-    ];
     for (l, r0) in [(lp, 3), (lq, 10)] {
-        let blk = lambda_block(l, &rotated_tensor(l, &b.frame, d));
+        let blk = lambda_block(l, &beam_end_inertia(b, p, l));
         for a in 0..4 {
             for c in 0..4 {
                 m[r0 + a][r0 + c] += blk[a][c];
