@@ -7,6 +7,7 @@ use flexmbd_core::dynamics::state_space::{
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{EigenSolver, ModalOptions};
+use flexmbd_core::elements::ElementKind;
 use flexmbd_core::model::Dof;
 use flexmbd_core::statics::{StaticOptions, StaticSolution};
 use flexmbd_core::Model;
@@ -24,12 +25,14 @@ pub struct StatespaceArgs {
     /// `NODE:x:moment` is the moment about x. `NODE:x:motion` is a prescribed motion of a held
     /// translation (support, [inputs] or [[prescribe]]); its input is the acceleration [m/s²].
     /// `NODE:rz:motion` is an enforced small rotation about z of a held rotation; its input is
-    /// the angular acceleration [rad/s²].
+    /// the angular acceleration [rad/s²]. `ELEMENT:MODE:motion` drives deformation MODE
+    /// (1-based) of an element, an `input` mode such as an actuator's elongation or a driven
+    /// hinge's angle; its input is the deformation's acceleration [m/s², rad/s² for hinges].
     /// Repeatable; forces and moments come first in the columns of B, in command-line order,
     /// then the motions.
     #[arg(
         long = "input",
-        value_name = "NODE:DIR[:force|moment|motion]",
+        value_name = "NODE:DIR[:force|moment|motion] | ELEMENT:MODE:motion",
         required = true
     )]
     inputs: Vec<String>,
@@ -237,9 +240,53 @@ pub enum InputSpec {
     Motion(Motion),
 }
 
-/// Parse `--input NODE:DIR[:force|moment|motion]`.
+/// `ELEMENT:MODE:motion` (MODE a 1-based deformation number) → a prescribed-deformation
+/// motion; `None` when the spec has another form (a node input).
+fn parse_deformation_motion(
+    model: &Model,
+    path: &Path,
+    spec: &str,
+) -> Result<Option<Motion>, BadInput> {
+    let t: Vec<&str> = spec.split(':').collect();
+    let n = t.len();
+    if n < 3 || !t[n - 1].eq_ignore_ascii_case("motion") || t[n - 2].parse::<i64>().is_err() {
+        return Ok(None);
+    }
+    let name = t[..n - 2].join(":");
+    let mode: i64 = t[n - 2].parse().unwrap_or(0);
+    let Some(element) = model.elements.iter().position(|e| e.name == name) else {
+        return Err(BadInput(format!(
+            "--input `{spec}`: element `{name}` is not defined in {} (ELEMENT:MODE:motion drives deformation MODE of an element)",
+            path.display()
+        )));
+    };
+    let entry = &model.elements[element];
+    let ne = entry.element.ne() as i64;
+    if mode < 1 || mode > ne {
+        return Err(BadInput(format!(
+            "--input `{spec}`: {} `{name}` has deformation modes 1 to {ne}, not {mode}",
+            entry.element.type_name()
+        )));
+    }
+    let mode = (mode - 1) as usize;
+    if model.partition.e[entry.ie + mode] == flexmbd_core::model::DefKind::Free {
+        let mname = entry.element.mode_name(mode, &model.node_names());
+        return Err(BadInput(format!(
+            "--input `{spec}`: deformation {} ({mname}) of {} `{name}` is free (flexible) in {}; a prescribed-deformation motion needs an `input` mode (list it in the element's `input`, with a [[prescribe]] value where it is not zero)",
+            mode + 1,
+            entry.element.type_name(),
+            path.display()
+        )));
+    }
+    Ok(Some(Motion::Deformation { element, mode }))
+}
+
+/// Parse `--input NODE:DIR[:force|moment|motion]` or `ELEMENT:MODE:motion`.
 pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<InputSpec, BadInput> {
     let flag = "--input";
+    if let Some(m) = parse_deformation_motion(model, path, spec)? {
+        return Ok(InputSpec::Motion(m));
+    }
     let (name, dof, kind) = split_spec(flag, spec, &["force", "moment", "motion"])?;
     let node = node_of(model, path, flag, spec, &name)?;
     if kind.map(str::to_ascii_lowercase).as_deref() == Some("motion") {
@@ -256,7 +303,7 @@ pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<InputSpec, 
                 dof.name()
             )));
         }
-        return Ok(InputSpec::Motion(Motion { node, dof }));
+        return Ok(InputSpec::Motion(Motion::Node { node, dof }));
     }
     let dof = match kind.map(str::to_ascii_lowercase).as_deref() {
         None => dof,

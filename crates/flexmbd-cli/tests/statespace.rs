@@ -707,3 +707,109 @@ segments = 4
         "{err}"
     );
 }
+
+const ACTUATOR_SPRING_MASS: &str = r#"
+[model]
+name = "actuator-spring-mass"
+
+[nodes]
+g = [0.0, 0.0, 0.0]
+a = [0.05, 0.0, 0.0]
+m = [0.15, 0.0, 0.0]
+
+[fix]
+g = "all"
+a = ["y", "z"]
+m = ["y", "z"]
+
+[[truss]]
+id = "act"
+nodes = ["g", "a"]
+input = [1]
+
+[[truss]]
+id = "spring"
+nodes = ["a", "m"]
+free = [1]
+EA = 200.0
+
+[[mass]]
+node = "a"
+m = 0.3
+
+[[mass]]
+node = "m"
+m = 0.5
+"#;
+
+/// `ELEMENT:MODE:motion` through the binary: a linear actuator (truss elongation, an input
+/// mode) drives a spring–mass. The actuator end follows the stroke exactly (quasi-static gain
+/// 1), the mass sees the base-excitation transmissibility |X/E| = |ωₙ² + 2iζωₙω| /
+/// |ωₙ² − ω² + 2iζωₙω| with ωₙ² = k/m = 2000/0.5 = 4000 s⁻²; labels name the element and mode.
+/// A flexible mode, an unknown element and a mode out of range are input errors (exit 2).
+#[test]
+fn deformation_motion_input_actuator_closed_form() {
+    let p = tmp("actuator_motion.toml");
+    std::fs::write(&p, ACTUATOR_SPRING_MASS).unwrap();
+    let model = p.to_str().unwrap();
+    let bode = tmp("actuator_motion.csv");
+    let zeta = 0.02;
+    let j = ok(&[
+        "statespace",
+        model,
+        "--input",
+        "act:1:motion",
+        "--output",
+        "m:x",
+        "--output",
+        "a:x",
+        "--damping",
+        "0.02",
+        "--json",
+        "--bode",
+        bode.to_str().unwrap(),
+        "--bode-points",
+        "9",
+    ]);
+    let inp = &j["inputs"][0];
+    assert_eq!(inp["name"], "act:1:motion");
+    assert_eq!(inp["kind"], "motion");
+    assert_eq!(inp["unit"], "m/s²");
+    assert_eq!(inp["element"], "act");
+    assert_eq!(inp["mode"], 1);
+    assert_eq!(inp["mode_name"], "elongation");
+    let dc = matrix(&j["dc_gain"]);
+    assert!((dc[0][0] - 1.0).abs() < 1e-12 && (dc[1][0] - 1.0).abs() < 1e-12);
+    let csv = std::fs::read_to_string(&bode).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "mag(m:x:disp/act:1:motion)")
+        .expect("motion column");
+    let (wn2, mut rows) = (4000.0f64, 0);
+    let wn = wn2.sqrt();
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        let w = 2.0 * std::f64::consts::PI * v[0];
+        let num = (wn2 * wn2 + (2.0 * zeta * wn * w).powi(2)).sqrt();
+        let den = ((wn2 - w * w).powi(2) + (2.0 * zeta * wn * w).powi(2)).sqrt();
+        let xe = v[col] * w * w;
+        assert!((xe - num / den).abs() < 1e-9 * num / den, "{}: {xe}", v[0]);
+        rows += 1;
+    }
+    assert_eq!(rows, 9);
+    for (spec, words) in [
+        ("spring:1:motion", vec!["spring", "free", "input"]),
+        ("nope:1:motion", vec!["nope", "not defined"]),
+        ("act:2:motion", vec!["act", "1 to 1"]),
+    ] {
+        let (out, _) = run(&["statespace", model, "--input", spec, "--output", "m:x"]);
+        assert_eq!(out.status.code(), Some(2), "{spec}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(spec), "{err}");
+        for w in words {
+            assert!(err.contains(w), "{spec}: {err}");
+        }
+    }
+}

@@ -9,6 +9,7 @@ use flexmbd_core::dynamics::state_space::{
     magnitude_phase, to_rows as rows, OutputKind, StateSpace,
 };
 use flexmbd_core::dynamics::sweep::SweepPoint;
+use flexmbd_core::elements::ElementKind;
 use flexmbd_core::Model;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -46,14 +47,23 @@ fn io_json(model: &Model, ss: &StateSpace) -> (Vec<Value>, Vec<Value>) {
         .input_info(model)
         .into_iter()
         .map(|i| {
-            json!({
+            let mut v = json!({
                 "name": i.name,
-                "node": model.nodes[i.node].name,
-                "direction": i.dof.name(),
                 "kind": i.kind,
                 "unit": i.unit,
                 "description": i.description,
-            })
+            });
+            if let (Some(node), Some(dof)) = (i.node, i.dof) {
+                v["node"] = json!(model.nodes[node].name);
+                v["direction"] = json!(dof.name());
+            }
+            if let Some((element, mode)) = i.deformation {
+                let entry = &model.elements[element];
+                v["element"] = json!(entry.name);
+                v["mode"] = json!(mode + 1);
+                v["mode_name"] = json!(entry.element.mode_name(mode, &model.node_names()));
+            }
+            v
         })
         .collect();
     let outputs = ss
@@ -357,7 +367,7 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
                 let first = ss.inputs.len() + 1;
                 let _ = writeln!(
                     s,
-                    "  (columns u{first}..u{}: prescribed motions; their input is the acceleration, so the column is the quasi-static response per unit enforced displacement, output unit per m, or per rad for a rotation)",
+                    "  (columns u{first}..u{}: prescribed motions; their input is the acceleration, so the column is the quasi-static response per unit enforced displacement, output unit per m, or per rad for a rotation or a hinge angle)",
                     ss.n_inputs()
                 );
             }

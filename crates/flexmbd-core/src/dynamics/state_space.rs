@@ -49,8 +49,14 @@
 //! (velocity) or D (acceleration). K0 is solved directly (dense LU), so massless directions
 //! are part of ψ exactly. A rotation output of the moved node about the moved axis has
 //! w·t_m = 2 e_kᵀ Λ̄ ½ Λ̄ᵀ e_k = 1: the outputs stay absolute.
+//!
+//! A held deformation (an `input` mode: an actuator's elongation, a driven hinge's angle) is
+//! driven the same way, with t_m the least-squares solution of G t_m = e_row through the free
+//! coordinates: the unit change of the driven deformation and none of the other rigid or
+//! prescribed ones ([`Motion::Deformation`]).
 
 use super::{reduced_matrices_with, ModalError, Reduced};
+use crate::elements::{Element, ElementKind};
 use crate::math::lambda_bar;
 use crate::model::{CoordKind, Dof, Model};
 use crate::statics::linear::linearize;
@@ -115,16 +121,29 @@ pub struct Output {
     pub kind: OutputKind,
 }
 
-/// A prescribed-motion (enforced-motion) input: the acceleration ü [m/s²] of a held
-/// translational coordinate of a node along a global axis, or the angular acceleration
-/// [rad/s²] of a held rotation component about a global axis (a support, `[inputs]` or
-/// `[[prescribe]]` coordinate).
+/// A prescribed-motion (enforced-motion) input, whose input signal is the acceleration:
+/// - of a held translational coordinate of a node along a global axis [m/s²], or of a held
+///   rotation component about a global axis [rad/s²] (a support, `[inputs]` or
+///   `[[prescribe]]` coordinate);
+/// - of a held deformation of an element (an `input` mode or a rigid mode, e.g. a linear
+///   actuator's elongation or a driven hinge's angle): ë [m/s²] for truss and beam modes
+///   (lengths), [rad/s²] for hinge modes (angles).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Motion {
-    /// Node index.
-    pub node: usize,
-    /// x, y, z (translation) or rx, ry, rz (rotation).
-    pub dof: Dof,
+pub enum Motion {
+    /// A held nodal coordinate.
+    Node {
+        /// Node index.
+        node: usize,
+        /// x, y, z (translation) or rx, ry, rz (rotation).
+        dof: Dof,
+    },
+    /// A held deformation.
+    Deformation {
+        /// Element index.
+        element: usize,
+        /// Mode, 0-based (printed 1-based).
+        mode: usize,
+    },
 }
 
 impl Motion {
@@ -132,13 +151,26 @@ impl Motion {
     pub fn kind_name(&self) -> &'static str {
         "motion"
     }
-    /// Name `NODE:DIR:motion`.
+    /// Name `NODE:DIR:motion`, or `ELEMENT:MODE:motion` with the mode 1-based.
     pub fn name(&self, model: &Model) -> String {
-        format!("{}:{}:motion", model.nodes[self.node].name, self.dof.name())
+        match *self {
+            Motion::Node { node, dof } => {
+                format!("{}:{}:motion", model.nodes[node].name, dof.name())
+            }
+            Motion::Deformation { element, mode } => {
+                format!("{}:{}:motion", model.elements[element].name, mode + 1)
+            }
+        }
     }
     /// SI unit of the input (an acceleration or angular acceleration).
-    pub fn unit(&self) -> &'static str {
-        if self.dof.is_rotation() {
+    pub fn unit(&self, model: &Model) -> &'static str {
+        let angle = match *self {
+            Motion::Node { dof, .. } => dof.is_rotation(),
+            Motion::Deformation { element, .. } => {
+                matches!(model.elements[element].element, Element::Hinge(_))
+            }
+        };
+        if angle {
             "rad/s²"
         } else {
             "m/s²"
@@ -146,16 +178,35 @@ impl Motion {
     }
     /// Words, e.g. "enforced acceleration of base along global y".
     pub fn describe(&self, model: &Model) -> String {
-        let (what, prep) = if self.dof.is_rotation() {
-            ("angular acceleration", "about")
-        } else {
-            ("acceleration", "along")
-        };
-        format!(
-            "enforced {what} of {} {prep} global {} (prescribed motion)",
-            model.nodes[self.node].name,
-            axis_name(self.dof)
-        )
+        match *self {
+            Motion::Node { node, dof } => {
+                let (what, prep) = if dof.is_rotation() {
+                    ("angular acceleration", "about")
+                } else {
+                    ("acceleration", "along")
+                };
+                format!(
+                    "enforced {what} of {} {prep} global {} (prescribed motion)",
+                    model.nodes[node].name,
+                    axis_name(dof)
+                )
+            }
+            Motion::Deformation { element, mode } => {
+                let entry = &model.elements[element];
+                let what = if self.unit(model) == "rad/s²" {
+                    "angular acceleration"
+                } else {
+                    "acceleration"
+                };
+                format!(
+                    "enforced {what} of deformation {} ({}) of {} `{}` (prescribed deformation)",
+                    mode + 1,
+                    entry.element.mode_name(mode, &model.node_names()),
+                    entry.element.type_name(),
+                    entry.name
+                )
+            }
+        }
     }
 }
 
@@ -164,10 +215,12 @@ impl Motion {
 pub struct InputInfo {
     /// `NODE:DIR:KIND`.
     pub name: String,
-    /// Node index.
-    pub node: usize,
-    /// Direction.
-    pub dof: Dof,
+    /// Node index (force, moment or nodal motion).
+    pub node: Option<usize>,
+    /// Direction (force, moment or nodal motion).
+    pub dof: Option<Dof>,
+    /// Element index and 0-based mode (deformation motion).
+    pub deformation: Option<(usize, usize)>,
     /// `force`, `moment` or `motion`.
     pub kind: &'static str,
     /// SI unit.
@@ -313,8 +366,28 @@ pub enum StateSpaceError {
         input: String,
     },
     /// A motion that the rigid constraints do not allow.
-    #[error("input {input}: the rigid or prescribed deformations do not allow this coordinate to move on its own (it is tied to other held coordinates); enforce the motion on a coordinate that can move, or make the connecting element flexible")]
+    #[error("input {input}: the rigid or prescribed deformations do not allow this coordinate or deformation to change on its own (it is tied to other held coordinates or deformations); enforce the motion on one that can move, or make the connecting element flexible")]
     MotionConstrained {
+        /// Input name.
+        input: String,
+    },
+    /// A motion input on a deformation that is not held.
+    #[error("input {input}: deformation {mode} ({name}) of {kind} `{element}` is flexible; a prescribed-deformation motion needs a held mode: make it an `input` mode of the element (with a [[prescribe]] value where it is not zero), or apply a force input")]
+    DeformationNotHeld {
+        /// Input name.
+        input: String,
+        /// Mode, 1-based.
+        mode: usize,
+        /// Mode name.
+        name: String,
+        /// Element type.
+        kind: &'static str,
+        /// Element name.
+        element: String,
+    },
+    /// A motion input on a rigid body's deformation.
+    #[error("input {input}: the deformations of a rigid body cannot be driven; drive a hinge, truss or beam mode or a held node coordinate instead")]
+    RigidBodyMotion {
         /// Input name.
         input: String,
     },
@@ -396,33 +469,59 @@ fn motion_loads(
     }
     let mut free = model.clone();
     let mut freed = Vec::new();
-    // unit directions t⁰_m in x before the lifting
+    let role = crate::statics::roles(model);
+    // rigid/prescribed deformation constraints (rows of G)
+    let rows: Vec<usize> = (0..model.ne)
+        .filter(|&i| role[i] != crate::statics::Role::Flexible)
+        .collect();
+    // unit directions t⁰_m in x before the lifting, and the row of G the motion drives
     let mut dirs = Vec::with_capacity(motions.len());
     for mo in motions {
         let name = mo.name(model);
-        let n = &model.nodes[mo.node];
-        let Some(i) = n.x_index(mo.dof) else {
-            return Err(StateSpaceError::NoRotation {
-                node: n.name.clone(),
-            });
-        };
-        if model.partition.x[i] == CoordKind::Free {
-            return Err(StateSpaceError::MotionNotHeld { input: name });
+        match *mo {
+            Motion::Node { node, dof } => {
+                let n = &model.nodes[node];
+                let Some(i) = n.x_index(dof) else {
+                    return Err(StateSpaceError::NoRotation {
+                        node: n.name.clone(),
+                    });
+                };
+                if model.partition.x[i] == CoordKind::Free {
+                    return Err(StateSpaceError::MotionNotHeld { input: name });
+                }
+                let own: Vec<usize> = match (dof.is_rotation(), n.ix_rot) {
+                    (true, Some(r)) => (r + 1..r + 4).collect(),
+                    _ => vec![i],
+                };
+                for j in own {
+                    free.partition.x[j] = CoordKind::Free;
+                    freed.push(j);
+                }
+                let mut t0 = unit_vector(model, step, node, dof)?;
+                if dof.is_rotation() {
+                    // ½ Λ̄ᵀ e_k (the output row is 2 Λ̄ᵀ e_k)
+                    t0.iter_mut().for_each(|v| *v *= 0.25);
+                }
+                dirs.push((t0, None));
+            }
+            Motion::Deformation { element, mode } => {
+                let entry = &model.elements[element];
+                if matches!(entry.element, Element::Rigid(_)) {
+                    return Err(StateSpaceError::RigidBodyMotion { input: name });
+                }
+                let i = entry.ie + mode;
+                let Some(row) = rows.iter().position(|&r| r == i) else {
+                    return Err(StateSpaceError::DeformationNotHeld {
+                        input: name,
+                        mode: mode + 1,
+                        name: entry.element.mode_name(mode, &model.node_names()),
+                        kind: entry.element.type_name(),
+                        element: entry.name.clone(),
+                    });
+                };
+                dirs.push((vec![0.0; model.nx], Some(row)));
+            }
         }
-        let own: Vec<usize> = match (mo.dof.is_rotation(), n.ix_rot) {
-            (true, Some(r)) => (r + 1..r + 4).collect(),
-            _ => vec![i],
-        };
-        for j in own {
-            free.partition.x[j] = CoordKind::Free;
-            freed.push(j);
-        }
-        let mut t0 = unit_vector(model, step, mo.node, mo.dof)?;
-        if mo.dof.is_rotation() {
-            // ½ Λ̄ᵀ e_k (the output row is 2 Λ̄ᵀ e_k)
-            t0.iter_mut().for_each(|v| *v *= 0.25);
-        }
-        dirs.push(t0);
     }
     free.loads
         .prescribed
@@ -441,12 +540,8 @@ fn motion_loads(
     if model.loads.spin.is_some() {
         kx += crate::spin::softening_matrix(model, &step.x);
     }
-    // rigid/prescribed deformation constraints, and the velocity basis of the free coordinates
+    // the velocity basis of the free coordinates
     let ev = crate::assembly::evaluate(model, &step.x);
-    let role = crate::statics::roles(model);
-    let rows: Vec<usize> = (0..model.ne)
-        .filter(|&i| role[i] != crate::statics::Role::Flexible)
-        .collect();
     let gt = if rows.is_empty() {
         None
     } else {
@@ -473,13 +568,19 @@ fn motion_loads(
     };
     let ndof = red.ndof();
     let mut out = Vec::with_capacity(motions.len());
-    for (mo, t0) in motions.iter().zip(dirs) {
+    for (mo, (t0, row)) in motions.iter().zip(dirs) {
         let name = mo.name(model);
         let mut tm = t0;
         if let Some((g, t, gt)) = &gt {
-            let ge = g * Mat::from_fn(nx, 1, |a, _| tm[a]);
-            if ge.norm_max() > 0.0 {
-                // least squares G T w = −G e_m through the normal equations of the SVD
+            // G t_m must be the unit change of the driven deformation (zero for a node motion)
+            let target = |r: usize| if Some(r) == row { 1.0 } else { 0.0 };
+            let mismatch = |tm: &[f64]| {
+                let ge = g * Mat::from_fn(nx, 1, |a, _| tm[a]);
+                Mat::from_fn(g.nrows(), 1, |r, _| ge[(r, 0)] - target(r))
+            };
+            let r0 = mismatch(&tm);
+            if r0.norm_max() > 0.0 {
+                // least squares G T w = −r0 through the SVD
                 let f = crate::linalg::svd(gt.as_ref(), "constraint Jacobian").map_err(|_| {
                     StateSpaceError::MotionConstrained {
                         input: name.clone(),
@@ -490,7 +591,7 @@ fn motion_loads(
                 let mut w = Mat::<f64>::zeros(gt.ncols(), 1);
                 for (k, &sk) in f.s.iter().enumerate() {
                     if sk > tol {
-                        let c: f64 = (0..g.nrows()).map(|r| f.U[(r, k)] * ge[(r, 0)]).sum();
+                        let c: f64 = (0..g.nrows()).map(|r| f.U[(r, k)] * r0[(r, 0)]).sum();
                         for a in 0..gt.ncols() {
                             w[(a, 0)] -= f.V[(a, k)] * c / sk;
                         }
@@ -500,8 +601,7 @@ fn motion_loads(
                 for a in 0..nx {
                     tm[a] += tw[(a, 0)];
                 }
-                let res = g * Mat::from_fn(nx, 1, |a, _| tm[a]);
-                if res.norm_max() > 1e-8 * ge.norm_max().max(smax) {
+                if mismatch(&tm).norm_max() > 1e-8 * r0.norm_max().max(smax) {
                     return Err(StateSpaceError::MotionConstrained { input: name });
                 }
             }
@@ -579,16 +679,18 @@ pub fn state_space_with_motions(
     build(model, step, &red, inputs, motions, outputs, opts)
 }
 
-/// [`state_space`] from reduced matrices already at hand.
+/// [`state_space_with_motions`] from reduced matrices already at hand (e.g. those of a
+/// modal analysis of the same step).
 pub fn state_space_from(
     model: &Model,
     step: &StepResult,
     red: &Reduced,
     inputs: &[Input],
+    motions: &[Motion],
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
-    build(model, step, red, inputs, &[], outputs, opts)
+    build(model, step, red, inputs, motions, outputs, opts)
 }
 
 fn build(
@@ -856,19 +958,27 @@ impl StateSpace {
             .iter()
             .map(|i| InputInfo {
                 name: i.name(model),
-                node: i.node,
-                dof: i.dof,
+                node: Some(i.node),
+                dof: Some(i.dof),
+                deformation: None,
                 kind: i.kind_name(),
                 unit: i.unit(),
                 description: i.describe(model),
             })
-            .chain(self.motions.iter().map(|m| InputInfo {
-                name: m.name(model),
-                node: m.node,
-                dof: m.dof,
-                kind: m.kind_name(),
-                unit: m.unit(),
-                description: m.describe(model),
+            .chain(self.motions.iter().map(|m| {
+                let (node, dof, deformation) = match *m {
+                    Motion::Node { node, dof } => (Some(node), Some(dof), None),
+                    Motion::Deformation { element, mode } => (None, None, Some((element, mode))),
+                };
+                InputInfo {
+                    name: m.name(model),
+                    node,
+                    dof,
+                    deformation,
+                    kind: m.kind_name(),
+                    unit: m.unit(model),
+                    description: m.describe(model),
+                }
             }))
             .collect()
     }
@@ -1011,6 +1121,10 @@ pub fn magnitude_phase(g: &[c64]) -> Vec<(f64, f64)> {
 #[cfg(test)]
 #[path = "state_space_motion_tests.rs"]
 mod motion_tests;
+
+#[cfg(test)]
+#[path = "state_space_deformation_tests.rs"]
+mod deformation_tests;
 
 #[cfg(test)]
 mod tests {

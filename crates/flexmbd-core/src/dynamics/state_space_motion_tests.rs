@@ -23,7 +23,7 @@ fn spring_mass(m: f64, ea: f64, l: f64) -> Model {
     b.build().unwrap()
 }
 
-fn out(model: &Model, node: &str, dof: Dof, kind: OutputKind) -> Output {
+pub(super) fn out(model: &Model, node: &str, dof: Dof, kind: OutputKind) -> Output {
     Output {
         node: model.node_id(node).unwrap(),
         dof,
@@ -40,7 +40,7 @@ fn spring_mass_base_excitation_matches_closed_form() {
     let model = spring_mass(m, ea, l);
     let step = last_step(&model, 2);
     let wn = (ea / l / m).sqrt();
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id("base").unwrap(),
         dof: Dof::X,
     };
@@ -87,7 +87,7 @@ fn spring_mass_base_excitation_matches_closed_form() {
 }
 
 /// C (sI − A)⁻¹ B + D by a dense complex solve.
-fn resolvent(ss: &StateSpace, s: c64) -> Vec<Vec<c64>> {
+pub(super) fn resolvent(ss: &StateSpace, s: c64) -> Vec<Vec<c64>> {
     let n = ss.a.nrows();
     let m = Mat::<c64>::from_fn(n, n, |i, j| {
         let d = if i == j { s } else { c64::new(0.0, 0.0) };
@@ -168,7 +168,7 @@ fn motion_static_gain_matches_statics_solver() {
             ]
         })
         .collect();
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id(&end).unwrap(),
         dof: Dof::Y,
     };
@@ -255,7 +255,7 @@ fn point_mass_cantilever(gravity_y: f64) -> Model {
 fn support_motion_of_cantilever_is_rigid_plus_inertial_load() {
     let model = point_mass_cantilever(0.0);
     let step = last_step(&model, 2);
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id("n0").unwrap(),
         dof: Dof::Y,
     };
@@ -316,14 +316,14 @@ fn motion_on_free_or_missing_coordinate_is_refused() {
     let model = spring_mass(0.5, 200.0, 0.1);
     let step = last_step(&model, 2);
     let outputs = [out(&model, "m", Dof::X, OutputKind::Disp)];
-    let free = Motion {
+    let free = Motion::Node {
         node: model.node_id("m").unwrap(),
         dof: Dof::X,
     };
     let e = state_space_with_motions(&model, &step, &[], &[free], &outputs, &Default::default())
         .unwrap_err();
     assert!(matches!(e, StateSpaceError::MotionNotHeld { .. }), "{e}");
-    let rot = Motion {
+    let rot = Motion::Node {
         node: model.node_id("base").unwrap(),
         dof: Dof::Rz,
     };
@@ -334,7 +334,7 @@ fn motion_on_free_or_missing_coordinate_is_refused() {
     let model = point_mass_cantilever(0.0);
     let step = last_step(&model, 2);
     let outputs = [out(&model, "n3", Dof::Y, OutputKind::Disp)];
-    let tip = Motion {
+    let tip = Motion::Node {
         node: model.node_id("n3").unwrap(),
         dof: Dof::Rz,
     };
@@ -372,7 +372,7 @@ fn motion_through_a_rigid_link_is_lifted_onto_the_constraint() {
     b.add_point_mass("c", 0.1).unwrap();
     let model = b.build().unwrap();
     let step = last_step(&model, 2);
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id("base").unwrap(),
         dof: Dof::X,
     };
@@ -434,11 +434,11 @@ fn torsion_spring_base_rotation_matches_closed_form() {
     let model = b.build().unwrap();
     let step = last_step(&model, 2);
     let wn = (k / j).sqrt();
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id("b").unwrap(),
         dof: Dof::Rz,
     };
-    assert_eq!(motion.unit(), "rad/s²");
+    assert_eq!(motion.unit(&model), "rad/s²");
     assert_eq!(motion.name(&model), "b:rz:motion");
     let outputs = [
         out(&model, "m", Dof::Rz, OutputKind::Disp),
@@ -529,7 +529,7 @@ fn rotated_clamp(load: [f64; 3], rz: Option<f64>) -> Model {
 }
 
 /// Rotation angle about z of a node rotated in the xy plane, from its Euler parameters.
-fn angle_z(model: &Model, x: &[f64], node: &str) -> f64 {
+pub(super) fn angle_z(model: &Model, x: &[f64], node: &str) -> f64 {
     let r = model.nodes[model.node_id(node).unwrap()].ix_rot.unwrap();
     2.0 * x[r + 3].atan2(x[r])
 }
@@ -556,7 +556,7 @@ fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
     // unloaded: rigid rotation
     let model = rotated_clamp([0.0; 3], None);
     let step = last_step(&model, 2);
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id("n0").unwrap(),
         dof: Dof::Rz,
     };
@@ -640,7 +640,7 @@ fn motion_of_a_turned_clamp_is_rigid_rotation_about_the_current_state() {
     let model = rotated_clamp([0.0; 3], Some(th));
     let step = last_step(&model, 2);
     assert!((angle_z(&model, &step.x, "n3") - th).abs() < 1e-9);
-    let motion = Motion {
+    let motion = Motion::Node {
         node: model.node_id("n0").unwrap(),
         dof: Dof::Rz,
     };
