@@ -65,6 +65,11 @@ pub struct StatespaceArgs {
     /// Number of load steps of the static solution (overrides [static] steps).
     #[arg(long, value_name = "N")]
     steps: Option<usize>,
+    /// Eigen solver: auto (dense up to 3000 degrees of freedom, sparse above), dense (all
+    /// modes, prescribed-motion inputs) or sparse (the lowest --modes N by shift-invert
+    /// Lanczos, force and moment inputs; for large models).
+    #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
+    solver: SolverArg,
     /// Print the model as JSON (A, B, C, D as arrays of rows, names, frequencies, ζ).
     #[arg(long)]
     json: bool,
@@ -438,6 +443,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
             damping: a.damping,
             modes: a.modes,
             static_correction: a.static_correction,
+            solver: a.solver.options().solver,
         },
     )
     .context("state-space model failed")?;

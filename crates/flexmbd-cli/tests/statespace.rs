@@ -813,3 +813,48 @@ fn deformation_motion_input_actuator_closed_form() {
         }
     }
 }
+
+/// A model above the dense limit through the binary: the F01 strip (L = 0.1 m, b = 20 mm,
+/// t = 0.5 mm, E = 200 GPa) in 600 elements (3600 degrees of freedom) takes the sparse path.
+/// Without --modes it is refused with advice; with --modes 4 --static-correction the static
+/// gain of the tip under a tip force along z is the Euler–Bernoulli L³/(3 E I), I = b t³/12,
+/// and the first frequency the clamped–free 40.899 Hz (examples/strip_f01.toml).
+#[test]
+fn large_model_state_space_takes_the_sparse_path() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/strip_f01.toml"
+    ))
+    .unwrap()
+    .replace("segments = 10", "segments = 600");
+    let p = tmp("strip_600.toml");
+    std::fs::write(&p, text).unwrap();
+    let model = p.to_str().unwrap();
+    let (out, _) = run(&["statespace", model, "--input", "tip:z", "--output", "tip:z"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--modes") && err.contains("3600"), "{err}");
+    let j = ok(&[
+        "statespace",
+        model,
+        "--input",
+        "tip:z",
+        "--output",
+        "tip:z",
+        "--modes",
+        "4",
+        "--static-correction",
+        "--json",
+    ]);
+    assert_eq!(j["solver"], "sparse");
+    let (l, b, t, e): (f64, f64, f64, f64) = (0.1, 0.02, 0.0005, 200e9);
+    let exact = l.powi(3) / (3.0 * e * b * t.powi(3) / 12.0);
+    let dc = matrix(&j["dc_gain"]);
+    assert!(
+        (dc[0][0] - exact).abs() < 1e-9 * exact,
+        "{} vs {exact}",
+        dc[0][0]
+    );
+    let f1 = j["frequencies_hz"][0].as_f64().unwrap();
+    assert!((f1 - 40.899).abs() < 1e-3 * 40.899, "{f1}");
+}

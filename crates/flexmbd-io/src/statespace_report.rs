@@ -97,6 +97,7 @@ pub fn statespace_json(model: &Model, origin: Origin, ss: &StateSpace) -> Value 
         "frequencies_hz": ss.frequencies().into_iter().map(finite_or_null).collect::<Vec<_>>(),
         "eigenvalues": ss.eigenvalues,
         "degrees_of_freedom": ss.ndof,
+        "solver": ss.solver.name(),
         "massless_directions": ss.massless,
         "modes_available": ss.available_modes,
         "static_correction": ss.static_correction,
@@ -275,10 +276,11 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
     let n = ss.n_modes();
     let _ = writeln!(
         s,
-        "linearised at step {} (load factor {:.4}); {} degrees of freedom{}",
+        "linearised at step {} (load factor {:.4}); {} degrees of freedom, {} eigen solver{}",
         origin.step,
         origin.load_factor,
         ss.ndof,
+        ss.solver.name(),
         if ss.massless > 0 {
             format!(
                 ", {} massless direction(s) condensed statically (their static response is in D)",

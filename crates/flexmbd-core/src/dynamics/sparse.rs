@@ -1169,6 +1169,10 @@ pub(crate) fn sparse_modes(
     })
 }
 
+#[path = "sparse_static.rs"]
+mod static_solve;
+pub(crate) use static_solve::static_responses;
+
 #[cfg(test)]
 #[path = "sparse_tests.rs"]
 mod tests;

@@ -55,7 +55,7 @@
 //! coordinates: the unit change of the driven deformation and none of the other rigid or
 //! prescribed ones ([`Motion::Deformation`]).
 
-use super::{reduced_matrices_with, ModalError, Reduced};
+use super::{reduced_matrices_with, velocity_dof, EigenSolver, ModalError, Reduced};
 use crate::elements::{Element, ElementKind};
 use crate::math::lambda_bar;
 use crate::model::{CoordKind, Dof, Model};
@@ -323,7 +323,14 @@ pub struct StateSpaceOptions {
     /// Add the residual static flexibility of the dropped modes to D (displacement outputs),
     /// so that a truncated model keeps the exact static gain.
     pub static_correction: bool,
+    /// Eigen solver: `Auto` is dense up to [`DENSE_STATE_SPACE_DOF`] degrees of freedom (all
+    /// modes, massless directions condensed exactly, motion inputs) and sparse above it (the
+    /// lowest `modes` only, which must then be given).
+    pub solver: EigenSolver,
 }
+
+/// [`EigenSolver::Auto`] builds the state space densely up to this many degrees of freedom.
+pub const DENSE_STATE_SPACE_DOF: usize = super::DENSE_FALLBACK_DOF;
 
 impl Default for StateSpaceOptions {
     fn default() -> Self {
@@ -331,6 +338,7 @@ impl Default for StateSpaceOptions {
             damping: 0.01,
             modes: None,
             static_correction: false,
+            solver: EigenSolver::Auto,
         }
     }
 }
@@ -370,6 +378,24 @@ pub enum StateSpaceError {
     MotionConstrained {
         /// Input name.
         input: String,
+    },
+    /// The sparse state space needs the number of modes.
+    #[error("the model has {ndof} degrees of freedom, too many for the dense state space (at most {limit}); the sparse one keeps the lowest modes only: give --modes N (e.g. 20), with --static-correction for the exact static gain")]
+    SparseNeedsModes {
+        /// Degrees of freedom.
+        ndof: usize,
+        /// The dense limit.
+        limit: usize,
+    },
+    /// Prescribed-motion inputs on the sparse path.
+    #[error("prescribed-motion inputs ({input}) need the dense state space, which takes models of at most {limit} degrees of freedom (this one has {ndof}); use force or moment inputs, or a smaller model")]
+    SparseMotion {
+        /// The first motion input.
+        input: String,
+        /// Degrees of freedom.
+        ndof: usize,
+        /// The dense limit.
+        limit: usize,
     },
     /// A motion input on a deformation that is not held.
     #[error("input {input}: deformation {mode} ({name}) of {kind} `{element}` is flexible; a prescribed-deformation motion needs a held mode: make it an `input` mode of the element (with a [[prescribe]] value where it is not zero), or apply a force input")]
@@ -432,6 +458,8 @@ pub struct StateSpace {
     pub static_correction: bool,
     /// Notes for the user (inputs on held directions, outputs that miss an instantaneous part).
     pub warnings: Vec<String>,
+    /// The eigen solver used: `Dense` (all modes) or `Sparse` (the lowest, by Lanczos).
+    pub solver: EigenSolver,
     /// Φᵀ Bq (n × inputs).
     modal_b: Mat<f64>,
     /// Cx Φ (outputs × n).
@@ -674,9 +702,173 @@ pub fn state_space_with_motions(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
+    let ndof = velocity_dof(model);
+    let sparse = match opts.solver {
+        EigenSolver::Auto => ndof > DENSE_STATE_SPACE_DOF,
+        s => s == EigenSolver::Sparse,
+    };
+    if sparse {
+        check_options(inputs, motions, outputs, opts)?;
+        if let Some(m) = motions.first() {
+            return Err(StateSpaceError::SparseMotion {
+                input: m.name(model),
+                ndof,
+                limit: DENSE_STATE_SPACE_DOF,
+            });
+        }
+        let Some(count) = opts.modes else {
+            return Err(StateSpaceError::SparseNeedsModes {
+                ndof,
+                limit: DENSE_STATE_SPACE_DOF,
+            });
+        };
+        return build_sparse(model, step, inputs, outputs, count, opts);
+    }
     let lin = linearize(model, step);
     let red = reduced_matrices_with(model, step, &lin)?;
     build(model, step, &red, inputs, motions, outputs, opts)
+}
+
+/// Validate the options and the input/output counts.
+fn check_options(
+    inputs: &[Input],
+    motions: &[Motion],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+) -> Result<(), StateSpaceError> {
+    let zeta = opts.damping;
+    if !(zeta.is_finite() && zeta >= 0.0) {
+        return Err(StateSpaceError::BadDamping(zeta));
+    }
+    if opts.modes == Some(0) {
+        return Err(StateSpaceError::NoModes);
+    }
+    if (inputs.is_empty() && motions.is_empty()) || outputs.is_empty() {
+        return Err(StateSpaceError::NoInputOutput);
+    }
+    Ok(())
+}
+
+/// The model-specific parts of a state-space model, from which [`assemble`] builds A, B, C, D.
+struct Parts {
+    /// ω² of the kept modes.
+    lam: Vec<f64>,
+    /// Φᵀ Bq (kept modes × inputs).
+    modal_b: Mat<f64>,
+    /// Cx Φ (outputs × kept modes).
+    modal_c: Mat<f64>,
+    /// Static feedthrough of displacement outputs (outputs × inputs).
+    d_static: Mat<f64>,
+    /// Quasi-static gains of the motion inputs (outputs × motions).
+    motion_gain: Mat<f64>,
+    warnings: Vec<String>,
+    ndof: usize,
+    massless: usize,
+    available: usize,
+    solver: EigenSolver,
+}
+
+/// Warnings for inputs on held directions.
+fn held_input_warnings(model: &Model, inputs: &[Input], warnings: &mut Vec<String>) {
+    for inp in inputs {
+        if held(model, inp.node, inp.dof) {
+            warnings.push(format!(
+                "input {} acts on a held direction (support or prescribed input): it has no effect",
+                inp.name(model)
+            ));
+        }
+    }
+}
+
+/// The sparse state space (module docs): the lowest `count` modes by shift-invert Lanczos
+/// (mass-normalised shapes φ in x), Φᵀ Bq = φᵀ f and Cx Φ = w·φ directly in x. The static
+/// feedthrough of displacement outputs is the exact static response minus that of the kept
+/// modes, Cx K⁻¹ f − Σ (w·φ)(φ·f)/ω², from one sparse factorisation of the statics Newton
+/// matrix: with `static_correction`, and always when the model has massless directions
+/// (their instantaneous response; the sparse path cannot separate it from the dropped modes').
+fn build_sparse(
+    model: &Model,
+    step: &StepResult,
+    inputs: &[Input],
+    outputs: &[Output],
+    count: usize,
+    opts: &StateSpaceOptions,
+) -> Result<StateSpace, StateSpaceError> {
+    let sm = super::sparse::sparse_modes(model, step, count)?;
+    let mut warnings = Vec::new();
+    let available = sm.ndof - sm.massless;
+    let n = sm.eigenvalues.len();
+    if count > n {
+        warnings.push(format!(
+            "--modes {count}: the model has {n} modes that carry mass; all are kept"
+        ));
+    }
+    held_input_warnings(model, inputs, &mut warnings);
+    for out in outputs {
+        if held(model, out.node, out.dof) {
+            warnings.push(format!(
+                "output {} is a held direction (support or prescribed input): it is zero",
+                out.name(model)
+            ));
+        }
+    }
+    let f: Vec<Vec<f64>> = inputs
+        .iter()
+        .map(|i| unit_vector(model, step, i.node, i.dof))
+        .collect::<Result<_, _>>()?;
+    let w: Vec<Vec<f64>> = outputs
+        .iter()
+        .map(|o| unit_vector(model, step, o.node, o.dof))
+        .collect::<Result<_, _>>()?;
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let modal_b = Mat::from_fn(n, inputs.len(), |k, j| dot(&sm.shapes[k], &f[j]));
+    let modal_c = Mat::from_fn(outputs.len(), n, |o, k| dot(&w[o], &sm.shapes[k]));
+    let (no, ni) = (outputs.len(), inputs.len());
+    let mut d_static = Mat::zeros(no, ni);
+    let residual = opts.static_correction || sm.massless > 0;
+    if residual && outputs.iter().any(|o| o.kind == OutputKind::Disp) {
+        let dx = super::sparse::static_responses(model, step, &f)?;
+        for (o, out) in outputs.iter().enumerate() {
+            if out.kind != OutputKind::Disp {
+                continue;
+            }
+            for j in 0..ni {
+                let modal: f64 = (0..n)
+                    .map(|k| modal_c[(o, k)] * modal_b[(k, j)] / sm.eigenvalues[k])
+                    .sum();
+                d_static[(o, j)] = dot(&w[o], &dx[j]) - modal;
+            }
+        }
+        if sm.massless > 0 && !opts.static_correction {
+            warnings.push(format!(
+                "the model has {} direction(s) without inertia: D carries their static response together with that of the dropped modes (as --static-correction), which the sparse path cannot separate",
+                sm.massless
+            ));
+        }
+    }
+    if sm.massless > 0 && outputs.iter().any(|o| o.kind != OutputKind::Disp) {
+        warnings.push(
+            "velocity and acceleration outputs miss the instantaneous response of the directions without inertia (proportional to the input's derivative)".into(),
+        );
+    }
+    Ok(assemble(
+        inputs,
+        &[],
+        outputs,
+        opts,
+        Parts {
+            lam: sm.eigenvalues,
+            modal_b,
+            modal_c,
+            d_static,
+            motion_gain: Mat::zeros(no, 0),
+            warnings,
+            ndof: sm.ndof,
+            massless: sm.massless,
+            available,
+            solver: EigenSolver::Sparse,
+        },
+    ))
 }
 
 /// [`state_space_with_motions`] from reduced matrices already at hand (e.g. those of a
@@ -702,16 +894,7 @@ fn build(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
-    let zeta = opts.damping;
-    if !(zeta.is_finite() && zeta >= 0.0) {
-        return Err(StateSpaceError::BadDamping(zeta));
-    }
-    if opts.modes == Some(0) {
-        return Err(StateSpaceError::NoModes);
-    }
-    if (inputs.is_empty() && motions.is_empty()) || outputs.is_empty() {
-        return Err(StateSpaceError::NoInputOutput);
-    }
+    check_options(inputs, motions, outputs, opts)?;
     let mut warnings = Vec::new();
     let (lam, phi) = red.eigen()?;
     let available = lam.len();
@@ -757,14 +940,9 @@ fn build(
             bq[(r, nf + j)] = -(m0psi[(r, j)] + mloads[j].m[r]);
         }
     }
+    held_input_warnings(model, inputs, &mut warnings);
     for (j, inp) in inputs.iter().enumerate() {
         let f = unit_vector(model, step, inp.node, inp.dof)?;
-        if held(model, inp.node, inp.dof) {
-            warnings.push(format!(
-                "input {} acts on a held direction (support or prescribed input): it has no effect",
-                inp.name(model)
-            ));
-        }
         for r in 0..ndof {
             bq[(r, j)] = (0..model.nx).map(|i| red.z[(i, r)] * f[i]).sum::<f64>();
         }
@@ -797,8 +975,7 @@ fn build(
     let phik = Mat::from_fn(ndof, n, |i, k| phi[(i, k)]);
     let modal_b = phik.transpose() * &bq; // n × ni
     let modal_c = &cx * &phik; // no × n
-    let omega: Vec<f64> = lam[..n].iter().map(|l| l.abs().sqrt()).collect();
-    // static flexibility not carried by the kept modes
+                               // static flexibility not carried by the kept modes
     let massless_flex = red.massless_flexibility();
     let d_massless = &cx * &massless_flex * &bq; // no × ni
     let mut d_residual = Mat::<f64>::zeros(no, ni);
@@ -829,7 +1006,55 @@ fn build(
             }
         }
     }
-    // assemble A, B, C, D: state (η, η̇, then (u, u̇) of every motion)
+    Ok(assemble(
+        inputs,
+        motions,
+        outputs,
+        opts,
+        Parts {
+            lam: lam[..n].to_vec(),
+            modal_b,
+            modal_c,
+            d_static,
+            motion_gain,
+            warnings,
+            ndof,
+            massless: red.massless(),
+            available,
+            solver: EigenSolver::Dense,
+        },
+    ))
+}
+
+/// A, B, C, D from the modal parts: state (η, η̇, then (u, u̇) of every motion).
+fn assemble(
+    inputs: &[Input],
+    motions: &[Motion],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+    parts: Parts,
+) -> StateSpace {
+    let Parts {
+        lam,
+        modal_b,
+        modal_c,
+        d_static,
+        motion_gain,
+        warnings,
+        ndof,
+        massless,
+        available,
+        solver,
+    } = parts;
+    let zeta = opts.damping;
+    let n = lam.len();
+    let (nf, nm, no, ni) = (
+        inputs.len(),
+        motions.len(),
+        outputs.len(),
+        inputs.len() + motions.len(),
+    );
+    let omega: Vec<f64> = lam.iter().map(|l| l.abs().sqrt()).collect();
     let ns = 2 * n + 2 * nm;
     let mut a = Mat::zeros(ns, ns);
     for k in 0..n {
@@ -877,7 +1102,7 @@ fn build(
             }
         }
     }
-    Ok(StateSpace {
+    StateSpace {
         a,
         b,
         c,
@@ -885,18 +1110,19 @@ fn build(
         inputs: inputs.to_vec(),
         motions: motions.to_vec(),
         outputs: outputs.to_vec(),
-        eigenvalues: lam[..n].to_vec(),
+        eigenvalues: lam,
         damping: zeta,
         ndof,
-        massless: red.massless(),
+        massless,
         available_modes: available,
         static_correction: opts.static_correction,
         warnings,
+        solver,
         modal_b,
         modal_c,
         d_static,
         motion_gain,
-    })
+    }
 }
 
 /// Name of input column j (forces first, then motions).
@@ -1127,6 +1353,10 @@ mod motion_tests;
 mod deformation_tests;
 
 #[cfg(test)]
+#[path = "state_space_sparse_tests.rs"]
+mod sparse_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::dynamics::modes;
@@ -1139,7 +1369,7 @@ mod tests {
     /// `rotary` the beams carry rotary inertia; without it the twist of every node is massless
     /// (the Hermite translational mass sees bending rotations through the end tangents, but not
     /// the twist about the beam axis), so those directions are condensed.
-    fn cantilever(n: usize, rotary: bool, axial_load: f64) -> Model {
+    pub(super) fn cantilever(n: usize, rotary: bool, axial_load: f64) -> Model {
         let l = 0.1;
         let mut b = ModelBuilder::new("cantilever");
         let props = BeamProps {
@@ -1169,7 +1399,7 @@ mod tests {
         b.build().unwrap()
     }
 
-    fn all_io(model: &Model, node: usize) -> (Vec<Input>, Vec<Output>) {
+    pub(super) fn all_io(model: &Model, node: usize) -> (Vec<Input>, Vec<Output>) {
         let _ = model;
         let inputs = Dof::ALL.iter().map(|&dof| Input { node, dof }).collect();
         let outputs = Dof::ALL
@@ -1184,7 +1414,7 @@ mod tests {
     }
 
     /// max |a − b| / max |b| over the 6 × 6 block.
-    fn rel_err(a: &Mat<f64>, b: &[[f64; 6]; 6]) -> f64 {
+    pub(super) fn rel_err(a: &Mat<f64>, b: &[[f64; 6]; 6]) -> f64 {
         let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
         let mut e = 0.0f64;
         for i in 0..6 {

@@ -2089,6 +2089,46 @@ impl ReducedLinear {
         out
     }
 
+    /// The material stiffness times a displacement, K_m δx = Σ Dᵀ S (D δx) over the elements'
+    /// flexible deformations, as forces in x (length nx). Evaluated through the deformations δe
+    /// = D δx, for the reason given at [`ReducedLinear::material_energy2`]: the product with the
+    /// assembled K_m loses the small elastic forces of a smooth displacement to round-off.
+    pub(crate) fn material_forces(&self, model: &Model, x: &[f64], dx: &[f64]) -> Vec<f64> {
+        let mut f = vec![0.0; model.nx];
+        for (el, entry) in model.elements.iter().enumerate() {
+            let s = &self.su.s_eff[el];
+            let ne = entry.element.ne();
+            if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
+                continue;
+            }
+            let d: Mat<f64> = match &entry.element {
+                Element::Beam(b) if entry.xmap.len() == 14 => {
+                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+                    let first = b.first(&xk);
+                    Mat::from_fn(6, 14, |r, c| first.d[r][c])
+                }
+                other => other.jacobian(&gather(entry, x)),
+            };
+            let de: Vec<f64> = (0..ne)
+                .map(|r| {
+                    entry
+                        .xmap
+                        .iter()
+                        .enumerate()
+                        .map(|(c, &i)| d[(r, c)] * dx[i])
+                        .sum()
+                })
+                .collect();
+            let sigma: Vec<f64> = (0..ne)
+                .map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum())
+                .collect();
+            for (c, &i) in entry.xmap.iter().enumerate() {
+                f[i] += (0..ne).map(|r| d[(r, c)] * sigma[r]).sum::<f64>();
+            }
+        }
+        f
+    }
+
     /// Whether the model has applied moments (also those of a spin): their load stiffness is
     /// not symmetric.
     pub(crate) fn has_moment_loads(&self) -> bool {
@@ -2201,6 +2241,24 @@ impl ReducedLinear {
             out[d0..d0 + 3].iter_mut().for_each(|v| *v = owner[r]);
         }
         out
+    }
+
+    /// Generalised forces on the reduced coordinates of a force vector `f` in x (length nx):
+    /// the transpose of [`ReducedLinear::to_x`], so that uᵀ (this) = (to_x u)ᵀ f.
+    pub(crate) fn force_to_coords(&self, x: &[f64], f: &[f64]) -> Vec<f64> {
+        let mut fc = vec![0.0; self.n_coords()];
+        for (i, fi) in f.iter().enumerate() {
+            if let Some(m) = self.coord_index(i) {
+                fc[m] += fi;
+            }
+        }
+        for &(r, d0, _) in &self.su.red.nodes {
+            let nb = rot_basis(&x[r..r + 4]);
+            for (j, v) in fc[d0..d0 + 3].iter_mut().enumerate() {
+                *v += (0..4).map(|i| nb[i][j] * f[r + i]).sum::<f64>();
+            }
+        }
+        fc
     }
 
     /// δx (length nx) of a vector `u` of the coordinate unknowns at the state `x`.
