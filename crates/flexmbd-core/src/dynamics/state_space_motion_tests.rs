@@ -49,41 +49,15 @@ fn spring_mass_base_excitation_matches_closed_form() {
         out(&model, "m", Dof::X, OutputKind::Vel),
         out(&model, "m", Dof::X, OutputKind::Acc),
     ];
-    for zeta in [0.0, 0.05] {
-        let ss = state_space_with_motions(
-            &model,
-            &step,
-            &[],
-            &[motion],
-            &outputs,
-            &StateSpaceOptions {
-                damping: zeta,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        assert_eq!(ss.n_modes(), 1);
-        assert_eq!(ss.n_states(), 4);
-        assert!((ss.eigenvalues[0] - wn * wn).abs() < 1e-9 * wn * wn);
-        for f in [0.3, 5.0, 9.0, 11.0, 40.0] {
-            let w = 2.0 * std::f64::consts::PI * f;
-            let s = c64::new(0.0, w);
-            let exact =
-                (s * (2.0 * zeta * wn) + wn * wn) / (s * s + s * (2.0 * zeta * wn) + wn * wn);
-            let g = ss.frequency_response(f);
-            // resolvent C (sI − A)⁻¹ B + D, independent of the modal sum
-            let dense = resolvent(&ss, s);
-            for (o, p) in [(0usize, 0i32), (1, 1), (2, 2)] {
-                // X/U = G s² / sᵖ
-                let xu = g[o][0] * s * s / s.powi(p);
-                assert!(
-                    (xu - exact).norm() < 1e-9 * exact.norm(),
-                    "f {f} o {o}: {xu} vs {exact}"
-                );
-                assert!((dense[o][0] - g[o][0]).norm() < 1e-9 * g[o][0].norm());
-            }
-        }
-    }
+    check_base_excitation(
+        &model,
+        &step,
+        motion,
+        &outputs,
+        wn,
+        &[1.0, 0.0, 0.0],
+        |_, _, _, _| {},
+    );
 }
 
 /// C (sI − A)⁻¹ B + D by a dense complex solve.
@@ -108,6 +82,67 @@ pub(super) fn resolvent(ss: &StateSpace, s: c64) -> Vec<Vec<c64>> {
                 .collect()
         })
         .collect()
+}
+
+/// Base-excitation transmissibility with modal damping on the relative coordinate:
+/// (2ζωₙs + ωₙ²)/(s² + 2ζωₙs + ωₙ²) (for ζ = 0: ωₙ²/(ωₙ² − ω²)).
+pub(super) fn transmissibility(s: c64, wn: f64, zeta: f64) -> c64 {
+    (s * (2.0 * zeta * wn) + wn * wn) / (s * s + s * (2.0 * zeta * wn) + wn * wn)
+}
+
+/// A one-mode system driven by one motion input, for ζ = 0 and ζ = 0.04: one mode with
+/// ω² = ωₙ², the quasi-static gains `g0` of the outputs, and outputs 0, 1, 2 (displacement,
+/// velocity and acceleration of the driven inertia) with X/U = [`transmissibility`], from the
+/// modal sum and from the resolvent of (A, B, C, D). The input is ü, so X/U = G(s) s². Then
+/// `more(ss, f, s, g)` checks the other outputs at every frequency.
+pub(super) fn check_base_excitation(
+    model: &Model,
+    step: &StepResult,
+    motion: Motion,
+    outputs: &[Output],
+    wn: f64,
+    g0: &[f64],
+    more: impl Fn(&StateSpace, f64, c64, &[Vec<c64>]),
+) {
+    for zeta in [0.0, 0.04] {
+        let ss = state_space_with_motions(
+            model,
+            step,
+            &[],
+            &[motion],
+            outputs,
+            &StateSpaceOptions {
+                damping: zeta,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(ss.n_modes(), 1);
+        assert_eq!(ss.n_states(), 4);
+        assert!((ss.eigenvalues[0] - wn * wn).abs() < 1e-9 * wn * wn);
+        let gs = ss.motion_static_gain();
+        for (o, e) in g0.iter().enumerate() {
+            assert!((gs[(o, 0)] - e).abs() < 1e-12, "{o}: {}", gs[(o, 0)]);
+        }
+        let fn_hz = wn / (2.0 * std::f64::consts::PI);
+        for f in [0.01, 0.5, 0.97, 1.1, 8.0].map(|r| r * fn_hz) {
+            let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f);
+            let exact = transmissibility(s, wn, zeta);
+            let g = ss.frequency_response(f);
+            // resolvent C (sI − A)⁻¹ B + D, independent of the modal sum
+            let dense = resolvent(&ss, s);
+            for (o, p) in [(0usize, 0i32), (1, 1), (2, 2)] {
+                // X/U = G s² / sᵖ
+                let xu = g[o][0] * s * s / s.powi(p);
+                assert!(
+                    (xu - exact).norm() < 1e-9 * exact.norm(),
+                    "ζ {zeta}, f {f}, output {o}: {xu} vs {exact}"
+                );
+                assert!((dense[o][0] - g[o][0]).norm() < 1e-9 * g[o][0].norm());
+            }
+            more(&ss, f, s, &g);
+        }
+    }
 }
 
 /// Beam of `n` elements along x from `a` (clamped) to `e` whose y is an input (everything else
@@ -401,7 +436,7 @@ fn motion_through_a_rigid_link_is_lifted_onto_the_constraint() {
         let g = ss.frequency_response(f);
         assert!((g[0][0] * s * s - 1.0).norm() < 1e-9);
         assert!((g[1][0] - 1.0).norm() < 1e-9);
-        let exact = (s * (2.0 * zeta * wn) + wn * wn) / (s * s + s * (2.0 * zeta * wn) + wn * wn);
+        let exact = transmissibility(s, wn, zeta);
         assert!((g[2][0] * s * s - exact).norm() < 1e-9 * exact.norm());
     }
 }
@@ -447,50 +482,11 @@ fn torsion_spring_base_rotation_matches_closed_form() {
         out(&model, "b", Dof::Rz, OutputKind::Disp),
         out(&model, "m", Dof::Rx, OutputKind::Disp),
     ];
-    for zeta in [0.0, 0.03] {
-        let ss = state_space_with_motions(
-            &model,
-            &step,
-            &[],
-            &[motion],
-            &outputs,
-            &StateSpaceOptions {
-                damping: zeta,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        assert_eq!(ss.n_modes(), 1);
-        assert!((ss.eigenvalues[0] - wn * wn).abs() < 1e-9 * wn * wn);
-        let g0 = ss.motion_static_gain();
-        for (o, e) in [1.0, 0.0, 0.0, 1.0, 0.0].iter().enumerate() {
-            assert!((g0[(o, 0)] - e).abs() < 1e-12, "{o}: {}", g0[(o, 0)]);
-        }
-        let fn_hz = wn / (2.0 * std::f64::consts::PI);
-        for f in [
-            0.01 * fn_hz,
-            0.5 * fn_hz,
-            0.97 * fn_hz,
-            1.1 * fn_hz,
-            8.0 * fn_hz,
-        ] {
-            let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f);
-            let exact =
-                (s * (2.0 * zeta * wn) + wn * wn) / (s * s + s * (2.0 * zeta * wn) + wn * wn);
-            let g = ss.frequency_response(f);
-            let dense = resolvent(&ss, s);
-            for (o, p) in [(0usize, 0i32), (1, 1), (2, 2)] {
-                let tt = g[o][0] * s * s / s.powi(p);
-                assert!(
-                    (tt - exact).norm() < 1e-9 * exact.norm(),
-                    "f {f} o {o}: {tt} vs {exact}"
-                );
-                assert!((dense[o][0] - g[o][0]).norm() < 1e-9 * g[o][0].norm());
-            }
-            assert!((g[3][0] * s * s - 1.0).norm() < 1e-12);
-            assert!(g[4][0].norm() < 1e-12 * g[0][0].norm());
-        }
-    }
+    let g0 = [1.0, 0.0, 0.0, 1.0, 0.0];
+    check_base_excitation(&model, &step, motion, &outputs, wn, &g0, |_, _, s, g| {
+        assert!((g[3][0] * s * s - 1.0).norm() < 1e-12);
+        assert!(g[4][0].norm() < 1e-12 * g[0][0].norm());
+    });
 }
 
 /// Cantilever of 3 beams along x (L = 0.3 m) with point masses, clamped at n0 except for rz,

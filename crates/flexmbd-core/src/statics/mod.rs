@@ -2044,27 +2044,11 @@ impl ReducedLinear {
                     })
                     .collect();
             }
-            let d: Mat<f64> = match &entry.element {
-                Element::Beam(b) => {
-                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-                    let f = b.first(&xk);
-                    Mat::from_fn(6, 14, |r, c| f.d[r][c])
-                }
-                other => other.jacobian(&gather(entry, x)),
-            };
+            let d = material_jacobian(entry, x);
             shapes
                 .iter()
                 .map(|dx| {
-                    let de: Vec<f64> = (0..ne)
-                        .map(|r| {
-                            entry
-                                .xmap
-                                .iter()
-                                .enumerate()
-                                .map(|(c, &i)| d[(r, c)] * dx[i])
-                                .sum()
-                        })
-                        .collect();
+                    let de = deformation_change(entry, &d, dx);
                     (0..ne)
                         .map(|a| de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>())
                         .sum()
@@ -2101,24 +2085,8 @@ impl ReducedLinear {
             if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
                 continue;
             }
-            let d: Mat<f64> = match &entry.element {
-                Element::Beam(b) if entry.xmap.len() == 14 => {
-                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-                    let first = b.first(&xk);
-                    Mat::from_fn(6, 14, |r, c| first.d[r][c])
-                }
-                other => other.jacobian(&gather(entry, x)),
-            };
-            let de: Vec<f64> = (0..ne)
-                .map(|r| {
-                    entry
-                        .xmap
-                        .iter()
-                        .enumerate()
-                        .map(|(c, &i)| d[(r, c)] * dx[i])
-                        .sum()
-                })
-                .collect();
+            let d = material_jacobian(entry, x);
+            let de = deformation_change(entry, &d, dx);
             let sigma: Vec<f64> = (0..ne)
                 .map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum())
                 .collect();
@@ -2277,6 +2245,33 @@ impl ReducedLinear {
         }
         dx
     }
+}
+
+/// The Jacobian D = ∂e/∂x_k of an element at x (closed form for the beam), for the sums of
+/// [`ReducedLinear::material_energy2`] and [`ReducedLinear::material_forces`].
+fn material_jacobian(entry: &crate::model::ElementEntry, x: &[f64]) -> Mat<f64> {
+    match &entry.element {
+        Element::Beam(b) => {
+            let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+            let f = b.first(&xk);
+            Mat::from_fn(6, 14, |r, c| f.d[r][c])
+        }
+        other => other.jacobian(&gather(entry, x)),
+    }
+}
+
+/// δe = D δx_k of an element for a displacement δx (length nx).
+fn deformation_change(entry: &crate::model::ElementEntry, d: &Mat<f64>, dx: &[f64]) -> Vec<f64> {
+    (0..d.nrows())
+        .map(|r| {
+            entry
+                .xmap
+                .iter()
+                .enumerate()
+                .map(|(c, &i)| d[(r, c)] * dx[i])
+                .sum()
+        })
+        .collect()
 }
 
 pub mod linear;
