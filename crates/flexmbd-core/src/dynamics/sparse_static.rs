@@ -72,7 +72,7 @@ pub(crate) fn static_responses(
             op.solve(&mut r);
             let size = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let zmax = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if !(size < 0.5 * last) && size > 0.0 || !size.is_finite() {
+            if !size.is_finite() || (size > 0.0 && size >= 0.5 * last) {
                 break;
             }
             z.iter_mut().zip(&r).for_each(|(a, d)| *a += d);
