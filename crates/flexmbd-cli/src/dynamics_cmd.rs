@@ -3,10 +3,11 @@
 use crate::{emit, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    log_space, state_space_with_motions, Input, Motion, Output, OutputKind, StateSpaceOptions,
+    log_space, state_space_with_motions, uses_sparse, Input, Motion, Output, OutputKind,
+    StateSpaceOptions, DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
-use flexmbd_core::dynamics::{EigenSolver, ModalOptions};
+use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
 use flexmbd_core::elements::ElementKind;
 use flexmbd_core::model::Dof;
 use flexmbd_core::statics::{StaticOptions, StaticSolution};
@@ -423,6 +424,37 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
+    let ss_opts = StateSpaceOptions {
+        damping: a.damping,
+        modes: a.modes,
+        static_correction: a.static_correction,
+        solver: a.solver.options().solver,
+    };
+    // the sparse path's requirements are input errors, found before the static solve
+    if uses_sparse(&model, &ss_opts) {
+        let ndof = velocity_dof(&model);
+        if let Some(m) = motions.first() {
+            return Err(BadInput(format!(
+                "--input {}: prescribed-motion inputs need the dense state space (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof}{}); use force or moment inputs",
+                m.name(&model),
+                a.model.display(),
+                if a.solver == SolverArg::Sparse { ", and --solver sparse was given" } else { "" }
+            ))
+            .into());
+        }
+        if a.modes.is_none() {
+            return Err(BadInput(format!(
+                "{} has {ndof} degrees of freedom{}: the sparse state space keeps the lowest modes only; give --modes N (e.g. --modes 20), with --static-correction for the exact static gain",
+                a.model.display(),
+                if a.solver == SolverArg::Sparse {
+                    " and --solver sparse was given".to_string()
+                } else {
+                    format!(", more than the dense state space takes ({DENSE_STATE_SPACE_DOF})")
+                }
+            ))
+            .into());
+        }
+    }
     let opts = static_options(&settings, a.steps)?;
     let sol = solve_static(&model, &opts)?;
     let k = a.at_step.unwrap_or(sol.steps.len() - 1);
@@ -433,20 +465,8 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         ))
         .into());
     };
-    let ss = state_space_with_motions(
-        &model,
-        step,
-        &inputs,
-        &motions,
-        &outputs,
-        &StateSpaceOptions {
-            damping: a.damping,
-            modes: a.modes,
-            static_correction: a.static_correction,
-            solver: a.solver.options().solver,
-        },
-    )
-    .context("state-space model failed")?;
+    let ss = state_space_with_motions(&model, step, &inputs, &motions, &outputs, &ss_opts)
+        .context("state-space model failed")?;
     let file = a.model.display().to_string();
     let origin = report::Origin {
         file: &file,

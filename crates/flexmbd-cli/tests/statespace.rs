@@ -831,9 +831,25 @@ fn large_model_state_space_takes_the_sparse_path() {
     std::fs::write(&p, text).unwrap();
     let model = p.to_str().unwrap();
     let (out, _) = run(&["statespace", model, "--input", "tip:z", "--output", "tip:z"]);
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--modes") && err.contains("3600"), "{err}");
+    let (out, _) = run(&[
+        "statespace",
+        model,
+        "--input",
+        "root:z:motion",
+        "--output",
+        "tip:z",
+        "--modes",
+        "4",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("root:z:motion") && err.contains("dense"),
+        "{err}"
+    );
     let j = ok(&[
         "statespace",
         model,

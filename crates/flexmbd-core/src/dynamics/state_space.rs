@@ -703,11 +703,7 @@ pub fn state_space_with_motions(
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
     let ndof = velocity_dof(model);
-    let sparse = match opts.solver {
-        EigenSolver::Auto => ndof > DENSE_STATE_SPACE_DOF,
-        s => s == EigenSolver::Sparse,
-    };
-    if sparse {
+    if uses_sparse(model, opts) {
         check_options(inputs, motions, outputs, opts)?;
         if let Some(m) = motions.first() {
             return Err(StateSpaceError::SparseMotion {
@@ -727,6 +723,15 @@ pub fn state_space_with_motions(
     let lin = linearize(model, step);
     let red = reduced_matrices_with(model, step, &lin)?;
     build(model, step, &red, inputs, motions, outputs, opts)
+}
+
+/// Whether [`state_space_with_motions`] takes the sparse path for this model and these
+/// options (the solver asked for; `Auto`: above [`DENSE_STATE_SPACE_DOF`] degrees of freedom).
+pub fn uses_sparse(model: &Model, opts: &StateSpaceOptions) -> bool {
+    match opts.solver {
+        EigenSolver::Auto => velocity_dof(model) > DENSE_STATE_SPACE_DOF,
+        s => s == EigenSolver::Sparse,
+    }
 }
 
 /// Validate the options and the input/output counts.
