@@ -29,6 +29,7 @@ pub mod sweep;
 use crate::elements::ElementKind;
 use crate::kinematics::columns;
 use crate::linalg::{numerical_rank, svd, sym_def_eigen, EigenError};
+use crate::math::sparse_lu::sort_small_by;
 use crate::model::{DefKind, Model, Partition};
 use crate::statics::linear::{linearize, Linearized};
 use crate::statics::{roles, Role, StepResult};
@@ -570,7 +571,8 @@ fn lowest(
 ) -> Result<Lowest, ModalError> {
     if opts.resolve(model, count) == EigenSolver::Sparse {
         match sparse::sparse_modes(model, step, count) {
-            Ok(sm) => {
+            Ok(mut sm) => {
+                sm.shapes.iter_mut().for_each(|s| fix_sign(s));
                 return Ok(Lowest {
                     eigenvalues: sm.eigenvalues,
                     shapes: sm.shapes,
@@ -595,7 +597,11 @@ fn lowest(
     let phi_m = Mat::from_fn(red.ndof(), nm, |i, k| phi[(i, k)]);
     let dx = &red.z * &phi_m;
     let shapes = (0..nm)
-        .map(|k| (0..model.nx).map(|i| dx[(i, k)]).collect())
+        .map(|k| {
+            let mut s: Vec<f64> = (0..model.nx).map(|i| dx[(i, k)]).collect();
+            fix_sign(&mut s);
+            s
+        })
         .collect();
     Ok(Lowest {
         eigenvalues: lam[..nm].to_vec(),
@@ -605,6 +611,29 @@ fn lowest(
         massless_nodes: red.massless_nodes,
         solver: EigenSolver::Dense,
     })
+}
+
+/// Relative tolerance of [`fix_sign`]: components whose magnitude is within this fraction of
+/// the largest count as equally large.
+pub const SIGN_TIE_TOL: f64 = 1e-6;
+
+/// The sign convention of mode shapes, independent of the eigen solver: the component of the
+/// shape in x with the largest magnitude is positive; among components within
+/// [`SIGN_TIE_TOL`] of the largest, the one with the lowest index decides (docs/dynamics.md,
+/// "JSON output").
+pub fn fix_sign(shape: &mut [f64]) {
+    let big = shape.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if big == 0.0 || !big.is_finite() {
+        return;
+    }
+    let decisive = shape
+        .iter()
+        .copied()
+        .find(|v| v.abs() >= (1.0 - SIGN_TIE_TOL) * big)
+        .unwrap_or(big);
+    if decisive < 0.0 {
+        shape.iter_mut().for_each(|v| *v = -*v);
+    }
 }
 
 /// The modes with their energy split (element by element, no global matrices): strain
@@ -617,30 +646,30 @@ fn describe_all(
 ) -> Vec<Mode> {
     use rayon::prelude::*;
     let nm = shapes.len();
-    // strain energy per element deformation: ½ (D δx)ᵢ (S D δx)ᵢ, D evaluated once per element
-    let element_energies = |entry: &crate::model::ElementEntry| -> Vec<Vec<f64>> {
+    // strain energy per element deformation: ½ (D δx)ᵢ (S D δx)ᵢ, D evaluated once per element;
+    // per element one list, mode k's energies at k ne … (k + 1) ne
+    let element_energies = |entry: &crate::model::ElementEntry| -> Vec<f64> {
         let s = entry.element.stiffness();
         let ne = entry.element.ne();
         if let (crate::elements::Element::Beam(b), 6, 14) = (&entry.element, ne, entry.xmap.len()) {
             // the same sums as below, without allocations per shape but the result
             let x14: [f64; 14] = std::array::from_fn(|i| step.x[entry.xmap[i]]);
             let d = b.first(&x14).d;
-            return shapes
-                .iter()
-                .map(|shape| {
-                    let de: [f64; 6] = std::array::from_fn(|r| {
-                        entry
-                            .xmap
-                            .iter()
-                            .enumerate()
-                            .map(|(c, &i)| d[r][c] * shape[i])
-                            .sum()
-                    });
-                    (0..6)
-                        .map(|a| 0.5 * de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>())
-                        .collect()
-                })
-                .collect();
+            let mut out = Vec::with_capacity(6 * shapes.len());
+            for shape in shapes.iter() {
+                let de: [f64; 6] = std::array::from_fn(|r| {
+                    entry
+                        .xmap
+                        .iter()
+                        .enumerate()
+                        .map(|(c, &i)| d[r][c] * shape[i])
+                        .sum()
+                });
+                out.extend(
+                    (0..6).map(|a| 0.5 * de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>()),
+                );
+            }
+            return out;
         }
         let xk = crate::assembly::gather(entry, &step.x);
         let d: Mat<f64> = match &entry.element {
@@ -651,27 +680,26 @@ fn describe_all(
             }
             other => other.jacobian(&xk),
         };
-        shapes
-            .iter()
-            .map(|shape| {
-                let de: Vec<f64> = (0..ne)
-                    .map(|r| {
-                        entry
-                            .xmap
-                            .iter()
-                            .enumerate()
-                            .map(|(c, &i)| d[(r, c)] * shape[i])
-                            .sum()
-                    })
-                    .collect();
-                (0..ne)
-                    .map(|a| 0.5 * de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>())
-                    .collect()
-            })
-            .collect()
+        let mut out = Vec::with_capacity(ne * shapes.len());
+        for shape in shapes.iter() {
+            let de: Vec<f64> = (0..ne)
+                .map(|r| {
+                    entry
+                        .xmap
+                        .iter()
+                        .enumerate()
+                        .map(|(c, &i)| d[(r, c)] * shape[i])
+                        .sum()
+                })
+                .collect();
+            out.extend(
+                (0..ne).map(|a| 0.5 * de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()),
+            );
+        }
+        out
     };
     let small = model.elements.len() < 256;
-    let per_element: Vec<Vec<Vec<f64>>> = if small {
+    let per_element: Vec<Vec<f64>> = if small {
         model.elements.iter().map(element_energies).collect()
     } else {
         model
@@ -685,11 +713,16 @@ fn describe_all(
     let refs: Vec<&[f64]> = shapes.iter().map(|v| v.as_slice()).collect();
     let m_shapes = mass::mass_times(model, &step.x, &refs);
     let one = |(k, shape): (usize, Vec<f64>)| {
-        let strain: Vec<(usize, usize, f64)> = per_element
-            .iter()
-            .enumerate()
-            .flat_map(|(el, u)| u[k].iter().enumerate().map(move |(a, &v)| (el, a, v)))
-            .collect();
+        let mut strain: Vec<(usize, usize, f64)> = Vec::with_capacity(6 * per_element.len());
+        for (el, u) in per_element.iter().enumerate() {
+            let ne = u.len() / nm;
+            strain.extend(
+                u[k * ne..(k + 1) * ne]
+                    .iter()
+                    .enumerate()
+                    .map(|(a, &v)| (el, a, v)),
+            );
+        }
         describe(model, step, eigenvalues[k], shape, &m_shapes[k], strain)
     };
     if small || nm < 2 {
@@ -698,6 +731,9 @@ fn describe_all(
         shapes.into_par_iter().enumerate().map(one).collect()
     }
 }
+
+/// Lists up to this long are sorted by insertion in [`describe`] (the same stable order).
+const SHORT_SORT: usize = 64;
 
 fn describe(
     model: &Model,
@@ -754,13 +790,28 @@ fn describe(
         .map(|(e, m, u)| (e, m, u / norm_u))
         .filter(|s| s.2.abs() >= 1e-4)
         .collect();
-    strain.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+    // stable, largest first (insertion for the short lists of small models)
+    let larger = |a: &(usize, usize, f64), b: &(usize, usize, f64)| {
+        b.2.abs().total_cmp(&a.2.abs()) == std::cmp::Ordering::Less
+    };
+    if strain.len() <= SHORT_SORT {
+        sort_small_by(&mut strain, larger);
+    } else {
+        strain.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+    }
     let mut kinetic: Vec<(usize, f64, f64)> = kinetic
         .into_iter()
         .map(|(n, a, b)| (n, a / norm_t, b / norm_t))
         .filter(|k| k.1.abs() + k.2.abs() >= 1e-4)
         .collect();
-    kinetic.sort_by(|a, b| (b.1 + b.2).total_cmp(&(a.1 + a.2)));
+    let larger = |a: &(usize, f64, f64), b: &(usize, f64, f64)| {
+        (b.1 + b.2).total_cmp(&(a.1 + a.2)) == std::cmp::Ordering::Less
+    };
+    if kinetic.len() <= SHORT_SORT {
+        sort_small_by(&mut kinetic, larger);
+    } else {
+        kinetic.sort_by(|a, b| (b.1 + b.2).total_cmp(&(a.1 + a.2)));
+    }
     Mode {
         eigenvalue,
         frequency,

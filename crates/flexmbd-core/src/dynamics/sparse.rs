@@ -38,6 +38,11 @@
 //!   just above the last wanted eigenvalue) then confirms that no eigenvalue was missed (a
 //!   multiple eigenvalue, which a single-vector Lanczos may find only once); missed ones are
 //!   found by further runs deflated against the modes found.
+//! - **Projected eigenproblem**: the Ritz pairs of the (at most a few dozen) projected matrix
+//!   come from the project's own small symmetric solver ([`crate::math::small_eigen`]:
+//!   Householder tridiagonalisation, implicit QL, only the eigenvectors of the wanted and kept
+//!   Ritz values formed), faer's beyond [`SMALL_EIGEN_MAX`]; a general solver's fixed costs
+//!   exceed the whole iteration on small models.
 //! - **Result**: the Ritz vectors (M-orthonormal by the reorthogonalisation; purified and
 //!   orthonormalised again when there are massless directions), and as eigenvalues their
 //!   Rayleigh quotients with the strain energy evaluated through the element deformations
@@ -47,7 +52,8 @@
 
 use super::ModalError;
 use crate::linalg::{sym_eigen_seq, EigenError};
-use crate::math::sparse_lu::SparseLu;
+use crate::math::small_eigen::{sym_eigen_small, sym_eigen_small_largest, SMALL_EIGEN_MAX};
+use crate::math::sparse_lu::{sort_small, SparseLu};
 use crate::model::Model;
 use crate::statics::{ReducedLinear, StepResult};
 use faer::linalg::matmul::matmul;
@@ -100,22 +106,22 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
 }
 
-/// c[i] = V[:, i] · y for the first `j` columns of `v`.
-fn basis_dots(v: MatRef<'_, f64>, j: usize, y: &[f64]) -> Vec<f64> {
+/// c[i] = V[:, i] · y for the first `c.len()` columns of `v`.
+fn basis_dots(v: MatRef<'_, f64>, y: &[f64], c: &mut [f64]) {
     let n = y.len();
-    let col = |i: usize, r: std::ops::Range<usize>| -> f64 {
-        let c = &col_slice(v, i)[r.clone()];
-        dot(c, &y[r])
-    };
+    let j = c.len();
     if n < PAR_MIN {
-        return (0..j).map(|i| col(i, 0..n)).collect();
+        dots_rows(v, y, 0..n, c);
+        return;
     }
     let chunks = n.div_ceil(ROW_CHUNK);
-    (0..chunks)
+    let sum = (0..chunks)
         .into_par_iter()
-        .map(|c| {
-            let r = c * ROW_CHUNK..((c + 1) * ROW_CHUNK).min(n);
-            (0..j).map(|i| col(i, r.clone())).collect::<Vec<f64>>()
+        .map(|k| {
+            let r = k * ROW_CHUNK..((k + 1) * ROW_CHUNK).min(n);
+            let mut part = vec![0.0; j];
+            dots_rows(v, y, r, &mut part);
+            part
         })
         .reduce(
             || vec![0.0; j],
@@ -123,19 +129,77 @@ fn basis_dots(v: MatRef<'_, f64>, j: usize, y: &[f64]) -> Vec<f64> {
                 a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
                 a
             },
-        )
+        );
+    c.copy_from_slice(&sum);
+}
+
+/// c[i] = V[r, i] · y[r] for the first `c.len()` columns: four columns at a time, each with
+/// two partial sums (even and odd rows), so that one pass over y serves four columns and the
+/// products vectorise.
+fn dots_rows(v: MatRef<'_, f64>, y: &[f64], r: std::ops::Range<usize>, c: &mut [f64]) {
+    let y = &y[r.clone()];
+    let col = |i: usize| &col_slice(v, i)[r.clone()];
+    let mut quads = c.chunks_exact_mut(4);
+    let mut i = 0;
+    for out in &mut quads {
+        let (a, b, cc, d) = (col(i), col(i + 1), col(i + 2), col(i + 3));
+        let mut acc = [[0.0f64; 2]; 4];
+        let pairs = y
+            .chunks_exact(2)
+            .zip(a.chunks_exact(2))
+            .zip(b.chunks_exact(2))
+            .zip(cc.chunks_exact(2).zip(d.chunks_exact(2)));
+        for (((yk, ak), bk), (ck, dk)) in pairs {
+            for t in 0..2 {
+                acc[0][t] += ak[t] * yk[t];
+                acc[1][t] += bk[t] * yk[t];
+                acc[2][t] += ck[t] * yk[t];
+                acc[3][t] += dk[t] * yk[t];
+            }
+        }
+        let mut sums = [
+            acc[0][0] + acc[0][1],
+            acc[1][0] + acc[1][1],
+            acc[2][0] + acc[2][1],
+            acc[3][0] + acc[3][1],
+        ];
+        if y.len() % 2 == 1 {
+            let last = y.len() - 1;
+            for (q, s) in [a, b, cc, d].iter().zip(sums.iter_mut()) {
+                *s += q[last] * y[last];
+            }
+        }
+        out.copy_from_slice(&sums);
+        i += 4;
+    }
+    for out in quads.into_remainder() {
+        *out = dot(col(i), y);
+        i += 1;
+    }
 }
 
 /// w −= V[:, ..j] c.
 fn basis_subtract(v: MatRef<'_, f64>, c: &[f64], w: &mut [f64]) {
     let update = |start: usize, chunk: &mut [f64]| {
-        for (i, &ci) in c.iter().enumerate() {
+        let len = chunk.len();
+        let col = |i: usize| &col_slice(v, i)[start..start + len];
+        let mut quads = c.chunks_exact(4);
+        let mut i = 0;
+        for q in &mut quads {
+            let (a, b, cc, d) = (col(i), col(i + 1), col(i + 2), col(i + 3));
+            let rows = chunk.iter_mut().zip(a).zip(b).zip(cc.iter().zip(d));
+            for (((wk, ak), bk), (ck, dk)) in rows {
+                *wk -= (q[0] * ak + q[1] * bk) + (q[2] * ck + q[3] * dk);
+            }
+            i += 4;
+        }
+        for &ci in quads.remainder() {
             if ci != 0.0 {
-                let col = &col_slice(v, i)[start..start + chunk.len()];
-                for (wk, vk) in chunk.iter_mut().zip(col) {
+                for (wk, vk) in chunk.iter_mut().zip(col(i)) {
                     *wk -= ci * vk;
                 }
             }
+            i += 1;
         }
     };
     if w.len() < PAR_MIN {
@@ -147,9 +211,54 @@ fn basis_subtract(v: MatRef<'_, f64>, c: &[f64], w: &mut [f64]) {
         .for_each(|(k, chunk)| update(k * ROW_CHUNK, chunk));
 }
 
-/// V[:, ..] Y (columns of `y`) into a new matrix with `y.ncols()` columns.
+/// All eigenpairs of a projected symmetric matrix (lower triangle read), ascending: the
+/// hand-written solver for small orders (its fixed costs are far below faer's), faer beyond.
+fn projected_eigen(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
+    if a.nrows() <= SMALL_EIGEN_MAX {
+        sym_eigen_small(a)
+    } else {
+        sym_eigen_seq(a)
+    }
+}
+
+/// All eigenvalues of a projected symmetric matrix (lower triangle read), ascending, and the
+/// eigenvectors of the `k` largest, largest first (as [`projected_eigen`]).
+fn projected_eigen_largest(
+    a: MatRef<'_, f64>,
+    k: usize,
+) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
+    let n = a.nrows();
+    if n <= SMALL_EIGEN_MAX {
+        sym_eigen_small_largest(a, k)
+    } else {
+        let (values, vectors) = sym_eigen_seq(a)?;
+        let k = k.min(n);
+        Ok((values, Mat::from_fn(n, k, |i, c| vectors[(i, n - 1 - c)])))
+    }
+}
+
+/// Vectors at most this long are combined by [`basis_combine`]'s plain loop (faer's product has
+/// set-up costs that only pay off on longer ones).
+const COMBINE_LOOP_MAX: usize = 1024;
+
+/// V[:, ..] Y (columns of `y`) into a new matrix with `y.ncols()` columns: for short vectors
+/// column by column as sums of the columns of V (no set-up cost), else faer's product.
 fn basis_combine(v: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> {
     let mut out = Mat::<f64>::zeros(v.nrows(), y.ncols());
+    if v.nrows() <= COMBINE_LOOP_MAX {
+        for c in 0..y.ncols() {
+            let o = out.col_as_slice_mut(c);
+            for j in 0..y.nrows() {
+                let f = y[(j, c)];
+                if f != 0.0 {
+                    for (x, vj) in o.iter_mut().zip(col_slice(v, j)) {
+                        *x += f * vj;
+                    }
+                }
+            }
+        }
+        return out;
+    }
     let par = if v.nrows() < PAR_MIN {
         Par::Seq
     } else {
@@ -201,7 +310,12 @@ fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64], out: &mut
     const CHUNK: usize = 4096;
     if out.len() < PAR_MIN {
         for (j, y) in out.iter_mut().enumerate() {
-            *y = (ptr[j]..ptr[j + 1]).map(|p| val[p] * v[idx[p]]).sum();
+            let (lo, hi) = (ptr[j], ptr[j + 1]);
+            *y = idx[lo..hi]
+                .iter()
+                .zip(&val[lo..hi])
+                .map(|(&i, &a)| a * v[i])
+                .sum();
         }
         return;
     }
@@ -360,17 +474,22 @@ impl Problem {
                 (0.0, 0.0)
             }
         };
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        col_ptr.push(0);
-        let cap = total / 2 + n;
-        let (mut row_idx, mut k, mut m) = (
-            Vec::with_capacity(cap),
-            Vec::with_capacity(cap),
-            Vec::with_capacity(cap),
-        );
+        // sort each column by row; the number of distinct entries sizes the arrays exactly
+        let mut nnz = 0;
         for c in 0..n {
             let list = &mut by_col[count[c]..count[c + 1]];
-            list.sort_unstable();
+            sort_small(list);
+            nnz += 1 + list.windows(2).filter(|w| w[0].0 != w[1].0).count();
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let (mut row_idx, mut k, mut m) = (
+            Vec::with_capacity(nnz),
+            Vec::with_capacity(nnz),
+            Vec::with_capacity(nnz),
+        );
+        for c in 0..n {
+            let list = &by_col[count[c]..count[c + 1]];
             for (q, &(r, i)) in list.iter().enumerate() {
                 let (kv, mv) = values(i as usize);
                 if q > 0 && list[q - 1].0 == r {
@@ -405,7 +524,12 @@ impl Problem {
         }
         // the coordinate block of M (non-zero entries)
         let block = |vals: &[f64]| {
-            let (mut ptr, mut idx, mut val) = (vec![0], Vec::new(), Vec::new());
+            let nnz = (0..col_ptr[nc])
+                .filter(|&p| row_idx[p] < nc && vals[p] != 0.0)
+                .count();
+            let mut ptr = Vec::with_capacity(nc + 1);
+            ptr.push(0);
+            let (mut idx, mut val) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
             for c in 0..nc {
                 for p in col_ptr[c]..col_ptr[c + 1] {
                     if row_idx[p] < nc && vals[p] != 0.0 {
@@ -492,7 +616,7 @@ impl Problem {
                     }
                 }
             }
-            idx[start..].sort_unstable();
+            sort_small(&mut idx[start..]);
             ptr.push(idx.len());
         }
         let mut q = vec![0usize; ng];
@@ -589,6 +713,8 @@ struct Shifted {
     /// Values of A(σ).
     vals: Vec<f64>,
     rhs: Vec<f64>,
+    /// The lower triangle handed to the L D Lᵀ refactorisations (reused).
+    lower: Vec<f64>,
 }
 
 impl Shifted {
@@ -611,6 +737,7 @@ impl Shifted {
             below: None,
             vals: vec![0.0; p.k.len()],
             rhs: vec![0.0; p.n],
+            lower: Vec::new(),
         }
     }
 
@@ -624,8 +751,9 @@ impl Shifted {
         }
         let n_constraints = p.n - p.nc;
         if let Some((lu, slots)) = &mut self.sym {
-            let lower: Vec<f64> = slots.iter().map(|&s| self.vals[s]).collect();
-            if lu.refactor_symmetric(&lower).is_ok() {
+            self.lower.clear();
+            self.lower.extend(slots.iter().map(|&s| self.vals[s]));
+            if lu.refactor_symmetric(&self.lower).is_ok() {
                 self.use_sym = true;
                 if self.accurate(p) {
                     let neg = self.sym.as_ref().map_or(0, |s| s.0.negative_pivots());
@@ -695,9 +823,11 @@ impl Shifted {
     /// refactored at every count).
     fn count_below(&mut self, p: &Problem, s: f64) -> Option<usize> {
         let (lu, slots) = self.sym.as_ref()?;
-        let lower: Vec<f64> = slots.iter().map(|&q| p.k[q] - s * p.m[q]).collect();
+        self.lower.clear();
+        self.lower
+            .extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
         let counter = self.counter.get_or_insert_with(|| lu.clone());
-        counter.refactor_symmetric(&lower).ok()?;
+        counter.refactor_symmetric(&self.lower).ok()?;
         counter.negative_pivots().checked_sub(p.n - p.nc)
     }
 }
@@ -711,33 +841,37 @@ struct Basis<'a> {
 }
 
 /// M-inner-product Gram–Schmidt of `w` against the bases (classical Gram–Schmidt with one
-/// reorthogonalisation); returns the coefficients against the first basis and the M-norm of
-/// the result, with `mw` = M w on return. One product with M, at the end: the coefficients are
-/// the products of w with the stored M vᵢ.
+/// reorthogonalisation); the coefficients against the first basis go to `h` (length
+/// `main.j`), and the M-norm of the result is returned, with `mw` = M w on return. One
+/// product with M, at the end: the coefficients are the products of w with the stored M vᵢ.
+/// `scratch` holds at least as many entries as the larger basis has columns.
 fn orthogonalise(
     p: &Problem,
     main: &Basis<'_>,
     locked: Option<&Basis<'_>>,
     w: &mut [f64],
     mw: &mut [f64],
-) -> (Vec<f64>, f64) {
-    let mut h = vec![0.0; main.j];
+    h: &mut [f64],
+    scratch: &mut [f64],
+) -> f64 {
+    h.iter_mut().for_each(|x| *x = 0.0);
     for _pass in 0..2 {
         for (b, is_main) in [(Some(main), true), (locked, false)] {
             let Some(b) = b else { continue };
             if b.j == 0 {
                 continue;
             }
-            let c = basis_dots(b.mv, b.j, w);
-            basis_subtract(b.v, &c, w);
+            let c = &mut scratch[..b.j];
+            basis_dots(b.mv, w, c);
+            basis_subtract(b.v, c, w);
             if is_main {
-                h.iter_mut().zip(&c).for_each(|(a, x)| *a += x);
+                h.iter_mut().zip(c.iter()).for_each(|(a, x)| *a += x);
             }
         }
     }
     p.m_times(w, mw);
     let norm2 = dot(w, mw);
-    (h, norm2.max(0.0).sqrt())
+    norm2.max(0.0).sqrt()
 }
 
 /// Converged Ritz pairs of one Krylov–Schur run: θ (descending) and vectors (columns).
@@ -765,6 +899,10 @@ fn krylov_schur(
     let mut h = Mat::<f64>::zeros(mmax, mmax);
     let mut w = vec![0.0; nc];
     let mut mw = vec![0.0; nc];
+    // Gram–Schmidt coefficients and their scratch (the larger of the two bases)
+    let mut hc = vec![0.0; mmax + 1];
+    let mut scratch = vec![0.0; (mmax + 1).max(locked.ncols())];
+    let mut start_scratch = vec![0.0; 2 * (mmax + 1) + locked.ncols()];
     let mut rng = Rng(seed);
     let mut applications = 0;
     let mut ml = Mat::<f64>::zeros(nc, locked.ncols());
@@ -788,8 +926,9 @@ fn krylov_schur(
                          applications: &mut usize|
      -> bool {
         for _ in 0..3 {
-            let r: Vec<f64> = (0..nc).map(|_| rng.next()).collect();
-            op.apply(p, &r, w);
+            // the random vector in mw (overwritten by M w below)
+            mw.iter_mut().for_each(|x| *x = rng.next());
+            op.apply(p, mw, w);
             *applications += 1;
             p.m_times(w, mw);
             let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
@@ -798,7 +937,8 @@ fn krylov_schur(
                 mv: mv.as_ref(),
                 j,
             };
-            let (_, after) = orthogonalise(p, &main, lk, w, mw);
+            let (h, rest) = start_scratch.split_at_mut(j);
+            let after = orthogonalise(p, &main, lk, w, mw, h, rest);
             if before > 0.0 && after > 1e-8 * before.sqrt() {
                 for (dst, src) in [(&mut *v, &*w), (&mut *mv, &*mw)] {
                     dst.col_as_slice_mut(j)
@@ -832,7 +972,8 @@ fn krylov_schur(
                 mv: mv.as_ref(),
                 j: j + 1,
             };
-            let (hc, b) = orthogonalise(p, &main, lk, &mut w, &mut mw);
+            let hc = &mut hc[..j + 1];
+            let b = orthogonalise(p, &main, lk, &mut w, &mut mw, hc, &mut scratch);
             for (i, c) in hc.iter().enumerate() {
                 h[(i, j)] = *c;
             }
@@ -859,23 +1000,27 @@ fn krylov_schur(
         }
         let m = j;
         // Ritz pairs of the symmetric projected matrix (its upper triangle was computed)
-        let hs = Mat::from_fn(m, m, |a, b| if a <= b { h[(a, b)] } else { h[(b, a)] });
-        let (s, y) = sym_eigen_seq(hs.as_ref()).map_err(|_| applications)?;
-        // wanted: the largest θ (the eigenvalues nearest above the shift)
-        let order: Vec<usize> = (0..m).rev().collect();
+        let hs = h.as_ref().submatrix(0, 0, m, m).transpose();
+        // wanted: the largest θ (the eigenvalues nearest above the shift); the vectors of the
+        // `want` largest (converged) or of the `keep` largest (restart), largest first
         let want = nev.min(m);
-        let converged = |i: usize| (beta * y[(m - 1, i)]).abs() <= TOL * s[i].abs() && s[i] != 0.0;
-        let conv = order
-            .iter()
-            .take(want)
-            .take_while(|&&i| converged(i))
-            .count();
+        let keep = if m >= 2 {
+            (nev + (mmax - nev) / 2).clamp(1, m - 1)
+        } else {
+            1
+        };
+        let (s, y) =
+            projected_eigen_largest(hs, want.max(keep).min(m)).map_err(|_| applications)?;
+        // column c of y belongs to θ = s[m − 1 − c]
+        let converged = |c: usize| {
+            let t = s[m - 1 - c];
+            (beta * y[(m - 1, c)]).abs() <= TOL * t.abs() && t != 0.0
+        };
+        let conv = (0..want).take_while(|&c| converged(c)).count();
         if conv == want || exhausted || beta == 0.0 {
-            let sel: Vec<usize> = order.iter().take(want).copied().collect();
-            let ysel = Mat::from_fn(m, sel.len(), |a, b| y[(a, sel[b])]);
             return Ok(Run {
-                theta: sel.iter().map(|&i| s[i]).collect(),
-                x: basis_combine(v.subcols(0, m), ysel.as_ref()),
+                theta: (0..want).map(|c| s[m - 1 - c]).collect(),
+                x: basis_combine(v.subcols(0, m), y.subcols(0, want)),
                 applications,
             });
         }
@@ -883,11 +1028,9 @@ fn krylov_schur(
             return Err(applications);
         }
         // thick restart: the best `keep` Ritz vectors, then the residual vector
-        let keep = (nev + (mmax - nev) / 2).clamp(1, m - 1);
-        let sel: Vec<usize> = order.iter().take(keep).copied().collect();
-        let ysel = Mat::from_fn(m, keep, |a, b| y[(a, sel[b])]);
+        let ysel = y.subcols(0, keep);
         for basis in [&mut v, &mut mv] {
-            let vk = basis_combine(basis.subcols(0, m), ysel.as_ref());
+            let vk = basis_combine(basis.subcols(0, m), ysel);
             for c in 0..keep {
                 basis
                     .col_as_slice_mut(c)
@@ -897,10 +1040,10 @@ fn krylov_schur(
             basis.col_as_slice_mut(keep).copy_from_slice(&resid);
         }
         h.fill(0.0);
-        for (c, &i) in sel.iter().enumerate() {
+        for c in 0..keep {
             // the coupling of the kept vectors to the residual vector (β times the last row of
             // their Ritz vectors) is computed again by the next orthogonalisation
-            h[(c, c)] = s[i];
+            h[(c, c)] = s[m - 1 - c];
         }
         k = keep;
     }
@@ -1102,7 +1245,7 @@ pub(crate) fn sparse_modes(
         }
         let g = y.transpose() * &my;
         let g = Mat::from_fn(nf, nf, |a, b| 0.5 * (g[(a, b)] + g[(b, a)]));
-        let (gs, gu) = sym_eigen_seq(g.as_ref())?;
+        let (gs, gu) = projected_eigen(g.as_ref())?;
         if (0..nf).any(|i| gs[i].is_nan() || gs[i] <= 0.0) {
             return Err(ModalError::Eigen(EigenError::NotPositiveDefinite {
                 what: "projected mass",

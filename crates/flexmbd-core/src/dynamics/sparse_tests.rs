@@ -587,3 +587,41 @@ fn dense_path_resolves_thin_strips_or_says_it_cannot() {
     let sparse = run(&model, &step, 3, EigenSolver::Sparse);
     assert!((sparse.modes[0].frequency - 67.0552).abs() < 1e-5 * 67.0552);
 }
+
+#[test]
+fn projected_eigenpairs_small_and_faer_branches_agree() {
+    // the hand-written solver up to SMALL_EIGEN_MAX, faer beyond: the same eigenvalues and,
+    // for the k largest (largest first), eigenvectors that satisfy A y = θ y
+    use crate::math::small_eigen::SMALL_EIGEN_MAX;
+    use faer::Mat;
+    for n in [30, SMALL_EIGEN_MAX, SMALL_EIGEN_MAX + 3] {
+        let a = Mat::from_fn(n, n, |i, j| {
+            let (i, j) = (i.max(j) as f64, i.min(j) as f64);
+            if i == j {
+                1.0 / (1.0 + i).powi(2)
+            } else {
+                0.01 * ((i * 7.0 + j * 3.0) % 11.0 - 5.0) / (1.0 + i + j).powi(2)
+            }
+        });
+        let k = 10;
+        let (values, y) = super::projected_eigen_largest(a.as_ref(), k).unwrap();
+        let (all, _) = super::projected_eigen(a.as_ref()).unwrap();
+        assert_eq!(values.len(), n);
+        assert_eq!((y.nrows(), y.ncols()), (n, k));
+        let norm = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (p, q) in values.iter().zip(&all) {
+            assert!((p - q).abs() <= 1e-13 * norm, "{p} against {q}");
+        }
+        for c in 0..k {
+            let theta = values[n - 1 - c];
+            let mut res = 0.0f64;
+            for i in 0..n {
+                let ay: f64 = (0..n).map(|j| a[(i, j)] * y[(j, c)]).sum();
+                res = res.max((ay - theta * y[(i, c)]).abs());
+            }
+            let len: f64 = (0..n).map(|i| y[(i, c)] * y[(i, c)]).sum();
+            assert!(res <= 1e-13 * norm, "n {n}, column {c}: residual {res}");
+            assert!((len - 1.0).abs() < 1e-12, "n {n}, column {c}: length {len}");
+        }
+    }
+}

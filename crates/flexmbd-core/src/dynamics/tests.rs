@@ -160,3 +160,45 @@ fn f02_prestressed_cantilever_frequencies() {
         }
     }
 }
+
+#[test]
+fn sign_convention_of_mode_shapes() {
+    // the largest component is made positive; near-ties go to the lowest index
+    let mut s = vec![0.1, -0.5, 0.3];
+    fix_sign(&mut s);
+    assert_eq!(s, vec![-0.1, 0.5, -0.3]);
+    let mut s = vec![0.0, -1.0, 1.0 - 1e-9, 0.2];
+    fix_sign(&mut s);
+    assert_eq!(s, vec![0.0, 1.0, -(1.0 - 1e-9), -0.2]);
+    let mut s = vec![0.0, 1.0 - 1e-3, -1.0];
+    fix_sign(&mut s);
+    assert_eq!(s, vec![0.0, -(1.0 - 1e-3), 1.0]);
+    let mut zero = vec![0.0; 3];
+    fix_sign(&mut zero);
+    assert_eq!(zero, vec![0.0; 3]);
+    // both eigen solvers give the convention, and so the same shapes (distinct frequencies)
+    let (p, _, l) = f01_strip();
+    let model = strip(60, l, p, true).build().unwrap();
+    let step = step_of(&model);
+    let run = |solver| modes_with(&model, &step, 6, &ModalOptions { solver }).unwrap();
+    let (d, s) = (run(EigenSolver::Dense), run(EigenSolver::Sparse));
+    assert_eq!(
+        (d.solver, s.solver),
+        (EigenSolver::Dense, EigenSolver::Sparse)
+    );
+    for (a, b) in d.modes.iter().zip(&s.modes) {
+        let big = a.shape.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let k = a
+            .shape
+            .iter()
+            .position(|v| v.abs() >= (1.0 - SIGN_TIE_TOL) * big)
+            .unwrap();
+        assert!(a.shape[k] > 0.0 && b.shape[k] > 0.0, "sign at {k}");
+        let diff = a
+            .shape
+            .iter()
+            .zip(&b.shape)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(diff < 1e-6 * big, "shapes differ by {diff}");
+    }
+}

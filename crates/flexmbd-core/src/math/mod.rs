@@ -5,6 +5,7 @@
 //! this is the project's one choice for small vector math (no nalgebra).
 
 pub mod jet;
+pub mod small_eigen;
 pub mod sparse_lu;
 
 pub use jet::{Jet1, Jet2, Scalar, SmoothMap};

@@ -278,7 +278,7 @@ impl SparseLu {
                     debug_assert!(i != NONE);
                 }
             }
-            self.u_idx[start..].sort_unstable();
+            sort_small(&mut self.u_idx[start..]);
             self.u_ptr[k + 1] = self.u_idx.len();
         }
         // columns of L (rows ascending: k increases)
@@ -298,8 +298,8 @@ impl SparseLu {
         }
         self.l_val.clear();
         self.l_val.resize(self.l_idx.len(), 0.0);
+        // U's values are made by `refactor` (L D Lᵀ does not store U)
         self.u_val.clear();
-        self.u_val.resize(self.u_idx.len(), 0.0);
         self.u_diag.iter_mut().for_each(|d| *d = 1.0);
         self.factored = true;
         self.symmetric_factors = false;
@@ -313,10 +313,22 @@ impl SparseLu {
     /// [`refactor_symmetric`]: SparseLu::refactor_symmetric
     pub fn lower_layout(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
         let n = self.n;
+        // entries on or below the diagonal, to size the arrays exactly
+        let count = (0..n)
+            .map(|k| {
+                let col = self.q[k];
+                row_idx[col_ptr[col]..col_ptr[col + 1]]
+                    .iter()
+                    .filter(|&&r| self.pinv[r] >= k)
+                    .count()
+            })
+            .sum();
         self.lower_ptr.clear();
         self.lower_row.clear();
+        self.lower_ptr.reserve_exact(n + 1);
+        self.lower_row.reserve_exact(count);
         self.lower_ptr.push(0);
-        let mut slot = Vec::new();
+        let mut slot = Vec::with_capacity(count);
         for k in 0..n {
             let col = self.q[k];
             for p in col_ptr[col]..col_ptr[col + 1] {
@@ -526,6 +538,7 @@ impl SparseLu {
         }
         self.factored = false;
         self.symmetric_factors = false;
+        self.u_val.resize(self.u_idx.len(), 0.0);
         let n = self.n;
         let x = &mut self.work;
         let mut min_ratio: f64 = 1.0;
@@ -567,19 +580,26 @@ impl SparseLu {
     /// Solve A z = b in place (`b` becomes z), after a successful factorisation.
     pub fn solve(&mut self, b: &mut [f64]) {
         assert!(
-            self.factored || self.symmetric_factors,
+            self.symmetric_factors || (self.factored && self.u_val.len() == self.u_idx.len()),
             "solve without a factorisation"
         );
         let n = self.n;
-        let y = &mut self.work;
-        for i in 0..n {
-            y[self.pinv[i]] = b[i];
+        let y = &mut self.work[..n];
+        for (&pi, &bi) in self.pinv[..n].iter().zip(b.iter()) {
+            y[pi] = bi;
         }
+        // the entries of column k of L as slices (the same operations in the same order as
+        // indexing them one by one, without the bounds checks)
+        let (l_ptr, l_idx, l_val) = (&self.l_ptr, &self.l_idx, &self.l_val);
+        let column = |k: usize| {
+            let (lo, hi) = (l_ptr[k], l_ptr[k + 1]);
+            l_idx[lo..hi].iter().zip(&l_val[lo..hi])
+        };
         for k in 0..n {
             let v = y[k];
             if v != 0.0 {
-                for p in self.l_ptr[k]..self.l_ptr[k + 1] {
-                    y[self.l_idx[p]] -= self.l_val[p] * v;
+                for (&i, &l) in column(k) {
+                    y[i] -= l * v;
                 }
             }
         }
@@ -587,8 +607,8 @@ impl SparseLu {
             // L D Lᵀ: U = D Lᵀ
             for k in (0..n).rev() {
                 let mut v = y[k] / self.u_diag[k];
-                for p in self.l_ptr[k]..self.l_ptr[k + 1] {
-                    v -= self.l_val[p] * y[self.l_idx[p]];
+                for (&i, &l) in column(k) {
+                    v -= l * y[i];
                 }
                 y[k] = v;
             }
@@ -603,9 +623,34 @@ impl SparseLu {
                 }
             }
         }
-        for k in 0..n {
-            b[self.q[k]] = y[k];
-            y[k] = 0.0;
+        for (&qk, yk) in self.q[..n].iter().zip(y.iter_mut()) {
+            b[qk] = *yk;
+            *yk = 0.0;
+        }
+    }
+}
+
+/// Longest slice that [`sort_small`] sorts by insertion.
+const INSERTION_MAX: usize = 32;
+
+/// Sort a slice ascending: by insertion when it is short (the index lists of one column: a few
+/// entries, often nearly sorted, where the general sort's setup and code size cost more than
+/// the sorting), else `sort_unstable`.
+pub fn sort_small<T: Ord + Copy>(v: &mut [T]) {
+    if v.len() > INSERTION_MAX {
+        v.sort_unstable();
+        return;
+    }
+    sort_small_by(v, |a, b| a < b);
+}
+
+/// Stable insertion sort by `less` (for short slices; quadratic in the length).
+pub fn sort_small_by<T>(v: &mut [T], mut less: impl FnMut(&T, &T) -> bool) {
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && less(&v[j], &v[j - 1]) {
+            v.swap(j, j - 1);
+            j -= 1;
         }
     }
 }
