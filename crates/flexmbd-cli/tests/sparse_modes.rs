@@ -61,6 +61,24 @@ fn assert_agree(model: &Model, step: &StepResult, count: usize, tol: f64) -> Mod
             })
             .sum();
         assert!((span - 1.0).abs() < 1e-6, "mode {k}: {span}");
+        // an isolated mode has the same kinetic energy split per node on both paths (the
+        // sparse one sums the rows of uᵀ M u in its own coordinates, the dense one in x)
+        if cluster.len() == 1 {
+            let a = &d.modes[cluster[0]];
+            let of = |m: &flexmbd_core::dynamics::Mode, node: usize| {
+                m.kinetic
+                    .iter()
+                    .find(|t| t.0 == node)
+                    .map_or((0.0, 0.0), |t| (t.1, t.2))
+            };
+            for node in a.kinetic.iter().chain(&b.kinetic).map(|t| t.0) {
+                let (p, q) = (of(a, node), of(b, node));
+                assert!(
+                    (p.0 - q.0).abs() < 1e-6 && (p.1 - q.1).abs() < 1e-6,
+                    "mode {k}, node {node}: dense {p:?}, sparse {q:?}"
+                );
+            }
+        }
     }
     s
 }

@@ -535,7 +535,7 @@ pub fn modes_with(
 ) -> Result<Modal, ModalError> {
     let l = lowest(model, step, count, opts)?;
     Ok(Modal {
-        modes: describe_all(model, step, &l.eigenvalues, l.shapes),
+        modes: describe_all(model, step, &l.eigenvalues, l.shapes, l.kinetic),
         ndof: l.ndof,
         massless: l.massless,
         massless_nodes: l.massless_nodes,
@@ -561,6 +561,8 @@ struct Lowest {
     massless: usize,
     massless_nodes: Vec<usize>,
     solver: EigenSolver,
+    /// Kinetic energy per mode and node (translation, rotation), when the solver has it.
+    kinetic: Option<Vec<Vec<(f64, f64)>>>,
 }
 
 fn lowest(
@@ -580,6 +582,7 @@ fn lowest(
                     massless: sm.massless,
                     massless_nodes: massless_nodes(model, &step.x),
                     solver: EigenSolver::Sparse,
+                    kinetic: Some(sm.kinetic),
                 });
             }
             // automatic choice: the dense path handles repeated constraints and needs no
@@ -610,6 +613,7 @@ fn lowest(
         massless: red.massless(),
         massless_nodes: red.massless_nodes,
         solver: EigenSolver::Dense,
+        kinetic: None,
     })
 }
 
@@ -643,6 +647,7 @@ fn describe_all(
     step: &StepResult,
     eigenvalues: &[f64],
     shapes: Vec<Vec<f64>>,
+    kinetic: Option<Vec<Vec<(f64, f64)>>>,
 ) -> Vec<Mode> {
     use rayon::prelude::*;
     let nm = shapes.len();
@@ -709,9 +714,32 @@ fn describe_all(
             .map(element_energies)
             .collect()
     };
-    // kinetic energy per node: the quadratic form δxᵀ M δx split by rows
-    let refs: Vec<&[f64]> = shapes.iter().map(|v| v.as_slice()).collect();
-    let m_shapes = mass::mass_times(model, &step.x, &refs);
+    // kinetic energy per node: the quadratic form δxᵀ M δx split by rows (a node `at` a host
+    // has no translation rows of its own)
+    let kinetic = kinetic.unwrap_or_else(|| {
+        let refs: Vec<&[f64]> = shapes.iter().map(|v| v.as_slice()).collect();
+        let m_shapes = mass::mass_times(model, &step.x, &refs);
+        shapes
+            .iter()
+            .zip(&m_shapes)
+            .map(|(shape, m_shape)| {
+                let part =
+                    |r: std::ops::Range<usize>| -> f64 { r.map(|i| shape[i] * m_shape[i]).sum() };
+                model
+                    .nodes
+                    .iter()
+                    .map(|n| {
+                        let tr = if n.host.is_none() {
+                            part(n.ix_pos..n.ix_pos + 3)
+                        } else {
+                            0.0
+                        };
+                        (tr, n.ix_rot.map_or(0.0, |r| part(r..r + 4)))
+                    })
+                    .collect()
+            })
+            .collect()
+    });
     let one = |(k, shape): (usize, Vec<f64>)| {
         let mut strain: Vec<(usize, usize, f64)> = Vec::with_capacity(6 * per_element.len());
         for (el, u) in per_element.iter().enumerate() {
@@ -723,7 +751,7 @@ fn describe_all(
                     .map(|(a, &v)| (el, a, v)),
             );
         }
-        describe(model, step, eigenvalues[k], shape, &m_shapes[k], strain)
+        describe(model, step, eigenvalues[k], shape, &kinetic[k], strain)
     };
     if small || nm < 2 {
         shapes.into_iter().enumerate().map(one).collect()
@@ -740,7 +768,7 @@ fn describe(
     step: &StepResult,
     eigenvalue: f64,
     shape: Vec<f64>,
-    m_shape: &[f64],
+    kinetic: &[(f64, f64)],
     strain: Vec<(usize, usize, f64)>,
 ) -> Mode {
     let frequency = if eigenvalue >= 0.0 {
@@ -768,21 +796,8 @@ fn describe(
         })
         .collect();
     let total_u: f64 = strain.iter().map(|s| s.2).sum();
-    // kinetic energy per node: rows of the node times (M δx)
-    let mut kinetic = Vec::new();
-    let mut total_t = 0.0;
-    for (i, n) in model.nodes.iter().enumerate() {
-        let part =
-            |range: std::ops::Range<usize>| -> f64 { range.map(|r| shape[r] * m_shape[r]).sum() };
-        let tr = if n.host.is_none() {
-            part(n.ix_pos..n.ix_pos + 3)
-        } else {
-            0.0
-        };
-        let rt = n.ix_rot.map_or(0.0, |r| part(r..r + 4));
-        total_t += tr + rt;
-        kinetic.push((i, tr, rt));
-    }
+    let total_t: f64 = kinetic.iter().map(|(tr, rt)| tr + rt).sum();
+    let kinetic = kinetic.iter().enumerate().map(|(i, &(tr, rt))| (i, tr, rt));
     let norm_u = if total_u.abs() > 0.0 { total_u } else { 1.0 };
     let norm_t = if total_t.abs() > 0.0 { total_t } else { 1.0 };
     let mut strain: Vec<(usize, usize, f64)> = strain
@@ -800,7 +815,6 @@ fn describe(
         strain.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
     }
     let mut kinetic: Vec<(usize, f64, f64)> = kinetic
-        .into_iter()
         .map(|(n, a, b)| (n, a / norm_t, b / norm_t))
         .filter(|k| k.1.abs() + k.2.abs() >= 1e-4)
         .collect();

@@ -278,6 +278,10 @@ pub(crate) struct SparseModes {
     pub ndof: usize,
     /// Directions without inertia (infinite eigenvalues of the pencil).
     pub massless: usize,
+    /// Kinetic energy split of every mode: per node (translation, rotation), the rows of the
+    /// node in uᵀ M u (the same split as in x: the rotation increments of a node map onto its
+    /// own Euler parameters only).
+    pub kinetic: Vec<Vec<(f64, f64)>>,
 }
 
 /// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
@@ -1194,6 +1198,7 @@ pub(crate) fn sparse_modes(
             shapes: Vec::new(),
             ndof,
             massless,
+            kinetic: Vec::new(),
         });
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
@@ -1292,23 +1297,41 @@ pub(crate) fn sparse_modes(
             *g += kv * q[(r, k)] * q[(c, k)];
         }
     }
-    let mut modes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(nf);
+    let mut modes: Vec<(f64, Vec<f64>, Vec<(f64, f64)>)> = Vec::with_capacity(nf);
+    let mut mu = vec![0.0; nc];
     for (k, shape) in shapes.into_iter().enumerate() {
         let u = q.col_as_slice(k);
         let g2 = g2[k];
-        let mut mu = vec![0.0; nc];
         p.m_times(u, &mut mu);
         let m2: f64 = u.iter().zip(&mu).map(|(a, b)| a * b).sum();
         let lam = (e2[k] + g2) / m2;
-        modes.push((lam, shape));
+        let mut kinetic = vec![(0.0, 0.0); model.nodes.len()];
+        for (m, (&node, (a, b))) in p.group.iter().zip(u.iter().zip(&mu)).enumerate() {
+            if let Some(t) = kinetic.get_mut(node) {
+                if p.lin.is_translation(m) {
+                    t.0 += a * b;
+                } else {
+                    t.1 += a * b;
+                }
+            }
+        }
+        modes.push((lam, shape, kinetic));
     }
     modes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (eigenvalues, shapes) = modes.into_iter().unzip();
+    let mut eigenvalues = Vec::with_capacity(nf);
+    let mut shapes = Vec::with_capacity(nf);
+    let mut kinetic = Vec::with_capacity(nf);
+    for (l, s, t) in modes {
+        eigenvalues.push(l);
+        shapes.push(s);
+        kinetic.push(t);
+    }
     Ok(SparseModes {
         eigenvalues,
         shapes,
         ndof,
         massless,
+        kinetic,
     })
 }
 

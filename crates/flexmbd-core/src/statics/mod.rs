@@ -2190,6 +2190,12 @@ impl ReducedLinear {
         out
     }
 
+    /// Whether coordinate unknown `m` is a translation (else an Euler parameter or a rotation
+    /// increment).
+    pub(crate) fn is_translation(&self, m: usize) -> bool {
+        self.su.red.is_trans[m]
+    }
+
     /// The node of every coordinate unknown (a node `at` a host owns only its rotation): the
     /// unknowns of one node share their couplings, which a fill-reducing ordering can use.
     pub(crate) fn coord_nodes(&self, model: &Model) -> Vec<usize> {
