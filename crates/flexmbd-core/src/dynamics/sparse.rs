@@ -281,8 +281,11 @@ pub(crate) struct SparseModes {
     /// Kinetic energy split of every mode: per node (translation, rotation), the rows of the
     /// node in uᵀ M u (the same split as in x: the rotation increments of a node map onto its
     /// own Euler parameters only).
-    pub kinetic: Vec<Vec<(f64, f64)>>,
+    pub kinetic: Vec<NodeKinetic>,
 }
+
+/// Kinetic energy of one mode per node: (translation, rotation).
+type NodeKinetic = Vec<(f64, f64)>;
 
 /// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
 struct Problem {
@@ -1297,7 +1300,7 @@ pub(crate) fn sparse_modes(
             *g += kv * q[(r, k)] * q[(c, k)];
         }
     }
-    let mut modes: Vec<(f64, Vec<f64>, Vec<(f64, f64)>)> = Vec::with_capacity(nf);
+    let mut modes: Vec<(f64, Vec<f64>, NodeKinetic)> = Vec::with_capacity(nf);
     let mut mu = vec![0.0; nc];
     for (k, shape) in shapes.into_iter().enumerate() {
         let u = q.col_as_slice(k);
