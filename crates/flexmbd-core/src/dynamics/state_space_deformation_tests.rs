@@ -1,10 +1,9 @@
 //! Prescribed-deformation motion inputs of the state-space model (an actuator's elongation, a
 //! driven hinge's angle), against closed forms and the statics solver.
 
-use super::motion_tests::{angle_z, check_base_excitation, out, resolvent};
+use super::motion_tests::{angle_z, check_base_excitation, out, resolvent, three_beams};
 use super::*;
 use crate::model::{ElementSpec, ModelBuilder};
-use crate::section::BeamProps;
 use crate::statics::last_step;
 use faer::c64;
 
@@ -131,23 +130,7 @@ fn driven_hinge_angle_turns_rotor_as_closed_form() {
 /// its tip by a linear actuator from the ground node `g` at (0.3, −0.1, 0), whose elongation
 /// is prescribed to `stroke`; a dead tip load along x pre-stresses the beam.
 fn actuated_cantilever(stroke: f64) -> Model {
-    let mut b = ModelBuilder::new("actuated-cantilever");
-    let props = BeamProps {
-        ea: 2e4,
-        gj: 0.7,
-        eiy: 1.0,
-        eiz: 3.0,
-        ..Default::default()
-    };
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [0.3, 0.0, 0.0],
-        3,
-        Some([0.0, 0.0, 1.0]),
-        Some(props),
-    )
-    .unwrap();
+    let mut b = three_beams("actuated-cantilever");
     b.add_node("g", [0.3, -0.1, 0.0], false).unwrap();
     b.add_element(
         "act",

@@ -492,7 +492,26 @@ fn torsion_spring_base_rotation_matches_closed_form() {
 /// Cantilever of 3 beams along x (L = 0.3 m) with point masses, clamped at n0 except for rz,
 /// which is an input (prescribed to `rz` when given); dead tip load `load`.
 fn rotated_clamp(load: [f64; 3], rz: Option<f64>) -> Model {
-    let mut b = ModelBuilder::new("rotated-clamp");
+    let mut b = three_beams("rotated-clamp");
+    b.fix("n0", Some(&[Dof::X, Dof::Y, Dof::Z, Dof::Rx, Dof::Ry]))
+        .unwrap();
+    match rz {
+        Some(v) => b.prescribe_coordinate("n0", Dof::Rz, v).unwrap(),
+        None => b.input("n0", Some(&[Dof::Rz])).unwrap(),
+    }
+    for (k, m) in [(1, 0.01), (2, 0.02), (3, 0.05)] {
+        b.add_point_mass(&format!("n{k}"), m).unwrap();
+    }
+    if load != [0.0; 3] {
+        b.add_load("n3", load, [0.0; 3]).unwrap();
+    }
+    b.build().unwrap()
+}
+
+/// A builder with 3 massless beams n0–n1–n2–n3 along x (L = 0.3 m, EA = 2e4 N, GJ = 0.7,
+/// EI_y = 1, EI_z = 3 N·m², local y along global z).
+pub(super) fn three_beams(name: &str) -> ModelBuilder {
+    let mut b = ModelBuilder::new(name);
     let props = BeamProps {
         ea: 2e4,
         gj: 0.7,
@@ -509,19 +528,7 @@ fn rotated_clamp(load: [f64; 3], rz: Option<f64>) -> Model {
         Some(props),
     )
     .unwrap();
-    b.fix("n0", Some(&[Dof::X, Dof::Y, Dof::Z, Dof::Rx, Dof::Ry]))
-        .unwrap();
-    match rz {
-        Some(v) => b.prescribe_coordinate("n0", Dof::Rz, v).unwrap(),
-        None => b.input("n0", Some(&[Dof::Rz])).unwrap(),
-    }
-    for (k, m) in [(1, 0.01), (2, 0.02), (3, 0.05)] {
-        b.add_point_mass(&format!("n{k}"), m).unwrap();
-    }
-    if load != [0.0; 3] {
-        b.add_load("n3", load, [0.0; 3]).unwrap();
-    }
-    b.build().unwrap()
+    b
 }
 
 /// Rotation angle about z of a node rotated in the xy plane, from its Euler parameters.
