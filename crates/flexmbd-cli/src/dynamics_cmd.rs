@@ -3,7 +3,7 @@
 use crate::{emit, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    log_space, state_space_with_motions, uses_sparse, Input, Motion, Output, OutputKind,
+    log_space, state_space_with_motions, uses_sparse, Input, Motion, Output, OutputKind, Probe,
     StateSpaceOptions, DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
@@ -38,10 +38,13 @@ pub struct StatespaceArgs {
     )]
     inputs: Vec<String>,
     /// An output: displacement (default), velocity or acceleration of a node along x, y, z or
-    /// its rotation about rx, ry, rz. Repeatable; the order is the row order of C.
+    /// its rotation about rx, ry, rz. `ELEMENT:MODE:def` is deformation MODE (1-based) of an
+    /// element, `ELEMENT:MODE:force` its stress resultant σ = S e (a flexible mode), each
+    /// optionally followed by `:vel` or `:acc` for its rates. Repeatable; the order is the row
+    /// order of C.
     #[arg(
         long = "output",
-        value_name = "NODE:DIR[:disp|vel|acc]",
+        value_name = "NODE:DIR[:disp|vel|acc] | ELEMENT:MODE:def|force[:vel|acc]",
         required = true
     )]
     outputs: Vec<String>,
@@ -334,8 +337,75 @@ pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<InputSpec, 
     Ok(InputSpec::Load(Input { node, dof }))
 }
 
-/// Parse `--output NODE:DIR[:disp|vel|acc]`.
+/// `ELEMENT:MODE:def|force[:disp|vel|acc]` → an element output; `None` when the spec has
+/// another form (a node output).
+fn parse_element_output(
+    model: &Model,
+    path: &Path,
+    spec: &str,
+) -> Result<Option<Output>, BadInput> {
+    let t: Vec<&str> = spec.split(':').collect();
+    let n = t.len();
+    let is_q = |s: &str| {
+        let s = s.to_ascii_lowercase();
+        matches!(s.as_str(), "def" | "deformation" | "force")
+    };
+    // the quantity is last, or second to last before a kind
+    let (q, kind, name_end) = if n >= 3 && is_q(t[n - 1]) && t[n - 2].parse::<i64>().is_ok() {
+        (t[n - 1], None, n - 2)
+    } else if n >= 4 && is_q(t[n - 2]) && t[n - 3].parse::<i64>().is_ok() {
+        (t[n - 2], Some(t[n - 1]), n - 3)
+    } else {
+        return Ok(None);
+    };
+    let name = t[..name_end].join(":");
+    let mode: i64 = t[name_end].parse().unwrap_or(0);
+    let kind = match kind.map(str::to_ascii_lowercase).as_deref() {
+        None => OutputKind::Disp,
+        Some(k) => OutputKind::parse(k).ok_or_else(|| {
+            BadInput(format!(
+                "--output `{spec}`: unknown output kind `{k}` (expected disp, vel or acc)"
+            ))
+        })?,
+    };
+    let Some(element) = model.elements.iter().position(|e| e.name == name) else {
+        return Err(BadInput(format!(
+            "--output `{spec}`: element `{name}` is not defined in {} (ELEMENT:MODE:def|force measures deformation MODE of an element or its stress resultant)",
+            path.display()
+        )));
+    };
+    let entry = &model.elements[element];
+    let ne = entry.element.ne() as i64;
+    if mode < 1 || mode > ne {
+        return Err(BadInput(format!(
+            "--output `{spec}`: {} `{name}` has deformation modes 1 to {ne}, not {mode}",
+            entry.element.type_name()
+        )));
+    }
+    let mode = (mode - 1) as usize;
+    let probe = if q.eq_ignore_ascii_case("force") {
+        if entry.element.stiffness()[(mode, mode)] <= 0.0 {
+            let mname = entry.element.mode_name(mode, &model.node_names());
+            return Err(BadInput(format!(
+                "--output `{spec}`: deformation {} ({mname}) of {} `{name}` has no stiffness in {}, so it has no elastic force; give the element a stiffness, or measure its deformation ({name}:{}:def)",
+                mode + 1,
+                entry.element.type_name(),
+                path.display(),
+                mode + 1
+            )));
+        }
+        Probe::Force { element, mode }
+    } else {
+        Probe::Deformation { element, mode }
+    };
+    Ok(Some(Output { probe, kind }))
+}
+
+/// Parse `--output NODE:DIR[:disp|vel|acc]` or `ELEMENT:MODE:def|force[:disp|vel|acc]`.
 pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, BadInput> {
+    if let Some(o) = parse_element_output(model, path, spec)? {
+        return Ok(o);
+    }
     let flag = "--output";
     let (name, dof, kind) = split_spec(flag, spec, &["disp", "vel", "acc"])?;
     let node = node_of(model, path, flag, spec, &name)?;
@@ -351,7 +421,7 @@ pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, Ba
         })?,
     };
     needs_rotation(model, flag, spec, node, dof)?;
-    Ok(Output { node, dof, kind })
+    Ok(Output::node(node, dof, kind))
 }
 
 fn solve_static(model: &Model, opts: &StaticOptions) -> anyhow::Result<StaticSolution> {

@@ -874,3 +874,52 @@ fn large_model_state_space_takes_the_sparse_path() {
     let f1 = j["frequencies_hz"][0].as_f64().unwrap();
     assert!((f1 - 40.899).abs() < 1e-3 * 40.899, "{f1}");
 }
+
+/// Element outputs through the binary on the actuator–spring–mass: with the actuator held, a
+/// force F on the mass is carried by the spring (σ/F = 1 at DC, deformation F/k = F/2000);
+/// a slow actuator stroke moves the spring rigidly (σ = 0); the JSON names element, mode and
+/// quantity. A force output on the actuator (no stiffness), an unknown element and a mode out
+/// of range are input errors (exit 2).
+#[test]
+fn element_outputs_through_the_binary() {
+    let p = tmp("actuator_outputs.toml");
+    std::fs::write(&p, ACTUATOR_SPRING_MASS).unwrap();
+    let model = p.to_str().unwrap();
+    let j = ok(&[
+        "statespace",
+        model,
+        "--input",
+        "m:x",
+        "--input",
+        "act:1:motion",
+        "--output",
+        "spring:1:force",
+        "--output",
+        "spring:1:def",
+        "--output",
+        "spring:1:def:vel",
+        "--json",
+    ]);
+    let o = &j["outputs"][0];
+    assert_eq!(o["name"], "spring:1:force");
+    assert_eq!(o["unit"], "N");
+    assert_eq!(o["element"], "spring");
+    assert_eq!(o["quantity"], "force");
+    assert_eq!(j["outputs"][2]["unit"], "m/s");
+    let dc = matrix(&j["dc_gain"]);
+    assert!((dc[0][0] - 1.0).abs() < 1e-12, "{:?}", dc);
+    assert!((dc[1][0] - 1.0 / 2000.0).abs() < 1e-15, "{:?}", dc);
+    assert!(dc[0][1].abs() < 1e-12 && dc[1][1].abs() < 1e-15, "{:?}", dc);
+    for (spec, words) in [
+        ("act:1:force", vec!["act", "no stiffness", "act:1:def"]),
+        ("nope:1:force", vec!["nope", "not defined"]),
+        ("spring:2:def", vec!["spring", "1 to 1"]),
+    ] {
+        let (out, _) = run(&["statespace", model, "--input", "m:x", "--output", spec]);
+        assert_eq!(out.status.code(), Some(2), "{spec}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        for w in words {
+            assert!(err.contains(spec) && err.contains(w), "{spec}: {err}");
+        }
+    }
+}

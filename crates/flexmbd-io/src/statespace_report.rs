@@ -6,7 +6,7 @@
 
 use crate::report::{fmt_num, table};
 use flexmbd_core::dynamics::state_space::{
-    magnitude_phase, to_rows as rows, OutputKind, StateSpace,
+    magnitude_phase, to_rows as rows, OutputKind, Probe, StateSpace,
 };
 use flexmbd_core::dynamics::sweep::SweepPoint;
 use flexmbd_core::elements::ElementKind;
@@ -70,14 +70,30 @@ fn io_json(model: &Model, ss: &StateSpace) -> (Vec<Value>, Vec<Value>) {
         .outputs
         .iter()
         .map(|o| {
-            json!({
+            let mut v = json!({
                 "name": o.name(model),
-                "node": model.nodes[o.node].name,
-                "direction": o.dof.name(),
                 "kind": o.kind.name(),
-                "unit": o.unit(),
+                "unit": o.unit(model),
                 "description": o.describe(model),
-            })
+            });
+            match o.probe {
+                Probe::Node { node, dof } => {
+                    v["node"] = json!(model.nodes[node].name);
+                    v["direction"] = json!(dof.name());
+                }
+                Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
+                    let entry = &model.elements[element];
+                    v["element"] = json!(entry.name);
+                    v["mode"] = json!(mode + 1);
+                    v["mode_name"] = json!(entry.element.mode_name(mode, &model.node_names()));
+                    v["quantity"] = json!(if matches!(o.probe, Probe::Force { .. }) {
+                        "force"
+                    } else {
+                        "deformation"
+                    });
+                }
+            }
+            v
         })
         .collect();
     (inputs, outputs)
@@ -190,7 +206,7 @@ pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
         .outputs
         .iter()
         .enumerate()
-        .map(|(k, o)| format!("{} {} [{}]", k + 1, o.name(model), o.unit()))
+        .map(|(k, o)| format!("{} {} [{}]", k + 1, o.name(model), o.unit(model)))
         .collect();
     let _ = writeln!(s, "% inputs: {}", ins.join("; "));
     let _ = writeln!(s, "% outputs: {}", outs.join("; "));
@@ -345,7 +361,7 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
                 format!("y{}", k + 1),
                 o.name(model),
                 o.describe(model),
-                o.unit().into(),
+                o.unit(model).into(),
             ]
         })
         .collect();

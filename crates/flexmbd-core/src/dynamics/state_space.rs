@@ -110,14 +110,40 @@ impl OutputKind {
     }
 }
 
-/// An output: motion of a node along (translations) or about (rotations) a global axis.
+/// What an output measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Probe {
+    /// The motion of a node along (translations) or about (rotations) a global axis.
+    Node {
+        /// Node index.
+        node: usize,
+        /// Direction.
+        dof: Dof,
+    },
+    /// A deformation of an element, δe (a strain-gauge or an encoder on a hinge).
+    Deformation {
+        /// Element index.
+        element: usize,
+        /// Mode, 0-based (printed 1-based).
+        mode: usize,
+    },
+    /// The stress resultant of a flexible deformation, δσ = S δe (the element's force:
+    /// the axial force of a truss or beam, σ2..σ6 ≈ torque and bending moments / l0, a hinge
+    /// torque).
+    Force {
+        /// Element index.
+        element: usize,
+        /// Mode, 0-based (printed 1-based).
+        mode: usize,
+    },
+}
+
+/// An output: a probe and whether its value, rate or second rate is measured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Output {
-    /// Node index.
-    pub node: usize,
-    /// Direction.
-    pub dof: Dof,
-    /// Displacement, velocity or acceleration.
+    /// What is measured.
+    pub probe: Probe,
+    /// Value (displacement, deformation, force), its velocity or its acceleration.
     pub kind: OutputKind,
 }
 
@@ -268,44 +294,99 @@ impl Input {
 }
 
 impl Output {
-    /// Name `NODE:DIR:disp|vel|acc`.
+    /// The motion of a node.
+    pub fn node(node: usize, dof: Dof, kind: OutputKind) -> Output {
+        Output {
+            probe: Probe::Node { node, dof },
+            kind,
+        }
+    }
+    /// The node and direction of a node output.
+    pub fn node_dof(&self) -> Option<(usize, Dof)> {
+        match self.probe {
+            Probe::Node { node, dof } => Some((node, dof)),
+            _ => None,
+        }
+    }
+    /// Name `NODE:DIR:disp|vel|acc`, or `ELEMENT:MODE:def|force` (value) with `:vel` or
+    /// `:acc` for its rates.
     pub fn name(&self, model: &Model) -> String {
-        format!(
-            "{}:{}:{}",
-            model.nodes[self.node].name,
-            self.dof.name(),
-            self.kind.name()
-        )
+        match self.probe {
+            Probe::Node { node, dof } => format!(
+                "{}:{}:{}",
+                model.nodes[node].name,
+                dof.name(),
+                self.kind.name()
+            ),
+            Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
+                let q = if matches!(self.probe, Probe::Force { .. }) {
+                    "force"
+                } else {
+                    "def"
+                };
+                let rate = match self.kind {
+                    OutputKind::Disp => String::new(),
+                    k => format!(":{}", k.name()),
+                };
+                format!("{}:{}:{q}{rate}", model.elements[element].name, mode + 1)
+            }
+        }
     }
     /// SI unit.
-    pub fn unit(&self) -> &'static str {
-        match (self.dof.is_rotation(), self.kind) {
-            (false, OutputKind::Disp) => "m",
-            (false, OutputKind::Vel) => "m/s",
-            (false, OutputKind::Acc) => "m/s²",
-            (true, OutputKind::Disp) => "rad",
-            (true, OutputKind::Vel) => "rad/s",
-            (true, OutputKind::Acc) => "rad/s²",
-        }
+    pub fn unit(&self, model: &Model) -> &'static str {
+        let hinge = |element: usize| matches!(model.elements[element].element, Element::Hinge(_));
+        // rows: length, angle, force, torque; columns: value, rate, second rate
+        const UNITS: [[&str; 3]; 4] = [
+            ["m", "m/s", "m/s²"],
+            ["rad", "rad/s", "rad/s²"],
+            ["N", "N/s", "N/s²"],
+            ["N·m", "N·m/s", "N·m/s²"],
+        ];
+        let row = match self.probe {
+            Probe::Node { dof, .. } => usize::from(dof.is_rotation()),
+            Probe::Deformation { element, .. } => usize::from(hinge(element)),
+            Probe::Force { element, .. } => 2 + usize::from(hinge(element)),
+        };
+        UNITS[row][self.kind.order() as usize]
     }
     /// Words, e.g. "velocity of tip along global y".
     pub fn describe(&self, model: &Model) -> String {
-        let axis = axis_name(self.dof);
-        let node = &model.nodes[self.node].name;
-        let what = match (self.dof.is_rotation(), self.kind) {
-            (false, OutputKind::Disp) => "displacement",
-            (false, OutputKind::Vel) => "velocity",
-            (false, OutputKind::Acc) => "acceleration",
-            (true, OutputKind::Disp) => "rotation",
-            (true, OutputKind::Vel) => "angular velocity",
-            (true, OutputKind::Acc) => "angular acceleration",
-        };
-        let prep = if self.dof.is_rotation() {
-            "about"
-        } else {
-            "along"
-        };
-        format!("{what} of {node} {prep} global {axis}")
+        match self.probe {
+            Probe::Node { node, dof } => {
+                let axis = axis_name(dof);
+                let node = &model.nodes[node].name;
+                let what = match (dof.is_rotation(), self.kind) {
+                    (false, OutputKind::Disp) => "displacement",
+                    (false, OutputKind::Vel) => "velocity",
+                    (false, OutputKind::Acc) => "acceleration",
+                    (true, OutputKind::Disp) => "rotation",
+                    (true, OutputKind::Vel) => "angular velocity",
+                    (true, OutputKind::Acc) => "angular acceleration",
+                };
+                let prep = if dof.is_rotation() { "about" } else { "along" };
+                format!("{what} of {node} {prep} global {axis}")
+            }
+            Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
+                let entry = &model.elements[element];
+                let q = if matches!(self.probe, Probe::Force { .. }) {
+                    "stress resultant σ"
+                } else {
+                    "deformation e"
+                };
+                let rate = match self.kind {
+                    OutputKind::Disp => "",
+                    OutputKind::Vel => "rate of the ",
+                    OutputKind::Acc => "second rate of the ",
+                };
+                format!(
+                    "{rate}{q}{} ({}) of {} `{}`",
+                    mode + 1,
+                    entry.element.mode_name(mode, &model.node_names()),
+                    entry.element.type_name(),
+                    entry.name
+                )
+            }
+        }
     }
 }
 
@@ -396,6 +477,12 @@ pub enum StateSpaceError {
         ndof: usize,
         /// The dense limit.
         limit: usize,
+    },
+    /// A force output on a rigid or prescribed deformation.
+    #[error("output {output}: this deformation is rigid or prescribed, so its stress is a constraint reaction, not σ = S e; force outputs take flexible deformations (make the mode `free` with a stiffness, or measure the deformation of a flexible element next to it)")]
+    ForceOfHeldDeformation {
+        /// Output name.
+        output: String,
     },
     /// A motion input on a deformation that is not held.
     #[error("input {input}: deformation {mode} ({name}) of {kind} `{element}` is flexible; a prescribed-deformation motion needs a held mode: make it an `input` mode of the element (with a [[prescribe]] value where it is not zero), or apply a force input")]
@@ -673,6 +760,47 @@ fn unit_vector(
     Ok(v)
 }
 
+/// The row w in x of an output's value, δy = w·δx: e_i or 2 Λ̄ᵀ e_k for a node
+/// ([`unit_vector`]), the row Dₐ of the element Jacobian for a deformation, Σ_b S_ab D_b over
+/// the flexible deformations b for a stress resultant (σ = S e, as statics).
+fn output_row(model: &Model, step: &StepResult, out: &Output) -> Result<Vec<f64>, StateSpaceError> {
+    let (element, mode, force) = match out.probe {
+        Probe::Node { node, dof } => return unit_vector(model, step, node, dof),
+        Probe::Deformation { element, mode } => (element, mode, false),
+        Probe::Force { element, mode } => (element, mode, true),
+    };
+    let entry = &model.elements[element];
+    let ne = entry.element.ne();
+    let coef: Vec<f64> = if force {
+        let role = crate::statics::roles(model);
+        let flexible = |b: usize| role[entry.ie + b] == crate::statics::Role::Flexible;
+        if !flexible(mode) {
+            return Err(StateSpaceError::ForceOfHeldDeformation {
+                output: out.name(model),
+            });
+        }
+        let s = entry.element.stiffness();
+        (0..ne)
+            .map(|b| if flexible(b) { s[(mode, b)] } else { 0.0 })
+            .collect()
+    } else {
+        (0..ne).map(|b| if b == mode { 1.0 } else { 0.0 }).collect()
+    };
+    let d = entry
+        .element
+        .jacobian(&crate::assembly::gather(entry, &step.x));
+    let mut w = vec![0.0; model.nx];
+    for (c, &i) in entry.xmap.iter().enumerate() {
+        w[i] += (0..ne).map(|b| coef[b] * d[(b, c)]).sum::<f64>();
+    }
+    Ok(w)
+}
+
+/// Whether an output is a node direction held by a support or prescribed input.
+fn held_output(model: &Model, out: &Output) -> bool {
+    matches!(out.probe, Probe::Node { node, dof } if held(model, node, dof))
+}
+
 /// Whether a direction of a node is held by a support or prescribed input.
 fn held(model: &Model, node: usize, dof: Dof) -> bool {
     model.nodes[node]
@@ -810,7 +938,7 @@ fn build_sparse(
     }
     held_input_warnings(model, inputs, &mut warnings);
     for out in outputs {
-        if held(model, out.node, out.dof) {
+        if held_output(model, out) {
             warnings.push(format!(
                 "output {} is a held direction (support or prescribed input): it is zero",
                 out.name(model)
@@ -823,7 +951,7 @@ fn build_sparse(
         .collect::<Result<_, _>>()?;
     let w: Vec<Vec<f64>> = outputs
         .iter()
-        .map(|o| unit_vector(model, step, o.node, o.dof))
+        .map(|o| output_row(model, step, o))
         .collect::<Result<_, _>>()?;
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let modal_b = Mat::from_fn(n, inputs.len(), |k, j| dot(&sm.shapes[k], &f[j]));
@@ -955,7 +1083,7 @@ fn build(
     let mut cx = Mat::zeros(no, ndof);
     let mut motion_gain = Mat::zeros(no, nm);
     for (o, out) in outputs.iter().enumerate() {
-        let w = unit_vector(model, step, out.node, out.dof)?;
+        let w = output_row(model, step, out)?;
         for (j, ml) in mloads.iter().enumerate() {
             let direct: f64 = (0..model.nx).map(|i| w[i] * ml.t[i]).sum();
             let quasi: f64 = (0..ndof)
@@ -963,7 +1091,7 @@ fn build(
                 .sum();
             motion_gain[(o, j)] = direct + quasi;
         }
-        if held(model, out.node, out.dof)
+        if held_output(model, out)
             && !mloads
                 .iter()
                 .any(|ml| (0..model.nx).map(|i| w[i] * ml.t[i]).sum::<f64>() != 0.0)
@@ -1362,6 +1490,10 @@ mod deformation_tests;
 mod sparse_tests;
 
 #[cfg(test)]
+#[path = "state_space_element_output_tests.rs"]
+mod element_output_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::dynamics::modes;
@@ -1409,11 +1541,7 @@ mod tests {
         let inputs = Dof::ALL.iter().map(|&dof| Input { node, dof }).collect();
         let outputs = Dof::ALL
             .iter()
-            .map(|&dof| Output {
-                node,
-                dof,
-                kind: OutputKind::Disp,
-            })
+            .map(|&dof| Output::node(node, dof, OutputKind::Disp))
             .collect();
         (inputs, outputs)
     }
@@ -1516,11 +1644,7 @@ mod tests {
                 node: tip,
                 dof: Dof::Y,
             }],
-            &[Output {
-                node: tip,
-                dof: Dof::Y,
-                kind: OutputKind::Disp,
-            }],
+            &[Output::node(tip, Dof::Y, OutputKind::Disp)],
             &StateSpaceOptions {
                 damping: zeta,
                 ..Default::default()
@@ -1607,16 +1731,8 @@ mod tests {
             .into_iter()
             .flat_map(|kind| {
                 [
-                    Output {
-                        node: tip,
-                        dof: Dof::Y,
-                        kind,
-                    },
-                    Output {
-                        node: mid,
-                        dof: Dof::Rz,
-                        kind,
-                    },
+                    Output::node(tip, Dof::Y, kind),
+                    Output::node(mid, Dof::Rz, kind),
                 ]
             })
             .collect();
@@ -1671,13 +1787,9 @@ mod tests {
         };
         assert_eq!(i.name(&model), "n2:rz:moment");
         assert_eq!(i.describe(&model), "moment on n2 about global z");
-        let o = Output {
-            node: tip,
-            dof: Dof::X,
-            kind: OutputKind::Acc,
-        };
+        let o = Output::node(tip, Dof::X, OutputKind::Acc);
         assert_eq!(o.name(&model), "n2:x:acc");
-        assert_eq!(o.unit(), "m/s²");
+        assert_eq!(o.unit(&model), "m/s²");
         let step = last_step(&model, 2);
         let bad = StateSpaceOptions {
             damping: -0.1,

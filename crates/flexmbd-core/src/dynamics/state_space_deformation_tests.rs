@@ -185,11 +185,12 @@ fn actuator_stroke_static_gain_matches_statics_solver() {
     let fd: Vec<f64> = outputs
         .iter()
         .map(|o| {
-            let name = &model.nodes[o.node].name;
-            if o.dof == Dof::Rz {
+            let name = &model.nodes[o.node_dof().unwrap().0].name;
+            if o.node_dof().unwrap().1 == Dof::Rz {
                 (angle_z(&model, &plus.x, name) - angle_z(&model, &minus.x, name)) / (2.0 * h)
             } else {
-                let i = model.nodes[o.node].ix_pos + o.dof.index();
+                let i =
+                    model.nodes[o.node_dof().unwrap().0].ix_pos + o.node_dof().unwrap().1.index();
                 (plus.x[i] - minus.x[i]) / (2.0 * h)
             }
         })

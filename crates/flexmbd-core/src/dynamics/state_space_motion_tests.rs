@@ -10,7 +10,7 @@ use faer::c64;
 
 /// Point mass `m` at x = L on a truss (k = EA/L) whose other end `base` has its x as an input
 /// coordinate; y and z of both nodes fixed.
-fn spring_mass(m: f64, ea: f64, l: f64) -> Model {
+pub(super) fn spring_mass(m: f64, ea: f64, l: f64) -> Model {
     let mut b = ModelBuilder::new("spring-mass");
     b.add_node("base", [0.0; 3], false).unwrap();
     b.add_node("m", [l, 0.0, 0.0], false).unwrap();
@@ -24,11 +24,7 @@ fn spring_mass(m: f64, ea: f64, l: f64) -> Model {
 }
 
 pub(super) fn out(model: &Model, node: &str, dof: Dof, kind: OutputKind) -> Output {
-    Output {
-        node: model.node_id(node).unwrap(),
-        dof,
-        kind,
-    }
+    Output::node(model.node_id(node).unwrap(), dof, kind)
 }
 
 /// Base excitation of a spring–mass: X/U = (2ζωₙs + ωₙ²)/(s² + 2ζωₙs + ωₙ²) (modal damping acts
@@ -224,7 +220,7 @@ fn motion_static_gain_matches_statics_solver() {
     let fd: Vec<f64> = outputs
         .iter()
         .map(|o| {
-            let i = model.nodes[o.node].ix_pos + o.dof.index();
+            let i = model.nodes[o.node_dof().unwrap().0].ix_pos + o.node_dof().unwrap().1.index();
             let v = (plus.x[i] - minus.x[i]) / (2.0 * h);
             scale = scale.max(v.abs());
             v
@@ -614,11 +610,11 @@ fn clamp_rotation_static_gain_is_rigid_and_matches_statics_solver() {
     let mut differs = 0.0f64;
     for (o, e) in rigid.iter().enumerate() {
         let op = &outputs[o];
-        let name = &model.nodes[op.node].name;
-        let v = if op.dof.is_rotation() {
+        let name = &model.nodes[op.node_dof().unwrap().0].name;
+        let v = if op.node_dof().unwrap().1.is_rotation() {
             (angle_z(&model, &plus.x, name) - angle_z(&model, &minus.x, name)) / dth
         } else {
-            let i = model.nodes[op.node].ix_pos + op.dof.index();
+            let i = model.nodes[op.node_dof().unwrap().0].ix_pos + op.node_dof().unwrap().1.index();
             (plus.x[i] - minus.x[i]) / dth
         };
         assert!(

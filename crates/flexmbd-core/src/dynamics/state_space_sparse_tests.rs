@@ -27,11 +27,7 @@ fn sparse_state_space_equals_dense_with_static_correction() {
             let mid = model.node_id("n6").unwrap();
             let (inputs, mut outputs) = all_io(&model, tip);
             for kind in [OutputKind::Vel, OutputKind::Acc] {
-                outputs.push(Output {
-                    node: mid,
-                    dof: Dof::Y,
-                    kind,
-                });
+                outputs.push(Output::node(mid, Dof::Y, kind));
             }
             let dense = state_space(
                 &model,
@@ -194,11 +190,7 @@ fn sparse_state_space_refuses_motion_inputs() {
         &step,
         &[],
         &[motion],
-        &[Output {
-            node: tip,
-            dof: Dof::Y,
-            kind: OutputKind::Disp,
-        }],
+        &[Output::node(tip, Dof::Y, OutputKind::Disp)],
         &opts(EigenSolver::Sparse, 2, false),
     )
     .unwrap_err();

@@ -1,0 +1,257 @@
+//! Element outputs of the state-space model (deformations and stress resultants), against
+//! closed forms and the statics solver.
+
+use super::motion_tests::{check_base_excitation, out, spring_mass, three_beams};
+use super::*;
+use crate::statics::last_step;
+use faer::c64;
+
+fn element(model: &Model, name: &str) -> usize {
+    model.elements.iter().position(|e| e.name == name).unwrap()
+}
+
+/// Spring–mass (k = EA/L = 2000 N/m, m = 0.5 kg, base held): under a force F on the mass the
+/// spring stretches by X = F/(m(ωₙ² − ω² + 2iζωₙω)) and carries σ = k X, so
+/// σ/F = ωₙ²/(ωₙ² − ω² + 2iζωₙω) (1 at DC: the spring carries the load); the deformation and
+/// its rates are X, sX, s²X. Driven at its base instead (input ü), σ = k (x − u) and
+/// σ/ü = −k/(s² + 2ζωₙs + ωₙ²).
+#[test]
+fn spring_force_and_deformation_match_closed_forms() {
+    let (m, ea, l) = (0.5, 200.0, 0.1);
+    let model = spring_mass(m, ea, l);
+    let step = last_step(&model, 2);
+    let (k, wn) = (ea / l, (ea / l / m).sqrt());
+    let t = element(&model, "t");
+    let outputs = [
+        Output {
+            probe: Probe::Force {
+                element: t,
+                mode: 0,
+            },
+            kind: OutputKind::Disp,
+        },
+        Output {
+            probe: Probe::Deformation {
+                element: t,
+                mode: 0,
+            },
+            kind: OutputKind::Disp,
+        },
+        Output {
+            probe: Probe::Deformation {
+                element: t,
+                mode: 0,
+            },
+            kind: OutputKind::Vel,
+        },
+        Output {
+            probe: Probe::Deformation {
+                element: t,
+                mode: 0,
+            },
+            kind: OutputKind::Acc,
+        },
+    ];
+    assert_eq!(outputs[0].name(&model), "t:1:force");
+    assert_eq!(outputs[0].unit(&model), "N");
+    assert_eq!(outputs[2].name(&model), "t:1:def:vel");
+    assert_eq!(outputs[3].unit(&model), "m/s²");
+    let input = Input {
+        node: model.node_id("m").unwrap(),
+        dof: Dof::X,
+    };
+    let base = Motion::Node {
+        node: model.node_id("base").unwrap(),
+        dof: Dof::X,
+    };
+    let zeta = 0.03;
+    let ss = state_space_with_motions(
+        &model,
+        &step,
+        &[input],
+        &[base],
+        &outputs,
+        &StateSpaceOptions {
+            damping: zeta,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let dc = ss.dc_gain().unwrap();
+    assert!((dc[(0, 0)] - 1.0).abs() < 1e-12, "{}", dc[(0, 0)]);
+    assert!((dc[(1, 0)] - 1.0 / k).abs() < 1e-12 / k);
+    for f in [0.05, 0.7, 1.2, 6.0].map(|r| r * wn / (2.0 * std::f64::consts::PI)) {
+        let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f);
+        let den = s * s + s * (2.0 * zeta * wn) + wn * wn;
+        let g = ss.frequency_response(f);
+        let x = c64::new(1.0 / m, 0.0) / den;
+        for (o, exact) in [(0, x * k), (1, x), (2, x * s), (3, x * s * s)] {
+            assert!(
+                (g[o][0] - exact).norm() < 1e-9 * exact.norm(),
+                "f {f}, output {o}: {} vs {exact}",
+                g[o][0]
+            );
+        }
+        let exact = c64::new(-k, 0.0) / den;
+        assert!(
+            (g[0][1] - exact).norm() < 1e-9 * exact.norm(),
+            "{}",
+            g[0][1]
+        );
+    }
+}
+
+/// The transmissibility check of the motion tests holds for the spring's deformation too:
+/// e = x − u, so with the base held-and-driven the mass output and the deformation output
+/// differ by the base motion (quasi-static gain 0 for the deformation).
+#[test]
+fn deformation_output_is_the_relative_motion() {
+    let (m, ea, l) = (0.5, 200.0, 0.1);
+    let model = spring_mass(m, ea, l);
+    let step = last_step(&model, 2);
+    let wn = (ea / l / m).sqrt();
+    let t = element(&model, "t");
+    let base = Motion::Node {
+        node: model.node_id("base").unwrap(),
+        dof: Dof::X,
+    };
+    let mut outputs = vec![
+        out(&model, "m", Dof::X, OutputKind::Disp),
+        out(&model, "m", Dof::X, OutputKind::Vel),
+        out(&model, "m", Dof::X, OutputKind::Acc),
+    ];
+    outputs.push(Output {
+        probe: Probe::Deformation {
+            element: t,
+            mode: 0,
+        },
+        kind: OutputKind::Disp,
+    });
+    check_base_excitation(
+        &model,
+        &step,
+        base,
+        &outputs,
+        wn,
+        &[1.0, 0.0, 0.0, 0.0],
+        |_, _, s, g| {
+            // e = x − u: G_e s² = G_x s² − 1
+            assert!((g[3][0] * s * s - (g[0][0] * s * s - 1.0)).norm() < 1e-9);
+        },
+    );
+}
+
+/// Cantilever of 3 beams (L = 0.3 m) with an axial pre-stress and a lateral tip load `fy`:
+/// point masses for the dynamics.
+fn loaded_cantilever(fy: f64) -> Model {
+    let mut b = three_beams("loaded-cantilever");
+    b.fix("n0", None).unwrap();
+    for (k, m) in [(1, 0.01), (2, 0.02), (3, 0.05)] {
+        b.add_point_mass(&format!("n{k}"), m).unwrap();
+    }
+    b.add_load("n3", [-30.0, 0.2 + fy, 0.0], [0.0; 3]).unwrap();
+    b.build().unwrap()
+}
+
+/// Deflected, pre-stressed beams: the static gain of every deformation and stress resultant of
+/// the first element per unit tip force equals the central difference of two statics solves
+/// (the σ and e that `flexmbd static` reports), also on the sparse path.
+#[test]
+fn element_outputs_static_gain_matches_statics_solver() {
+    let model = loaded_cantilever(0.0);
+    let step = last_step(&model, 4);
+    let tip = Input {
+        node: model.node_id("n3").unwrap(),
+        dof: Dof::Y,
+    };
+    let el = element(&model, "b0");
+    let mut outputs = Vec::new();
+    for mode in 0..6 {
+        for probe in [
+            Probe::Deformation { element: el, mode },
+            Probe::Force { element: el, mode },
+        ] {
+            outputs.push(Output {
+                probe,
+                kind: OutputKind::Disp,
+            });
+        }
+    }
+    let h = 1e-4;
+    let plus = last_step(&loaded_cantilever(h), 4);
+    let minus = last_step(&loaded_cantilever(-h), 4);
+    let ie = model.elements[el].ie;
+    let fd: Vec<f64> = (0..6)
+        .flat_map(|a| {
+            [
+                (plus.e[ie + a] - minus.e[ie + a]) / (2.0 * h),
+                (plus.sigma[ie + a] - minus.sigma[ie + a]) / (2.0 * h),
+            ]
+        })
+        .collect();
+    for solver in [EigenSolver::Dense, EigenSolver::Sparse] {
+        let ss = state_space(
+            &model,
+            &step,
+            &[tip],
+            &outputs,
+            &StateSpaceOptions {
+                modes: Some(4),
+                static_correction: true,
+                solver,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let g = ss.dc_gain().unwrap();
+        for (o, v) in fd.iter().enumerate() {
+            // deformations and forces have their own scales
+            let scale = fd
+                .iter()
+                .skip(o % 2)
+                .step_by(2)
+                .fold(0.0f64, |a, b| a.max(b.abs()));
+            assert!(
+                (g[(o, 0)] - v).abs() < 1e-6 * scale,
+                "{solver:?} {}: {} vs {v}",
+                outputs[o].name(&model),
+                g[(o, 0)]
+            );
+        }
+    }
+}
+
+/// A force output on a rigid or prescribed deformation is refused with a specific error.
+#[test]
+fn force_of_a_held_deformation_is_refused() {
+    let mut b = three_beams("rigid-elongation");
+    b.fix("n0", None).unwrap();
+    b.add_point_mass("n3", 0.05).unwrap();
+    // the beams of three_beams have all modes flexible; make the elongation of b0 an input
+    b.prescribe_deformation("b0", 1, 0.0).unwrap();
+    let model = b.build().unwrap();
+    let step = last_step(&model, 1);
+    let el = element(&model, "b0");
+    let e = state_space(
+        &model,
+        &step,
+        &[Input {
+            node: model.node_id("n3").unwrap(),
+            dof: Dof::Y,
+        }],
+        &[Output {
+            probe: Probe::Force {
+                element: el,
+                mode: 0,
+            },
+            kind: OutputKind::Disp,
+        }],
+        &Default::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, StateSpaceError::ForceOfHeldDeformation { .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("b0:1:force"), "{e}");
+}
