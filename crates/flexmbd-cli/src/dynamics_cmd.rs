@@ -384,7 +384,9 @@ fn parse_element_output(
     }
     let mode = (mode - 1) as usize;
     let probe = if q.eq_ignore_ascii_case("force") {
-        if entry.element.stiffness()[(mode, mode)] <= 0.0 {
+        // a held mode's force is its constraint reaction; a free mode needs a stiffness
+        let free = model.partition.e[entry.ie + mode] == flexmbd_core::model::DefKind::Free;
+        if free && entry.element.stiffness()[(mode, mode)] <= 0.0 {
             let mname = entry.element.mode_name(mode, &model.node_names());
             return Err(BadInput(format!(
                 "--output `{spec}`: deformation {} ({mname}) of {} `{name}` has no stiffness in {}, so it has no elastic force; give the element a stiffness, or measure its deformation ({name}:{}:def)",
@@ -503,6 +505,19 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     // the sparse path's requirements are input errors, found before the static solve
     if uses_sparse(&model, &ss_opts) {
         let ndof = velocity_dof(&model);
+        let role = flexmbd_core::statics::roles(&model);
+        let reaction = outputs.iter().find(|o| {
+            matches!(o.probe, Probe::Force { element, mode }
+                if role[model.elements[element].ie + mode] != flexmbd_core::statics::Role::Flexible)
+        });
+        if let Some(o) = reaction {
+            return Err(BadInput(format!(
+                "--output {}: the force of a rigid or prescribed deformation is a constraint reaction, which only the dense state space gives (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof})",
+                o.name(&model),
+                a.model.display()
+            ))
+            .into());
+        }
         if let Some(m) = motions.first() {
             return Err(BadInput(format!(
                 "--input {}: prescribed-motion inputs need the dense state space (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof}{}); use force or moment inputs",

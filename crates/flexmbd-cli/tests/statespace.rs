@@ -876,10 +876,10 @@ fn large_model_state_space_takes_the_sparse_path() {
 }
 
 /// Element outputs through the binary on the actuator–spring–mass: with the actuator held, a
-/// force F on the mass is carried by the spring (σ/F = 1 at DC, deformation F/k = F/2000);
-/// a slow actuator stroke moves the spring rigidly (σ = 0); the JSON names element, mode and
-/// quantity. A force output on the actuator (no stiffness), an unknown element and a mode out
-/// of range are input errors (exit 2).
+/// force F on the mass is carried by the spring and by the actuator (σ/F = 1 at DC, spring
+/// deformation F/k = F/2000); a slow actuator stroke moves the spring rigidly (σ = 0); the JSON
+/// names element, mode and quantity. A force output on a free mode
+/// without stiffness, an unknown element and a mode out of range are input errors (exit 2).
 #[test]
 fn element_outputs_through_the_binary() {
     let p = tmp("actuator_outputs.toml");
@@ -898,6 +898,8 @@ fn element_outputs_through_the_binary() {
         "spring:1:def",
         "--output",
         "spring:1:def:vel",
+        "--output",
+        "act:1:force",
         "--json",
     ]);
     let o = &j["outputs"][0];
@@ -910,8 +912,30 @@ fn element_outputs_through_the_binary() {
     assert!((dc[0][0] - 1.0).abs() < 1e-12, "{:?}", dc);
     assert!((dc[1][0] - 1.0 / 2000.0).abs() < 1e-15, "{:?}", dc);
     assert!(dc[0][1].abs() < 1e-12 && dc[1][1].abs() < 1e-15, "{:?}", dc);
+    // the actuator's reaction carries the load too, and nothing under a slow stroke
+    assert!(
+        (dc[3][0] - 1.0).abs() < 1e-9 && dc[3][1].abs() < 1e-9,
+        "{:?}",
+        dc
+    );
+    let free_spring = ACTUATOR_SPRING_MASS.replace("EA = 200.0\n", "");
+    let p0 = tmp("actuator_outputs_no_k.toml");
+    std::fs::write(&p0, free_spring).unwrap();
+    let (out, _) = run(&[
+        "statespace",
+        p0.to_str().unwrap(),
+        "--input",
+        "m:x",
+        "--output",
+        "spring:1:force",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no stiffness") && err.contains("spring:1:def"),
+        "{err}"
+    );
     for (spec, words) in [
-        ("act:1:force", vec!["act", "no stiffness", "act:1:def"]),
         ("nope:1:force", vec!["nope", "not defined"]),
         ("spring:2:def", vec!["spring", "1 to 1"]),
     ] {

@@ -479,8 +479,20 @@ pub enum StateSpaceError {
         limit: usize,
     },
     /// A force output on a rigid or prescribed deformation.
-    #[error("output {output}: this deformation is rigid or prescribed, so its stress is a constraint reaction, not σ = S e; force outputs take flexible deformations (make the mode `free` with a stiffness, or measure the deformation of a flexible element next to it)")]
+    #[error("output {output}: this deformation is rigid or prescribed, so its force is a constraint reaction, which the dense state space gives (models up to 3000 degrees of freedom, --solver dense or auto) but the sparse one does not")]
     ForceOfHeldDeformation {
+        /// Output name.
+        output: String,
+    },
+    /// A reaction output whose deformation cannot change on its own.
+    #[error("output {output}: the rigid or prescribed deformations tie this deformation to others, so its reaction cannot be separated from theirs; measure a force of a flexible element next to it")]
+    ReactionConstrained {
+        /// Output name.
+        output: String,
+    },
+    /// A rate of a reaction output.
+    #[error("output {output}: the force of a rigid or prescribed deformation (a constraint reaction) is available as a value only, not as :vel or :acc")]
+    ReactionRate {
         /// Output name.
         output: String,
     },
@@ -547,13 +559,7 @@ pub struct StateSpace {
     pub warnings: Vec<String>,
     /// The eigen solver used: `Dense` (all modes) or `Sparse` (the lowest, by Lanczos).
     pub solver: EigenSolver,
-    /// Φᵀ Bq (n × inputs).
-    modal_b: Mat<f64>,
-    /// Cx Φ (outputs × n).
-    modal_c: Mat<f64>,
-    /// Static feedthrough of displacement outputs (outputs × inputs, zero rows otherwise).
-    d_static: Mat<f64>,
-    /// Quasi-static gain g = Cx ψ + w·t_m of the outputs per unit enforced displacement
+    /// Quasi-static gain g = Cx ψ + w·t_m of the value outputs per unit enforced displacement
     /// (outputs × motions).
     motion_gain: Mat<f64>,
 }
@@ -564,6 +570,14 @@ struct MotionLoad {
     t: Vec<f64>,
     k: Vec<f64>,
     m: Vec<f64>,
+}
+
+/// The rows of a constraint reaction δσ_a = t·f − (K t)·δx − (M t)·δẍ, with t the lifted
+/// direction G t = e_a through the free coordinates (module docs).
+struct ReactionRows {
+    t: Vec<f64>,
+    kt: Vec<f64>,
+    mt: Vec<f64>,
 }
 
 /// Loads of unit enforced motions. K on the moved coordinates comes from a linearisation of a
@@ -578,9 +592,10 @@ fn motion_loads(
     step: &StepResult,
     red: &Reduced,
     motions: &[Motion],
-) -> Result<Vec<MotionLoad>, StateSpaceError> {
-    if motions.is_empty() {
-        return Ok(Vec::new());
+    reactions: &[(String, usize)],
+) -> Result<(Vec<MotionLoad>, Vec<ReactionRows>), StateSpaceError> {
+    if motions.is_empty() && reactions.is_empty() {
+        return Ok((Vec::new(), Vec::new()));
     }
     let mut free = model.clone();
     let mut freed = Vec::new();
@@ -682,12 +697,10 @@ fn motion_loads(
         Some((g, t, gt))
     };
     let ndof = red.ndof();
-    let mut out = Vec::with_capacity(motions.len());
-    for (mo, (t0, row)) in motions.iter().zip(dirs) {
-        let name = mo.name(model);
+    // lift t⁰ onto the constraints: G t = the unit change of `row` (zero for a node motion)
+    let lift = |t0: Vec<f64>, row: Option<usize>| -> Option<Vec<f64>> {
         let mut tm = t0;
         if let Some((g, t, gt)) = &gt {
-            // G t_m must be the unit change of the driven deformation (zero for a node motion)
             let target = |r: usize| if Some(r) == row { 1.0 } else { 0.0 };
             let mismatch = |tm: &[f64]| {
                 let ge = g * Mat::from_fn(nx, 1, |a, _| tm[a]);
@@ -696,11 +709,7 @@ fn motion_loads(
             let r0 = mismatch(&tm);
             if r0.norm_max() > 0.0 {
                 // least squares G T w = −r0 through the SVD
-                let f = crate::linalg::svd(gt.as_ref(), "constraint Jacobian").map_err(|_| {
-                    StateSpaceError::MotionConstrained {
-                        input: name.clone(),
-                    }
-                })?;
+                let f = crate::linalg::svd(gt.as_ref(), "constraint Jacobian").ok()?;
                 let smax = f.s.first().copied().unwrap_or(0.0);
                 let tol = f64::EPSILON.sqrt() * smax;
                 let mut w = Mat::<f64>::zeros(gt.ncols(), 1);
@@ -717,10 +726,19 @@ fn motion_loads(
                     tm[a] += tw[(a, 0)];
                 }
                 if mismatch(&tm).norm_max() > 1e-8 * r0.norm_max().max(smax) {
-                    return Err(StateSpaceError::MotionConstrained { input: name });
+                    return None;
                 }
             }
         }
+        Some(tm)
+    };
+    let mut out = Vec::with_capacity(motions.len());
+    for (mo, (t0, row)) in motions.iter().zip(dirs) {
+        let Some(tm) = lift(t0, row) else {
+            return Err(StateSpaceError::MotionConstrained {
+                input: mo.name(model),
+            });
+        };
         let tmv = Mat::from_fn(nx, 1, |a, _| tm[a]);
         let k = red.z.transpose() * (&kx * &tmv);
         let m = red.z.transpose() * (&red.mx * &tmv);
@@ -730,7 +748,23 @@ fn motion_loads(
             m: (0..ndof).map(|r| m[(r, 0)]).collect(),
         });
     }
-    Ok(out)
+    let mut rr = Vec::with_capacity(reactions.len());
+    for (name, i) in reactions {
+        let row = rows.iter().position(|r| r == i);
+        let Some(t) = lift(vec![0.0; nx], row).filter(|_| row.is_some()) else {
+            return Err(StateSpaceError::ReactionConstrained {
+                output: name.clone(),
+            });
+        };
+        let tv = Mat::from_fn(nx, 1, |a, _| t[a]);
+        let (kt, mt) = (&kx * &tv, &red.mx * &tv);
+        rr.push(ReactionRows {
+            kt: (0..nx).map(|a| kt[(a, 0)]).collect(),
+            mt: (0..nx).map(|a| mt[(a, 0)]).collect(),
+            t,
+        });
+    }
+    Ok((out, rr))
 }
 
 /// Force vector in x of a unit input; or the row of an output in x (same vector): for a
@@ -899,6 +933,25 @@ struct Parts {
     massless: usize,
     available: usize,
     solver: EigenSolver,
+    /// Kind of every internal row of `modal_c`, `d_static`, `motion_gain`.
+    kinds: Vec<OutputKind>,
+    /// Every output as a signed sum of internal rows, plus a direct feedthrough of the force
+    /// inputs (outputs × force inputs): a node or element output is one row; a reaction is
+    /// t·f − (K t)·δx − (M t)·δẍ.
+    combine: Combine,
+    feed: Mat<f64>,
+}
+
+/// Every output as a signed sum of internal rows (see [`Parts::combine`]).
+type Combine = Vec<Vec<(usize, f64)>>;
+
+/// One output per internal row, no feedthrough.
+fn identity_rows(outputs: &[Output], n_force: usize) -> (Vec<OutputKind>, Combine, Mat<f64>) {
+    (
+        outputs.iter().map(|o| o.kind).collect(),
+        (0..outputs.len()).map(|o| vec![(o, 1.0)]).collect(),
+        Mat::zeros(outputs.len(), n_force),
+    )
 }
 
 /// Warnings for inputs on held directions.
@@ -984,6 +1037,7 @@ fn build_sparse(
             "velocity and acceleration outputs miss the instantaneous response of the directions without inertia (proportional to the input's derivative)".into(),
         );
     }
+    let (kinds, combine, feed) = identity_rows(outputs, inputs.len());
     Ok(assemble(
         inputs,
         &[],
@@ -1000,6 +1054,9 @@ fn build_sparse(
             massless: sm.massless,
             available,
             solver: EigenSolver::Sparse,
+            kinds,
+            combine,
+            feed,
         },
     ))
 }
@@ -1040,8 +1097,26 @@ fn build(
         }
     }
     let ndof = red.ndof();
-    let mloads = motion_loads(model, step, red, motions)?;
-    let (nf, nm, no) = (inputs.len(), motions.len(), outputs.len());
+    // force outputs of rigid or prescribed deformations: constraint reactions
+    let role = crate::statics::roles(model);
+    let mut reactions = Vec::new();
+    let mut reaction_of = vec![None; outputs.len()];
+    for (o, out) in outputs.iter().enumerate() {
+        if let Probe::Force { element, mode } = out.probe {
+            let i = model.elements[element].ie + mode;
+            if role[i] != crate::statics::Role::Flexible {
+                if out.kind != OutputKind::Disp {
+                    return Err(StateSpaceError::ReactionRate {
+                        output: out.name(model),
+                    });
+                }
+                reaction_of[o] = Some(reactions.len());
+                reactions.push((out.name(model), i));
+            }
+        }
+    }
+    let (mloads, rrows) = motion_loads(model, step, red, motions, &reactions)?;
+    let (nf, nm) = (inputs.len(), motions.len());
     let ni = nf + nm;
     // quasi-static responses ψ = −K0⁻¹ Zᵀ K t_m (ndof × motions), dense LU of K0
     let mut psi = Mat::<f64>::zeros(ndof, nm);
@@ -1074,16 +1149,46 @@ fn build(
         }
     }
     held_input_warnings(model, inputs, &mut warnings);
+    let mut forces = Vec::with_capacity(nf);
     for (j, inp) in inputs.iter().enumerate() {
         let f = unit_vector(model, step, inp.node, inp.dof)?;
         for r in 0..ndof {
             bq[(r, j)] = (0..model.nx).map(|i| red.z[(i, r)] * f[i]).sum::<f64>();
         }
+        forces.push(f);
     }
+    // internal rows: one per output, two per reaction, δσ = t·f − (K t)·δx − (M t)·δẍ
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let (mut row_w, mut kinds, mut row_out) = (Vec::new(), Vec::new(), Vec::new());
+    let mut combine = Vec::with_capacity(outputs.len());
+    let mut feed = Mat::zeros(outputs.len(), nf);
+    for (o, out) in outputs.iter().enumerate() {
+        match reaction_of[o] {
+            None => {
+                combine.push(vec![(row_w.len(), 1.0)]);
+                row_w.push(output_row(model, step, out)?);
+                kinds.push(out.kind);
+                row_out.push(o);
+            }
+            Some(q) => {
+                let rr = &rrows[q];
+                combine.push(vec![(row_w.len(), -1.0), (row_w.len() + 1, -1.0)]);
+                row_w.push(rr.kt.clone());
+                kinds.push(OutputKind::Disp);
+                row_w.push(rr.mt.clone());
+                kinds.push(OutputKind::Acc);
+                row_out.extend([o, o]);
+                for (j, f) in forces.iter().enumerate() {
+                    feed[(o, j)] = dot(&rr.t, f);
+                }
+            }
+        }
+    }
+    let no = row_w.len();
     let mut cx = Mat::zeros(no, ndof);
     let mut motion_gain = Mat::zeros(no, nm);
-    for (o, out) in outputs.iter().enumerate() {
-        let w = output_row(model, step, out)?;
+    for (o, w) in row_w.iter().enumerate() {
+        let out = &outputs[row_out[o]];
         for (j, ml) in mloads.iter().enumerate() {
             let direct: f64 = (0..model.nx).map(|i| w[i] * ml.t[i]).sum();
             let quasi: f64 = (0..ndof)
@@ -1119,7 +1224,8 @@ fn build(
     }
     let mut d_static = Mat::zeros(no, ni);
     let fmax = massless_flex.norm_max();
-    for (o, out) in outputs.iter().enumerate() {
+    for (o, kind) in kinds.iter().enumerate() {
+        let out = &outputs[row_out[o]];
         let co = cx.row(o).norm_l2();
         for j in 0..ni {
             // below this the massless response is round-off
@@ -1128,7 +1234,7 @@ fn build(
             } else {
                 0.0
             };
-            if out.kind == OutputKind::Disp {
+            if *kind == OutputKind::Disp {
                 d_static[(o, j)] = dm + d_residual[(o, j)];
             } else if dm != 0.0 {
                 warnings.push(format!(
@@ -1155,6 +1261,9 @@ fn build(
             massless: red.massless(),
             available,
             solver: EigenSolver::Dense,
+            kinds,
+            combine,
+            feed,
         },
     ))
 }
@@ -1178,13 +1287,16 @@ fn assemble(
         massless,
         available,
         solver,
+        kinds,
+        combine,
+        feed,
     } = parts;
     let zeta = opts.damping;
     let n = lam.len();
-    let (nf, nm, no, ni) = (
+    let (nf, nm, nr, ni) = (
         inputs.len(),
         motions.len(),
-        outputs.len(),
+        kinds.len(),
         inputs.len() + motions.len(),
     );
     let omega: Vec<f64> = lam.iter().map(|l| l.abs().sqrt()).collect();
@@ -1205,22 +1317,23 @@ fn assemble(
         a[(2 * n + 2 * j, 2 * n + 2 * j + 1)] = 1.0;
         b[(2 * n + 2 * j + 1, nf + j)] = 1.0;
     }
-    let mut c = Mat::zeros(no, ns);
-    let mut d = Mat::zeros(no, ni);
-    for (o, out) in outputs.iter().enumerate() {
+    // the internal rows
+    let mut c_rows = Mat::zeros(nr, ns);
+    let mut d_rows = Mat::zeros(nr, ni);
+    for (o, kind) in kinds.iter().enumerate() {
         for k in 0..n {
             let ck = modal_c[(o, k)];
-            match out.kind {
-                OutputKind::Disp => c[(o, k)] = ck,
-                OutputKind::Vel => c[(o, n + k)] = ck,
+            match kind {
+                OutputKind::Disp => c_rows[(o, k)] = ck,
+                OutputKind::Vel => c_rows[(o, n + k)] = ck,
                 OutputKind::Acc => {
-                    c[(o, k)] = -ck * lam[k];
-                    c[(o, n + k)] = -ck * 2.0 * zeta * omega[k];
+                    c_rows[(o, k)] = -ck * lam[k];
+                    c_rows[(o, n + k)] = -ck * 2.0 * zeta * omega[k];
                 }
             }
         }
         for j in 0..ni {
-            d[(o, j)] = match out.kind {
+            d_rows[(o, j)] = match kind {
                 OutputKind::Disp => d_static[(o, j)],
                 OutputKind::Vel => 0.0,
                 OutputKind::Acc => (0..n).map(|k| modal_c[(o, k)] * modal_b[(k, j)]).sum(),
@@ -1228,11 +1341,34 @@ fn assemble(
         }
         for j in 0..nm {
             let g = motion_gain[(o, j)];
-            match out.kind {
-                OutputKind::Disp => c[(o, 2 * n + 2 * j)] = g,
-                OutputKind::Vel => c[(o, 2 * n + 2 * j + 1)] = g,
-                OutputKind::Acc => d[(o, nf + j)] += g,
+            match kind {
+                OutputKind::Disp => c_rows[(o, 2 * n + 2 * j)] = g,
+                OutputKind::Vel => c_rows[(o, 2 * n + 2 * j + 1)] = g,
+                OutputKind::Acc => d_rows[(o, nf + j)] += g,
             }
+        }
+    }
+    // the outputs: signed sums of rows; the quasi-static motion gain counts the value rows
+    let no = outputs.len();
+    let mut c = Mat::zeros(no, ns);
+    let mut d = Mat::zeros(no, ni);
+    let mut gain = Mat::zeros(no, nm);
+    for (o, terms) in combine.iter().enumerate() {
+        for &(r, w) in terms {
+            for q in 0..ns {
+                c[(o, q)] += w * c_rows[(r, q)];
+            }
+            for j in 0..ni {
+                d[(o, j)] += w * d_rows[(r, j)];
+            }
+            if kinds[r] == OutputKind::Disp {
+                for j in 0..nm {
+                    gain[(o, j)] += w * motion_gain[(r, j)];
+                }
+            }
+        }
+        for j in 0..nf {
+            d[(o, j)] += feed[(o, j)];
         }
     }
     StateSpace {
@@ -1251,10 +1387,7 @@ fn assemble(
         static_correction: opts.static_correction,
         warnings,
         solver,
-        modal_b,
-        modal_c,
-        d_static,
-        motion_gain,
+        motion_gain: gain,
     }
 }
 
@@ -1391,9 +1524,9 @@ impl StateSpace {
         Ok(g)
     }
 
-    /// Frequency response G(i2πf) = C (i2πf I − A)⁻¹ B + D (outputs × inputs), evaluated mode
-    /// by mode: Σₖ cₖ bₖ sᵖ / (s² + 2ζωₖ s + ωₖ²) plus the static feedthrough, with p = 0, 1, 2
-    /// for displacement, velocity and acceleration outputs; motion columns add g sᵖ / s².
+    /// Frequency response G(i2πf) = C (i2πf I − A)⁻¹ B + D (outputs × inputs), evaluated
+    /// block by block, as A is block diagonal: a mode's block gives η = b/(s² + 2ζωs + ω²) and
+    /// η̇ = s η per unit of its B row, a motion's double integrator u = ü/s², u̇ = ü/s.
     pub fn frequency_response(&self, f_hz: f64) -> Vec<Vec<c64>> {
         let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f_hz);
         let n = self.n_modes();
@@ -1404,20 +1537,21 @@ impl StateSpace {
             })
             .collect();
         let nf = self.inputs.len();
-        self.outputs
-            .iter()
-            .enumerate()
-            .map(|(o, out)| {
-                let sp = s.powi(out.kind.order());
+        (0..self.outputs.len())
+            .map(|o| {
                 (0..self.n_inputs())
                     .map(|j| {
-                        let mut g = c64::new(self.d_static[(o, j)], 0.0);
+                        let mut g = c64::new(self.d[(o, j)], 0.0);
                         for k in 0..n {
-                            g += sp * (self.modal_c[(o, k)] * self.modal_b[(k, j)]) / den[k];
+                            let bk = self.b[(n + k, j)];
+                            if bk != 0.0 {
+                                g += (s * self.c[(o, n + k)] + self.c[(o, k)]) * bk / den[k];
+                            }
                         }
                         if j >= nf {
-                            // the enforced motion u = ü / s² and its quasi-static response
-                            g += sp * self.motion_gain[(o, j - nf)] / (s * s);
+                            // the motion's own states (u, u̇)
+                            let m = 2 * n + 2 * (j - nf);
+                            g += (s * self.c[(o, m + 1)] + self.c[(o, m)]) / (s * s);
                         }
                         g
                     })

@@ -10,7 +10,7 @@ use faer::c64;
 /// A linear actuator (truss `act`, elongation an input) from the fixed ground node `g` to `a`
 /// (mass `ma`), then a spring (truss, k = EA/L) from `a` to the mass `m`; all on the x axis,
 /// y and z held.
-fn actuator_spring_mass(ma: f64, m: f64, ea: f64, l: f64) -> Model {
+pub(super) fn actuator_spring_mass(ma: f64, m: f64, ea: f64, l: f64) -> Model {
     let mut b = ModelBuilder::new("actuator-spring-mass");
     b.add_node("g", [0.0; 3], false).unwrap();
     b.add_node("a", [0.05, 0.0, 0.0], false).unwrap();
@@ -129,7 +129,7 @@ fn driven_hinge_angle_turns_rotor_as_closed_form() {
 /// Cantilever of 3 beams along x (L = 0.3 m, clamped at n0, point masses) pushed sideways at
 /// its tip by a linear actuator from the ground node `g` at (0.3, −0.1, 0), whose elongation
 /// is prescribed to `stroke`; a dead tip load along x pre-stresses the beam.
-fn actuated_cantilever(stroke: f64) -> Model {
+pub(super) fn actuated_cantilever(stroke: f64) -> Model {
     let mut b = three_beams("actuated-cantilever");
     b.add_node("g", [0.3, -0.1, 0.0], false).unwrap();
     b.add_element(
