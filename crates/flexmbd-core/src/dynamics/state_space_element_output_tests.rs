@@ -6,6 +6,14 @@ use super::*;
 use crate::statics::last_step;
 use faer::c64;
 
+/// |g − exact| < 1e-9 |exact|.
+fn assert_close(g: c64, exact: c64, what: &str) {
+    assert!(
+        (g - exact).norm() < 1e-9 * exact.norm(),
+        "{what}: {g} vs {exact}"
+    );
+}
+
 fn element(model: &Model, name: &str) -> usize {
     model.elements.iter().position(|e| e.name == name).unwrap()
 }
@@ -86,18 +94,10 @@ fn spring_force_and_deformation_match_closed_forms() {
         let g = ss.frequency_response(f);
         let x = c64::new(1.0 / m, 0.0) / den;
         for (o, exact) in [(0, x * k), (1, x), (2, x * s), (3, x * s * s)] {
-            assert!(
-                (g[o][0] - exact).norm() < 1e-9 * exact.norm(),
-                "f {f}, output {o}: {} vs {exact}",
-                g[o][0]
-            );
+            assert_close(g[o][0], exact, "g[o][0]");
         }
         let exact = c64::new(-k, 0.0) / den;
-        assert!(
-            (g[0][1] - exact).norm() < 1e-9 * exact.norm(),
-            "{}",
-            g[0][1]
-        );
+        assert_close(g[0][1], exact, "g[0][1]");
     }
 }
 
@@ -268,17 +268,9 @@ fn actuator_force_is_the_constraint_reaction() {
         let den = s * s + s * (2.0 * zeta * wn) + wn * wn;
         let g = ss.frequency_response(f);
         let exact = c64::new(wn * wn, 0.0) / den;
-        assert!(
-            (g[0][0] - exact).norm() < 1e-9 * exact.norm(),
-            "{} vs {exact}",
-            g[0][0]
-        );
+        assert_close(g[0][0], exact, "g[0][0]");
         let exact = c64::new(-k, 0.0) / den - ma;
-        assert!(
-            (g[0][1] - exact).norm() < 1e-9 * exact.norm(),
-            "{} vs {exact}",
-            g[0][1]
-        );
+        assert_close(g[0][1], exact, "g[0][1]");
     }
 }
 
