@@ -39,9 +39,10 @@ pub struct StatespaceArgs {
     inputs: Vec<String>,
     /// An output: displacement (default), velocity or acceleration of a node along x, y, z or
     /// its rotation about rx, ry, rz. `ELEMENT:MODE:def` is deformation MODE (1-based) of an
-    /// element, `ELEMENT:MODE:force` its stress resultant σ = S e (a flexible mode), each
-    /// optionally followed by `:vel` or `:acc` for its rates. Repeatable; the order is the row
-    /// order of C.
+    /// element, `ELEMENT:MODE:force` its force: σ = S e of a flexible mode, the constraint
+    /// reaction of a rigid or `input` mode (an actuator's force, a driven hinge's torque; value
+    /// only, dense state space). Both may be followed by `:vel` or `:acc` for their rates.
+    /// Repeatable; the order is the row order of C.
     #[arg(
         long = "output",
         value_name = "NODE:DIR[:disp|vel|acc] | ELEMENT:MODE:def|force[:vel|acc]",

@@ -104,8 +104,9 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Linear state-space model (A, B, C, D) about a static equilibrium with named force/moment
-    /// inputs and displacement/velocity/acceleration outputs; JSON, MATLAB .m, Bode table.
+    /// Linear state-space model (A, B, C, D) about a static equilibrium with named inputs
+    /// (forces, moments, prescribed motions of nodes and actuators) and outputs (node motions,
+    /// element deformations and forces, actuator forces); JSON, MATLAB .m, Bode table.
     Statespace(dynamics_cmd::StatespaceArgs),
     /// Frequencies and support stiffness at every load step of the static solution.
     Sweep(dynamics_cmd::SweepArgs),
