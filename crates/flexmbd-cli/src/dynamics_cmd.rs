@@ -42,6 +42,7 @@ pub struct StatespaceArgs {
     /// element, `ELEMENT:MODE:force` its force: σ = S e of a flexible mode, the constraint
     /// reaction of a rigid or `input` mode (an actuator's force, a driven hinge's torque; value
     /// only, dense state space). Both may be followed by `:vel` or `:acc` for their rates.
+    /// `NODE:DIR:reaction` is the reaction force (moment) at a held coordinate (a support).
     /// Repeatable; the order is the row order of C.
     #[arg(
         long = "output",
@@ -410,8 +411,25 @@ pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, Ba
         return Ok(o);
     }
     let flag = "--output";
-    let (name, dof, kind) = split_spec(flag, spec, &["disp", "vel", "acc"])?;
+    let (name, dof, kind) = split_spec(flag, spec, &["disp", "vel", "acc", "reaction"])?;
     let node = node_of(model, path, flag, spec, &name)?;
+    if kind.is_some_and(|k| k.eq_ignore_ascii_case("reaction")) {
+        needs_rotation(model, flag, spec, node, dof)?;
+        let held = model.nodes[node]
+            .x_index(dof)
+            .is_some_and(|i| model.partition.x[i] != flexmbd_core::model::CoordKind::Free);
+        if !held {
+            return Err(BadInput(format!(
+                "{flag} `{spec}`: coordinate {} of node `{name}` is free in {}; a reaction needs a coordinate held by a support, [inputs] or [[prescribe]]",
+                dof.name(),
+                path.display()
+            )));
+        }
+        return Ok(Output {
+            probe: Probe::Reaction { node, dof },
+            kind: OutputKind::Disp,
+        });
+    }
     let kind = match kind.map(str::to_ascii_lowercase).as_deref() {
         None => OutputKind::Disp,
         Some("displacement" | "rotation") => OutputKind::Disp,
@@ -507,13 +525,16 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     if uses_sparse(&model, &ss_opts) {
         let ndof = velocity_dof(&model);
         let role = flexmbd_core::statics::roles(&model);
-        let reaction = outputs.iter().find(|o| {
-            matches!(o.probe, Probe::Force { element, mode }
-                if role[model.elements[element].ie + mode] != flexmbd_core::statics::Role::Flexible)
+        let reaction = outputs.iter().find(|o| match o.probe {
+            Probe::Force { element, mode } => {
+                role[model.elements[element].ie + mode] != flexmbd_core::statics::Role::Flexible
+            }
+            Probe::Reaction { .. } => true,
+            _ => false,
         });
         if let Some(o) = reaction {
             return Err(BadInput(format!(
-                "--output {}: the force of a rigid or prescribed deformation is a constraint reaction, which only the dense state space gives (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof})",
+                "--output {}: reactions (of supports, and the forces of rigid or prescribed deformations) are given by the dense state space only (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof})",
                 o.name(&model),
                 a.model.display()
             ))

@@ -900,6 +900,8 @@ fn element_outputs_through_the_binary() {
         "spring:1:def:vel",
         "--output",
         "act:1:force",
+        "--output",
+        "g:x:reaction",
         "--json",
     ]);
     let o = &j["outputs"][0];
@@ -918,6 +920,9 @@ fn element_outputs_through_the_binary() {
         "{:?}",
         dc
     );
+    // the support at g holds the load: −F (the force it exerts, as `flexmbd static` reports)
+    assert_eq!(j["outputs"][4]["quantity"], "reaction");
+    assert!((dc[4][0] + 1.0).abs() < 1e-9, "{:?}", dc);
     let free_spring = ACTUATOR_SPRING_MASS.replace("EA = 200.0\n", "");
     let p0 = tmp("actuator_outputs_no_k.toml");
     std::fs::write(&p0, free_spring).unwrap();
@@ -938,6 +943,7 @@ fn element_outputs_through_the_binary() {
     for (spec, words) in [
         ("nope:1:force", vec!["nope", "not defined"]),
         ("spring:2:def", vec!["spring", "1 to 1"]),
+        ("m:x:reaction", vec!["free", "reaction"]),
     ] {
         let (out, _) = run(&["statespace", model, "--input", "m:x", "--output", spec]);
         assert_eq!(out.status.code(), Some(2), "{spec}");

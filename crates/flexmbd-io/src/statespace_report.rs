@@ -81,6 +81,11 @@ fn io_json(model: &Model, ss: &StateSpace) -> (Vec<Value>, Vec<Value>) {
                     v["node"] = json!(model.nodes[node].name);
                     v["direction"] = json!(dof.name());
                 }
+                Probe::Reaction { node, dof } => {
+                    v["node"] = json!(model.nodes[node].name);
+                    v["direction"] = json!(dof.name());
+                    v["quantity"] = json!("reaction");
+                }
                 Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
                     let entry = &model.elements[element];
                     v["element"] = json!(entry.name);

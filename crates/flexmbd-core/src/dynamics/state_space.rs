@@ -127,6 +127,15 @@ pub enum Probe {
         /// Mode, 0-based (printed 1-based).
         mode: usize,
     },
+    /// The reaction at a held node coordinate (a support or prescribed input): the force
+    /// along, or the moment about, a global axis that the support exerts, as `flexmbd static`
+    /// reports reactions.
+    Reaction {
+        /// Node index.
+        node: usize,
+        /// Direction.
+        dof: Dof,
+    },
     /// The stress resultant of a flexible deformation, δσ = S δe (the element's force:
     /// the axial force of a truss or beam, σ2..σ6 ≈ torque and bending moments / l0, a hinge
     /// torque).
@@ -318,6 +327,9 @@ impl Output {
                 dof.name(),
                 self.kind.name()
             ),
+            Probe::Reaction { node, dof } => {
+                format!("{}:{}:reaction", model.nodes[node].name, dof.name())
+            }
             Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
                 let q = if matches!(self.probe, Probe::Force { .. }) {
                     "force"
@@ -346,6 +358,7 @@ impl Output {
             Probe::Node { dof, .. } => usize::from(dof.is_rotation()),
             Probe::Deformation { element, .. } => usize::from(hinge(element)),
             Probe::Force { element, .. } => 2 + usize::from(hinge(element)),
+            Probe::Reaction { dof, .. } => 2 + usize::from(dof.is_rotation()),
         };
         UNITS[row][self.kind.order() as usize]
     }
@@ -365,6 +378,18 @@ impl Output {
                 };
                 let prep = if dof.is_rotation() { "about" } else { "along" };
                 format!("{what} of {node} {prep} global {axis}")
+            }
+            Probe::Reaction { node, dof } => {
+                let (what, prep) = if dof.is_rotation() {
+                    ("reaction moment", "about")
+                } else {
+                    ("reaction force", "along")
+                };
+                format!(
+                    "{what} at {} {prep} global {}",
+                    model.nodes[node].name,
+                    axis_name(dof)
+                )
             }
             Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
                 let entry = &model.elements[element];
@@ -484,6 +509,18 @@ pub enum StateSpaceError {
         /// Output name.
         output: String,
     },
+    /// A support reaction on the sparse path.
+    #[error("output {output}: reactions are given by the dense state space only (models up to 3000 degrees of freedom)")]
+    SparseReaction {
+        /// Output name.
+        output: String,
+    },
+    /// A reaction at a coordinate that is not held.
+    #[error("output {output}: this coordinate is free, so it has no reaction; a reaction needs a coordinate held by a support, `[inputs]` or `[[prescribe]]`")]
+    ReactionNotHeld {
+        /// Output name.
+        output: String,
+    },
     /// A reaction output whose deformation cannot change on its own.
     #[error("output {output}: the rigid or prescribed deformations tie this deformation to others, so its reaction cannot be separated from theirs; measure a force of a flexible element next to it")]
     ReactionConstrained {
@@ -570,6 +607,8 @@ struct MotionLoad {
     t: Vec<f64>,
     k: Vec<f64>,
     m: Vec<f64>,
+    /// K t_m and M t_m in x (for a reaction at the coordinate).
+    rows: ReactionRows,
 }
 
 /// The rows of a constraint reaction δσ_a = t·f − (K t)·δx − (M t)·δẍ, with t the lifted
@@ -740,12 +779,18 @@ fn motion_loads(
             });
         };
         let tmv = Mat::from_fn(nx, 1, |a, _| tm[a]);
-        let k = red.z.transpose() * (&kx * &tmv);
-        let m = red.z.transpose() * (&red.mx * &tmv);
+        let (ktx, mtx) = (&kx * &tmv, &red.mx * &tmv);
+        let k = red.z.transpose() * &ktx;
+        let m = red.z.transpose() * &mtx;
         out.push(MotionLoad {
-            t: tm,
             k: (0..ndof).map(|r| k[(r, 0)]).collect(),
             m: (0..ndof).map(|r| m[(r, 0)]).collect(),
+            rows: ReactionRows {
+                kt: (0..nx).map(|a| ktx[(a, 0)]).collect(),
+                mt: (0..nx).map(|a| mtx[(a, 0)]).collect(),
+                t: tm.clone(),
+            },
+            t: tm,
         });
     }
     let mut rr = Vec::with_capacity(reactions.len());
@@ -800,6 +845,11 @@ fn unit_vector(
 fn output_row(model: &Model, step: &StepResult, out: &Output) -> Result<Vec<f64>, StateSpaceError> {
     let (element, mode, force) = match out.probe {
         Probe::Node { node, dof } => return unit_vector(model, step, node, dof),
+        Probe::Reaction { .. } => {
+            return Err(StateSpaceError::SparseReaction {
+                output: out.name(model),
+            })
+        }
         Probe::Deformation { element, mode } => (element, mode, false),
         Probe::Force { element, mode } => (element, mode, true),
     };
@@ -1115,7 +1165,38 @@ fn build(
             }
         }
     }
-    let (mloads, rrows) = motion_loads(model, step, red, motions, &reactions)?;
+    // reactions at held node coordinates: the rows of a unit motion of the coordinate
+    let mut node_reactions: Vec<Motion> = Vec::new();
+    let mut node_reaction_of = vec![None; outputs.len()];
+    for (o, out) in outputs.iter().enumerate() {
+        if let Probe::Reaction { node, dof } = out.probe {
+            if out.kind != OutputKind::Disp {
+                return Err(StateSpaceError::ReactionRate {
+                    output: out.name(model),
+                });
+            }
+            let n = &model.nodes[node];
+            let Some(i) = n.x_index(dof) else {
+                return Err(StateSpaceError::NoRotation {
+                    node: n.name.clone(),
+                });
+            };
+            if model.partition.x[i] == CoordKind::Free {
+                return Err(StateSpaceError::ReactionNotHeld {
+                    output: out.name(model),
+                });
+            }
+            node_reaction_of[o] = Some(node_reactions.len());
+            node_reactions.push(Motion::Node { node, dof });
+        }
+    }
+    let all_motions: Vec<Motion> = motions.iter().chain(&node_reactions).copied().collect();
+    let (mut mloads, rrows) = motion_loads(model, step, red, &all_motions, &reactions)?;
+    let nr_rows: Vec<ReactionRows> = mloads
+        .split_off(motions.len())
+        .into_iter()
+        .map(|ml| ml.rows)
+        .collect();
     let (nf, nm) = (inputs.len(), motions.len());
     let ni = nf + nm;
     // quasi-static responses ψ = −K0⁻¹ Zᵀ K t_m (ndof × motions), dense LU of K0
@@ -1163,23 +1244,28 @@ fn build(
     let mut combine = Vec::with_capacity(outputs.len());
     let mut feed = Mat::zeros(outputs.len(), nf);
     for (o, out) in outputs.iter().enumerate() {
-        match reaction_of[o] {
+        // a deformation's reaction: t·f − (K t)·δx − (M t)·δẍ; a support's: the negative
+        let reaction = match (reaction_of[o], node_reaction_of[o]) {
+            (Some(q), _) => Some((&rrows[q], -1.0)),
+            (None, Some(q)) => Some((&nr_rows[q], 1.0)),
+            (None, None) => None,
+        };
+        match reaction {
             None => {
                 combine.push(vec![(row_w.len(), 1.0)]);
                 row_w.push(output_row(model, step, out)?);
                 kinds.push(out.kind);
                 row_out.push(o);
             }
-            Some(q) => {
-                let rr = &rrows[q];
-                combine.push(vec![(row_w.len(), -1.0), (row_w.len() + 1, -1.0)]);
+            Some((rr, sign)) => {
+                combine.push(vec![(row_w.len(), sign), (row_w.len() + 1, sign)]);
                 row_w.push(rr.kt.clone());
                 kinds.push(OutputKind::Disp);
                 row_w.push(rr.mt.clone());
                 kinds.push(OutputKind::Acc);
                 row_out.extend([o, o]);
                 for (j, f) in forces.iter().enumerate() {
-                    feed[(o, j)] = dot(&rr.t, f);
+                    feed[(o, j)] = -sign * dot(&rr.t, f);
                 }
             }
         }

@@ -372,3 +372,98 @@ fn actuator_reaction_static_gain_matches_statics_solver() {
         "{rate:?}"
     );
 }
+
+/// Support reactions (`NODE:DIR:reaction`) in the convention of `flexmbd static`: the force the
+/// support exerts on the structure. Spring–mass with its base held: R = −σ_spring, so
+/// R/F = −ωₙ²/(ωₙ² − ω² + 2iζωₙω) for a force on the mass (−1 at DC, as the central difference
+/// of the statics reactions), and R/ü = k/(s² + 2ζωₙs + ωₙ²) when the (massless) base is driven.
+/// Clamped three-beam cantilever (L = 0.3 m): a tip force F_y needs the clamp force −F_y and
+/// clamp moment −F_y L about z.
+#[test]
+fn support_reactions_match_closed_forms_and_statics() {
+    let (m, ea, l) = (0.5, 200.0, 0.1);
+    let model = spring_mass(m, ea, l);
+    let step = last_step(&model, 2);
+    let (k, wn) = (ea / l, (ea / l / m).sqrt());
+    let base = model.node_id("base").unwrap();
+    let out = Output {
+        probe: Probe::Reaction {
+            node: base,
+            dof: Dof::X,
+        },
+        kind: OutputKind::Disp,
+    };
+    assert_eq!(out.name(&model), "base:x:reaction");
+    assert_eq!(out.unit(&model), "N");
+    let zeta = 0.02;
+    let ss = state_space_with_motions(
+        &model,
+        &step,
+        &[Input {
+            node: model.node_id("m").unwrap(),
+            dof: Dof::X,
+        }],
+        &[Motion::Node {
+            node: base,
+            dof: Dof::X,
+        }],
+        &[out],
+        &StateSpaceOptions {
+            damping: zeta,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // statics: a force h on the mass
+    let with_load = |h: f64| {
+        let mut mm = spring_mass(m, ea, l);
+        mm.loads.nodal.push(crate::model::NodalLoad {
+            node: mm.node_id("m").unwrap(),
+            force: [h, 0.0, 0.0],
+            moment: [0.0; 3],
+        });
+        last_step(&mm, 2).reactions[mm.nodes[base].ix_pos]
+    };
+    let fd = (with_load(1e-3) - with_load(-1e-3)) / 2e-3;
+    let dc = ss.dc_gain().unwrap();
+    assert!((fd + 1.0).abs() < 1e-9, "statics {fd}");
+    assert!((dc[(0, 0)] - fd).abs() < 1e-9, "{} vs {fd}", dc[(0, 0)]);
+    for f in [0.05, 0.7, 1.2, 6.0].map(|r| r * wn / (2.0 * std::f64::consts::PI)) {
+        let s = c64::new(0.0, 2.0 * std::f64::consts::PI * f);
+        let den = s * s + s * (2.0 * zeta * wn) + wn * wn;
+        let g = ss.frequency_response(f);
+        assert_close(g[0][0], c64::new(-wn * wn, 0.0) / den, "R/F");
+        assert_close(g[0][1], c64::new(k, 0.0) / den, "R/ü");
+    }
+    // the clamp of a cantilever
+    let mut b = three_beams("clamp");
+    b.fix("n0", None).unwrap();
+    for (n, mass) in [(1, 0.01), (2, 0.02), (3, 0.05)] {
+        b.add_point_mass(&format!("n{n}"), mass).unwrap();
+    }
+    let model = b.build().unwrap();
+    let step = last_step(&model, 1);
+    let n0 = model.node_id("n0").unwrap();
+    let outs: Vec<Output> = [Dof::Y, Dof::Rz]
+        .iter()
+        .map(|&dof| Output {
+            probe: Probe::Reaction { node: n0, dof },
+            kind: OutputKind::Disp,
+        })
+        .collect();
+    let ss = state_space(
+        &model,
+        &step,
+        &[Input {
+            node: model.node_id("n3").unwrap(),
+            dof: Dof::Y,
+        }],
+        &outs,
+        &Default::default(),
+    )
+    .unwrap();
+    let dc = ss.dc_gain().unwrap();
+    assert!((dc[(0, 0)] + 1.0).abs() < 1e-9, "{}", dc[(0, 0)]);
+    assert!((dc[(1, 0)] + 0.3).abs() < 1e-9, "{}", dc[(1, 0)]);
+    assert_eq!(outs[1].unit(&model), "N·m");
+}
