@@ -215,15 +215,11 @@ impl Motion {
     pub fn describe(&self, model: &Model) -> String {
         match *self {
             Motion::Node { node, dof } => {
-                let (what, prep) = if dof.is_rotation() {
-                    ("angular acceleration", "about")
-                } else {
-                    ("acceleration", "along")
-                };
+                let what = pick(dof, "acceleration", "angular acceleration");
                 format!(
-                    "enforced {what} of {} {prep} global {} (prescribed motion)",
+                    "enforced {what} of {} {} (prescribed motion)",
                     model.nodes[node].name,
-                    axis_name(dof)
+                    direction(dof)
                 )
             }
             Motion::Deformation { element, mode } => {
@@ -380,16 +376,8 @@ impl Output {
                 format!("{what} of {node} {prep} global {axis}")
             }
             Probe::Reaction { node, dof } => {
-                let (what, prep) = if dof.is_rotation() {
-                    ("reaction moment", "about")
-                } else {
-                    ("reaction force", "along")
-                };
-                format!(
-                    "{what} at {} {prep} global {}",
-                    model.nodes[node].name,
-                    axis_name(dof)
-                )
+                let what = pick(dof, "reaction force", "reaction moment");
+                format!("{what} at {} {}", model.nodes[node].name, direction(dof))
             }
             Probe::Deformation { element, mode } | Probe::Force { element, mode } => {
                 let entry = &model.elements[element];
@@ -417,6 +405,20 @@ impl Output {
 
 fn axis_name(d: Dof) -> &'static str {
     ["x", "y", "z"][d.index() % 3]
+}
+
+/// `translation` or `rotation` by the kind of direction.
+fn pick(d: Dof, translation: &'static str, rotation: &'static str) -> &'static str {
+    if d.is_rotation() {
+        rotation
+    } else {
+        translation
+    }
+}
+
+/// "along global y" or "about global z".
+fn direction(d: Dof) -> String {
+    format!("{} global {}", pick(d, "along", "about"), axis_name(d))
 }
 
 /// Options of [`state_space`].
