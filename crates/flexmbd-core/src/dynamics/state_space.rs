@@ -391,12 +391,21 @@ impl Output {
                     OutputKind::Vel => "rate of the ",
                     OutputKind::Acc => "second rate of the ",
                 };
+                let held = matches!(self.probe, Probe::Force { .. })
+                    && model.partition.e[entry.ie + mode] != crate::model::DefKind::Free
+                    && crate::statics::roles(model)[entry.ie + mode]
+                        != crate::statics::Role::Flexible;
                 format!(
-                    "{rate}{q}{} ({}) of {} `{}`",
+                    "{rate}{q}{} ({}) of {} `{}`{}",
                     mode + 1,
                     entry.element.mode_name(mode, &model.node_names()),
                     entry.element.type_name(),
-                    entry.name
+                    entry.name,
+                    if held {
+                        ", the constraint reaction that holds it"
+                    } else {
+                        ""
+                    }
                 )
             }
         }
