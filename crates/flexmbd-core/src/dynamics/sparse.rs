@@ -53,7 +53,7 @@
 use super::ModalError;
 use crate::linalg::{sym_eigen_seq, EigenError};
 use crate::math::small_eigen::{sym_eigen_small, sym_eigen_small_largest, SMALL_EIGEN_MAX};
-use crate::math::sparse_lu::{sort_small, SparseLu};
+use crate::math::sparse_lu::{amd_order, csc_residual, sort_small, SparseLu};
 use crate::model::Model;
 use crate::statics::{ReducedLinear, StepResult};
 use faer::linalg::matmul::matmul;
@@ -591,9 +591,6 @@ impl Problem {
     /// each constraint row placed right after the last coordinate it couples, so that its pivot
     /// (minus a Schur complement of the coordinates) exists.
     fn saddle_order(&self, group: &[usize]) -> Result<Vec<usize>, String> {
-        use faer::dyn_stack::{MemBuffer, MemStack};
-        use faer::sparse::linalg::amd;
-        use faer::sparse::SymbolicSparseColMatRef;
         let (n, nc) = (self.n, self.nc);
         // groups numbered 0..ng in order of first appearance
         let mut gid = vec![usize::MAX; group.iter().copied().max().map_or(0, |g| g + 1)];
@@ -626,21 +623,7 @@ impl Problem {
             sort_small(&mut idx[start..]);
             ptr.push(idx.len());
         }
-        let mut q = vec![0usize; ng];
-        let mut q_inv = vec![0usize; ng];
-        if ng > 0 {
-            let sym = SymbolicSparseColMatRef::new_checked(ng, ng, &ptr, None, &idx);
-            let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(ng, idx.len()))
-                .map_err(|e| format!("out of memory: {e:?}"))?;
-            amd::order(
-                &mut q,
-                &mut q_inv,
-                sym,
-                Default::default(),
-                MemStack::new(&mut mem),
-            )
-            .map_err(|e| format!("ordering failed: {e:?}"))?;
-        }
+        let (q, _) = amd_order(ng, &ptr, &idx)?;
         // coordinates in group order; position of each coordinate
         let mut coords = Vec::with_capacity(nc);
         for &g in &q {
@@ -669,26 +652,6 @@ impl Problem {
         }
         Ok(order)
     }
-}
-
-/// Componentwise backward error of a solution z of A z = b (A in CSC).
-fn backward_error(cp: &[usize], ri: &[usize], v: &[f64], z: &[f64], b: &[f64]) -> f64 {
-    let mut res = b.to_vec();
-    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
-    for (j, &zj) in z.iter().enumerate() {
-        for p in cp[j]..cp[j + 1] {
-            res[ri[p]] -= v[p] * zj;
-            scale[ri[p]] += (v[p] * zj).abs();
-        }
-    }
-    res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
-        let e = if *s > 0.0 { r.abs() / s } else { r.abs() };
-        if e.is_nan() {
-            f64::INFINITY
-        } else {
-            m.max(e)
-        }
-    })
 }
 
 /// Deterministic pseudo-random numbers in (−1, 1) (xorshift64*), for start vectors.
@@ -792,7 +755,7 @@ impl Shifted {
         let mut z = b.clone();
         self.solve(&mut z);
         z.iter().all(|v| v.is_finite())
-            && backward_error(&p.col_ptr, &p.row_idx, &self.vals, &z, &b) <= MAX_BACKWARD_ERROR
+            && csc_residual(&p.col_ptr, &p.row_idx, &self.vals, &z, &b).1 <= MAX_BACKWARD_ERROR
     }
 
     fn solve(&mut self, b: &mut [f64]) {

@@ -83,30 +83,73 @@ pub struct SparseLu {
     diagonal_structure: bool,
 }
 
+/// Approximate minimum degree ordering (faer's AMD) of a structurally symmetric n × n CSC
+/// pattern: the permutation q (position → index) and its inverse.
+pub(crate) fn amd_order(
+    n: usize,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+) -> Result<(Vec<usize>, Vec<usize>), String> {
+    let (mut q, mut q_inv) = (vec![0usize; n], vec![0usize; n]);
+    if n == 0 {
+        return Ok((q, q_inv));
+    }
+    let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+    let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, row_idx.len()))
+        .map_err(|e| format!("out of memory: {e:?}"))?;
+    amd::order(
+        &mut q,
+        &mut q_inv,
+        sym,
+        Default::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(|e| format!("ordering failed: {e:?}"))?;
+    Ok((q, q_inv))
+}
+
+/// Residual b − A z of a CSC matrix A and the componentwise backward error
+/// max_i |b − A z|_i / (|A| |z| + |b|)_i (infinite when it is NaN).
+pub(crate) fn csc_residual(
+    cp: &[usize],
+    ri: &[usize],
+    v: &[f64],
+    z: &[f64],
+    b: &[f64],
+) -> (Vec<f64>, f64) {
+    let mut res = b.to_vec();
+    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
+    for (j, &zj) in z.iter().enumerate() {
+        for p in cp[j]..cp[j + 1] {
+            res[ri[p]] -= v[p] * zj;
+            scale[ri[p]] += (v[p] * zj).abs();
+        }
+    }
+    let be = res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
+        let e = if *s > 0.0 { r.abs() / s } else { r.abs() };
+        if e.is_nan() {
+            f64::INFINITY
+        } else {
+            m.max(e)
+        }
+    });
+    (res, be)
+}
+
 impl SparseLu {
     /// Analyse the structure (COLAMD column order) of an n × n CSC matrix.
     pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, String> {
         let nnz = col_ptr[n];
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &row_idx[..nnz]);
-        let mut q = vec![0usize; n];
-        let mut q_inv = vec![0usize; n];
         let diag_pref = (0..n).all(|j| {
             row_idx[col_ptr[j]..col_ptr[j + 1]]
                 .binary_search(&j)
                 .is_ok()
         });
-        if diag_pref {
-            let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, nnz))
-                .map_err(|e| format!("out of memory: {e:?}"))?;
-            amd::order(
-                &mut q,
-                &mut q_inv,
-                sym,
-                Default::default(),
-                MemStack::new(&mut mem),
-            )
-            .map_err(|e| format!("ordering failed: {e:?}"))?;
+        let q = if diag_pref {
+            amd_order(n, col_ptr, &row_idx[..nnz])?.0
         } else {
+            let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &row_idx[..nnz]);
+            let (mut q, mut q_inv) = (vec![0usize; n], vec![0usize; n]);
             let mut mem = MemBuffer::try_new(colamd::order_scratch::<usize>(n, n, nnz))
                 .map_err(|e| format!("out of memory: {e:?}"))?;
             colamd::order(
@@ -117,7 +160,8 @@ impl SparseLu {
                 MemStack::new(&mut mem),
             )
             .map_err(|e| format!("column ordering failed: {e:?}"))?;
-        }
+            q
+        };
         Ok(Self::unfactored(n, q, diag_pref))
     }
 

@@ -1479,7 +1479,7 @@ impl KktSolver {
                 self.gather_csc(vals);
             }
             let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
-            let (res, _) = residual(cp, ri, v, rhs, &b);
+            let (res, _) = crate::math::sparse_lu::csc_residual(cp, ri, v, rhs, &b);
             if norm2(&res) <= MAX_LINEAR_RESIDUAL * bn {
                 return Ok(());
             }
@@ -1524,27 +1524,6 @@ fn gather_sum(out: &mut [f64], ptr: &[usize], src: &[u32], vals: &[f64]) {
 
 fn norm2(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-/// Residual b − A z and the componentwise backward error max_i |b − A z|_i / (|A| |z| + |b|)_i.
-fn residual(cp: &[usize], ri: &[usize], v: &[f64], z: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
-    let mut res = b.to_vec();
-    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
-    for (j, &zj) in z.iter().enumerate() {
-        for p in cp[j]..cp[j + 1] {
-            res[ri[p]] -= v[p] * zj;
-            scale[ri[p]] += (v[p] * zj).abs();
-        }
-    }
-    let be = res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
-        let e = if *s > 0.0 { r.abs() / s } else { r.abs() };
-        if e.is_nan() {
-            f64::INFINITY
-        } else {
-            m.max(e)
-        }
-    });
-    (res, be)
 }
 
 /// Largest accepted ‖K z − b‖/‖b‖ of a solution from a refactorisation with small pivots.
