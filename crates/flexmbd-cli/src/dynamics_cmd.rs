@@ -524,14 +524,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     // the sparse path's requirements are input errors, found before the static solve
     if uses_sparse(&model, &ss_opts) {
         let ndof = velocity_dof(&model);
-        let role = flexmbd_core::statics::roles(&model);
-        let reaction = outputs.iter().find(|o| match o.probe {
-            Probe::Force { element, mode } => {
-                role[model.elements[element].ie + mode] != flexmbd_core::statics::Role::Flexible
-            }
-            Probe::Reaction { .. } => true,
-            _ => false,
-        });
+        let reaction = outputs.iter().find(|o| o.is_reaction(&model));
         if let Some(o) = reaction {
             return Err(BadInput(format!(
                 "--output {}: reactions (of supports, and the forces of rigid or prescribed deformations) are given by the dense state space only (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof})",

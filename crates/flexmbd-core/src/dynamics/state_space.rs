@@ -306,6 +306,18 @@ impl Output {
             kind,
         }
     }
+    /// Whether the output is a constraint reaction: a support reaction, or the force of a rigid
+    /// or prescribed deformation (not σ = S e).
+    pub fn is_reaction(&self, model: &Model) -> bool {
+        match self.probe {
+            Probe::Reaction { .. } => true,
+            Probe::Force { element, mode } => {
+                crate::statics::element_roles(model, element)[mode]
+                    != crate::statics::Role::Flexible
+            }
+            Probe::Node { .. } | Probe::Deformation { .. } => false,
+        }
+    }
     /// The node and direction of a node output.
     pub fn node_dof(&self) -> Option<(usize, Dof)> {
         match self.probe {
@@ -391,10 +403,7 @@ impl Output {
                     OutputKind::Vel => "rate of the ",
                     OutputKind::Acc => "second rate of the ",
                 };
-                let held = matches!(self.probe, Probe::Force { .. })
-                    && model.partition.e[entry.ie + mode] != crate::model::DefKind::Free
-                    && crate::statics::roles(model)[entry.ie + mode]
-                        != crate::statics::Role::Flexible;
+                let held = self.is_reaction(model);
                 format!(
                     "{rate}{q}{} ({}) of {} `{}`{}",
                     mode + 1,
@@ -867,8 +876,8 @@ fn output_row(model: &Model, step: &StepResult, out: &Output) -> Result<Vec<f64>
     let entry = &model.elements[element];
     let ne = entry.element.ne();
     let coef: Vec<f64> = if force {
-        let role = crate::statics::roles(model);
-        let flexible = |b: usize| role[entry.ie + b] == crate::statics::Role::Flexible;
+        let role = crate::statics::element_roles(model, element);
+        let flexible = |b: usize| role[b] == crate::statics::Role::Flexible;
         if !flexible(mode) {
             return Err(StateSpaceError::ForceOfHeldDeformation {
                 output: out.name(model),
@@ -1159,20 +1168,18 @@ fn build(
     }
     let ndof = red.ndof();
     // force outputs of rigid or prescribed deformations: constraint reactions
-    let role = crate::statics::roles(model);
     let mut reactions = Vec::new();
     let mut reaction_of = vec![None; outputs.len()];
     for (o, out) in outputs.iter().enumerate() {
         if let Probe::Force { element, mode } = out.probe {
-            let i = model.elements[element].ie + mode;
-            if role[i] != crate::statics::Role::Flexible {
+            if out.is_reaction(model) {
                 if out.kind != OutputKind::Disp {
                     return Err(StateSpaceError::ReactionRate {
                         output: out.name(model),
                     });
                 }
                 reaction_of[o] = Some(reactions.len());
-                reactions.push((out.name(model), i));
+                reactions.push((out.name(model), model.elements[element].ie + mode));
             }
         }
     }

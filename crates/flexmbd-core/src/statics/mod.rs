@@ -96,20 +96,28 @@ pub enum Role {
 /// The statics role of every deformation (module docs).
 pub fn roles(model: &Model) -> Vec<Role> {
     let mut roles = Vec::with_capacity(model.ne);
-    for entry in &model.elements {
-        let s = entry.element.stiffness();
-        for m in 0..entry.element.ne() {
+    for el in 0..model.elements.len() {
+        roles.extend(element_roles(model, el));
+    }
+    roles
+}
+
+/// The statics roles of the deformations of element `el`, in mode order.
+pub fn element_roles(model: &Model, el: usize) -> Vec<Role> {
+    let entry = &model.elements[el];
+    let s = entry.element.stiffness();
+    (0..entry.element.ne())
+        .map(|m| {
             let i = entry.ie + m;
-            roles.push(match model.partition.e[i] {
+            match model.partition.e[i] {
                 DefKind::Input => Role::Input,
                 _ if model.explicit_rigid[i] => Role::Rigid,
                 DefKind::Free => Role::Flexible,
                 DefKind::Fixed if s[(m, m)] > 0.0 => Role::Flexible,
                 DefKind::Fixed => Role::Rigid,
-            });
-        }
-    }
-    roles
+            }
+        })
+        .collect()
 }
 
 /// Converged state at one load step.
