@@ -655,53 +655,9 @@ fn describe_all(
     // per element one list, mode k's energies at k ne … (k + 1) ne
     let element_energies = |entry: &crate::model::ElementEntry| -> Vec<f64> {
         let s = entry.element.stiffness();
-        let ne = entry.element.ne();
-        if let (crate::elements::Element::Beam(b), 6, 14) = (&entry.element, ne, entry.xmap.len()) {
-            // the same sums as below, without allocations per shape but the result
-            let x14: [f64; 14] = std::array::from_fn(|i| step.x[entry.xmap[i]]);
-            let d = b.first(&x14).d;
-            let mut out = Vec::with_capacity(6 * shapes.len());
-            for shape in shapes.iter() {
-                let de: [f64; 6] = std::array::from_fn(|r| {
-                    entry
-                        .xmap
-                        .iter()
-                        .enumerate()
-                        .map(|(c, &i)| d[r][c] * shape[i])
-                        .sum()
-                });
-                out.extend(
-                    (0..6).map(|a| 0.5 * de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>()),
-                );
-            }
-            return out;
-        }
-        let xk = crate::assembly::gather(entry, &step.x);
-        let d: Mat<f64> = match &entry.element {
-            crate::elements::Element::Beam(b) => {
-                let x14: [f64; 14] = std::array::from_fn(|i| xk[i]);
-                let f = b.first(&x14);
-                Mat::from_fn(6, 14, |r, c| f.d[r][c])
-            }
-            other => other.jacobian(&xk),
-        };
-        let mut out = Vec::with_capacity(ne * shapes.len());
-        for shape in shapes.iter() {
-            let de: Vec<f64> = (0..ne)
-                .map(|r| {
-                    entry
-                        .xmap
-                        .iter()
-                        .enumerate()
-                        .map(|(c, &i)| d[(r, c)] * shape[i])
-                        .sum()
-                })
-                .collect();
-            out.extend(
-                (0..ne).map(|a| 0.5 * de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()),
-            );
-        }
-        out
+        let mut e = crate::statics::deformation_energies(entry, &s, &step.x, &shapes);
+        e.iter_mut().for_each(|v| *v *= 0.5);
+        e
     };
     let small = model.elements.len() < 256;
     let per_element: Vec<Vec<f64>> = if small {

@@ -2010,36 +2010,9 @@ impl ReducedLinear {
             if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
                 return vec![0.0; shapes.len()];
             }
-            if let (Element::Beam(b), 6, 14) = (&entry.element, ne, entry.xmap.len()) {
-                // the same sums as below, without allocations per shape
-                let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-                let d = b.first(&xk).d;
-                return shapes
-                    .iter()
-                    .map(|dx| {
-                        let de: [f64; 6] = std::array::from_fn(|r| {
-                            entry
-                                .xmap
-                                .iter()
-                                .enumerate()
-                                .map(|(c, &i)| d[r][c] * dx[i])
-                                .sum()
-                        });
-                        (0..6)
-                            .map(|a| de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>())
-                            .sum()
-                    })
-                    .collect();
-            }
-            let d = material_jacobian(entry, x);
-            shapes
-                .iter()
-                .map(|dx| {
-                    let de = deformation_change(entry, &d, dx);
-                    (0..ne)
-                        .map(|a| de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>())
-                        .sum()
-                })
+            deformation_energies(entry, s, x, shapes)
+                .chunks_exact(ne)
+                .map(|e| e.iter().sum())
                 .collect()
         };
         let parts: Vec<Vec<f64>> = if model.elements.len() < 256 {
@@ -2251,6 +2224,43 @@ fn material_jacobian(entry: &crate::model::ElementEntry, x: &[f64]) -> Mat<f64> 
         }
         other => other.jacobian(&gather(entry, x)),
     }
+}
+
+/// δeₐ (S δe)ₐ of every deformation a of an element for each displacement δx (length nx),
+/// δe = D δx: twice the strain energy of the deformation (with the coupling terms of S split
+/// by rows); flat, shape k's values at k ne … (k + 1) ne. Closed-form D in fixed-size arrays
+/// for the beam.
+pub(crate) fn deformation_energies(
+    entry: &crate::model::ElementEntry,
+    s: &Mat<f64>,
+    x: &[f64],
+    shapes: &[Vec<f64>],
+) -> Vec<f64> {
+    let ne = entry.element.ne();
+    let mut out = Vec::with_capacity(ne * shapes.len());
+    if let (Element::Beam(b), 6, 14) = (&entry.element, ne, entry.xmap.len()) {
+        // the same sums as below, without allocations per shape
+        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+        let d = b.first(&xk).d;
+        for dx in shapes {
+            let de: [f64; 6] = std::array::from_fn(|r| {
+                entry
+                    .xmap
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &i)| d[r][c] * dx[i])
+                    .sum()
+            });
+            out.extend((0..6).map(|a| de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
+        }
+        return out;
+    }
+    let d = material_jacobian(entry, x);
+    for dx in shapes {
+        let de = deformation_change(entry, &d, dx);
+        out.extend((0..ne).map(|a| de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
+    }
+    out
 }
 
 /// δe = D δx_k of an element for a displacement δx (length nx).
