@@ -2045,7 +2045,7 @@ impl ReducedLinear {
             if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
                 continue;
             }
-            let d = material_jacobian(entry, x);
+            let d = entry.element.jacobian(&gather(entry, x));
             let de = deformation_change(entry, &d, dx);
             let sigma: Vec<f64> = (0..ne)
                 .map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum())
@@ -2213,19 +2213,6 @@ impl ReducedLinear {
     }
 }
 
-/// The Jacobian D = ∂e/∂x_k of an element at x (closed form for the beam), for the sums of
-/// [`ReducedLinear::material_energy2`] and [`ReducedLinear::material_forces`].
-fn material_jacobian(entry: &crate::model::ElementEntry, x: &[f64]) -> Mat<f64> {
-    match &entry.element {
-        Element::Beam(b) => {
-            let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-            let f = b.first(&xk);
-            Mat::from_fn(6, 14, |r, c| f.d[r][c])
-        }
-        other => other.jacobian(&gather(entry, x)),
-    }
-}
-
 /// δeₐ (S δe)ₐ of every deformation a of an element for each displacement δx (length nx),
 /// δe = D δx: twice the strain energy of the deformation (with the coupling terms of S split
 /// by rows); flat, shape k's values at k ne … (k + 1) ne. Closed-form D in fixed-size arrays
@@ -2255,7 +2242,7 @@ pub(crate) fn deformation_energies(
         }
         return out;
     }
-    let d = material_jacobian(entry, x);
+    let d = entry.element.jacobian(&gather(entry, x));
     for dx in shapes {
         let de = deformation_change(entry, &d, dx);
         out.extend((0..ne).map(|a| de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
