@@ -251,6 +251,34 @@ pub enum InputSpec {
     Motion(Motion),
 }
 
+/// The element named `name` and its 0-based deformation mode from the 1-based `mode` of the
+/// spec (`flag_spec`: the flag and the spec, for the messages; `usage`: what the form means).
+fn element_mode(
+    model: &Model,
+    path: &Path,
+    (flag, spec): (&str, &str),
+    name: &str,
+    mode: &str,
+    usage: &str,
+) -> Result<(usize, usize), BadInput> {
+    let Some(element) = model.elements.iter().position(|e| e.name == name) else {
+        return Err(BadInput(format!(
+            "{flag} `{spec}`: element `{name}` is not defined in {} ({usage})",
+            path.display()
+        )));
+    };
+    let entry = &model.elements[element];
+    let ne = entry.element.ne() as i64;
+    let m: i64 = mode.parse().unwrap_or(0);
+    if m < 1 || m > ne {
+        return Err(BadInput(format!(
+            "{flag} `{spec}`: {} `{name}` has deformation modes 1 to {ne}, not {mode}",
+            entry.element.type_name()
+        )));
+    }
+    Ok((element, (m - 1) as usize))
+}
+
 /// `ELEMENT:MODE:motion` (MODE a 1-based deformation number) → a prescribed-deformation
 /// motion; `None` when the spec has another form (a node input).
 fn parse_deformation_motion(
@@ -264,22 +292,15 @@ fn parse_deformation_motion(
         return Ok(None);
     }
     let name = t[..n - 2].join(":");
-    let mode: i64 = t[n - 2].parse().unwrap_or(0);
-    let Some(element) = model.elements.iter().position(|e| e.name == name) else {
-        return Err(BadInput(format!(
-            "--input `{spec}`: element `{name}` is not defined in {} (ELEMENT:MODE:motion drives deformation MODE of an element)",
-            path.display()
-        )));
-    };
+    let (element, mode) = element_mode(
+        model,
+        path,
+        ("--input", spec),
+        &name,
+        t[n - 2],
+        "ELEMENT:MODE:motion drives deformation MODE of an element",
+    )?;
     let entry = &model.elements[element];
-    let ne = entry.element.ne() as i64;
-    if mode < 1 || mode > ne {
-        return Err(BadInput(format!(
-            "--input `{spec}`: {} `{name}` has deformation modes 1 to {ne}, not {mode}",
-            entry.element.type_name()
-        )));
-    }
-    let mode = (mode - 1) as usize;
     if model.partition.e[entry.ie + mode] == flexmbd_core::model::DefKind::Free {
         let mname = entry.element.mode_name(mode, &model.node_names());
         return Err(BadInput(format!(
@@ -361,7 +382,6 @@ fn parse_element_output(
         return Ok(None);
     };
     let name = t[..name_end].join(":");
-    let mode: i64 = t[name_end].parse().unwrap_or(0);
     let kind = match kind.map(str::to_ascii_lowercase).as_deref() {
         None => OutputKind::Disp,
         Some(k) => OutputKind::parse(k).ok_or_else(|| {
@@ -370,21 +390,15 @@ fn parse_element_output(
             ))
         })?,
     };
-    let Some(element) = model.elements.iter().position(|e| e.name == name) else {
-        return Err(BadInput(format!(
-            "--output `{spec}`: element `{name}` is not defined in {} (ELEMENT:MODE:def|force measures deformation MODE of an element or its stress resultant)",
-            path.display()
-        )));
-    };
+    let (element, mode) = element_mode(
+        model,
+        path,
+        ("--output", spec),
+        &name,
+        t[name_end],
+        "ELEMENT:MODE:def|force measures deformation MODE of an element or its stress resultant",
+    )?;
     let entry = &model.elements[element];
-    let ne = entry.element.ne() as i64;
-    if mode < 1 || mode > ne {
-        return Err(BadInput(format!(
-            "--output `{spec}`: {} `{name}` has deformation modes 1 to {ne}, not {mode}",
-            entry.element.type_name()
-        )));
-    }
-    let mode = (mode - 1) as usize;
     let probe = if q.eq_ignore_ascii_case("force") {
         // a held mode's force is its constraint reaction; a free mode needs a stiffness
         let free = model.partition.e[entry.ie + mode] == flexmbd_core::model::DefKind::Free;
