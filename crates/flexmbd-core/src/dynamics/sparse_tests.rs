@@ -29,6 +29,11 @@ fn steel() -> Material {
 /// flexibility), so EI = E b t³/12 with E itself (a beam, not a plate: no 1/(1 − ν²); ν only
 /// enters G, torsion). Out-of-plane bending moves the nodes along z.
 fn peer_strip(n: usize, shape: Shape) -> Model {
+    peer_strip_builder(n, shape).build().unwrap()
+}
+
+/// The builder of [`peer_strip`], for models that add to it.
+fn peer_strip_builder(n: usize, shape: Shape) -> ModelBuilder {
     let p = BeamProps::from_section(&steel(), &shape, true);
     let mut b = ModelBuilder::new("strip");
     b.add_beam_chain(
@@ -41,7 +46,7 @@ fn peer_strip(n: usize, shape: Shape) -> Model {
     )
     .unwrap();
     b.fix("n0", None).unwrap();
-    b.build().unwrap()
+    b
 }
 
 const PEER_SECTION: Shape = Shape::Rectangle { w: 0.02, t: 0.2e-3 };
@@ -452,18 +457,7 @@ fn rigid_platform_hinge_and_massless_truss_node() {
 fn massless_mechanism_and_no_mass_are_errors() {
     // a node hanging on one truss from the strip's tip: its transverse motion has neither
     // stiffness nor inertia
-    let p = BeamProps::from_section(&steel(), &PEER_SECTION, true);
-    let mut b = ModelBuilder::new("m");
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [0.05, 0.0, 0.0],
-        6,
-        Some([0.0, 1.0, 0.0]),
-        Some(p),
-    )
-    .unwrap();
-    b.fix("n0", None).unwrap();
+    let mut b = peer_strip_builder(6, PEER_SECTION);
     b.add_node("loose", [0.07, 0.0, 0.0], false).unwrap();
     b.add_element(
         "tie",
@@ -512,18 +506,7 @@ fn massless_mechanism_and_no_mass_are_errors() {
 fn held_input_and_prescribed_coordinate() {
     // a prescribed tip translation is held during the vibration (an input): the strip then
     // vibrates as a propped cantilever in that direction
-    let p = BeamProps::from_section(&steel(), &PEER_SECTION, true);
-    let mut b = ModelBuilder::new("propped");
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [0.05, 0.0, 0.0],
-        20,
-        Some([0.0, 1.0, 0.0]),
-        Some(p),
-    )
-    .unwrap();
-    b.fix("n0", None).unwrap();
+    let mut b = peer_strip_builder(20, PEER_SECTION);
     b.prescribe_coordinate("n20", Dof::Z, 1e-3).unwrap();
     let model = b.build().unwrap();
     let step = last_step(&model, 2);

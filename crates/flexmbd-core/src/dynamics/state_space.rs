@@ -1883,10 +1883,7 @@ mod tests {
                 dof: Dof::Y,
             }],
             &[Output::node(tip, Dof::Y, OutputKind::Disp)],
-            &StateSpaceOptions {
-                damping: zeta,
-                ..Default::default()
-            },
+            &super::motion_tests::damped(zeta),
         )
         .unwrap();
         let modal = modes(&model, &step, usize::MAX).unwrap();

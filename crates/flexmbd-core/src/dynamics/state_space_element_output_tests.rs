@@ -1,7 +1,7 @@
 //! Element outputs of the state-space model (deformations and stress resultants), against
 //! closed forms and the statics solver.
 
-use super::motion_tests::{check_base_excitation, out, spring_mass, three_beams};
+use super::motion_tests::{check_base_excitation, damped, out, spring_mass, three_beams};
 use super::*;
 use crate::statics::last_step;
 use faer::c64;
@@ -73,18 +73,8 @@ fn spring_force_and_deformation_match_closed_forms() {
         dof: Dof::X,
     };
     let zeta = 0.03;
-    let ss = state_space_with_motions(
-        &model,
-        &step,
-        &[input],
-        &[base],
-        &outputs,
-        &StateSpaceOptions {
-            damping: zeta,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let ss = state_space_with_motions(&model, &step, &[input], &[base], &outputs, &damped(zeta))
+        .unwrap();
     let dc = ss.dc_gain().unwrap();
     assert!((dc[(0, 0)] - 1.0).abs() < 1e-12, "{}", dc[(0, 0)]);
     assert!((dc[(1, 0)] - 1.0 / k).abs() < 1e-12 / k);
@@ -253,10 +243,7 @@ fn actuator_force_is_the_constraint_reaction() {
             mode: 0,
         }],
         &outputs,
-        &StateSpaceOptions {
-            damping: zeta,
-            ..Default::default()
-        },
+        &damped(zeta),
     )
     .unwrap();
     let dc = ss.dc_gain().unwrap();
@@ -408,10 +395,7 @@ fn support_reactions_match_closed_forms_and_statics() {
             dof: Dof::X,
         }],
         &[out],
-        &StateSpaceOptions {
-            damping: zeta,
-            ..Default::default()
-        },
+        &damped(zeta),
     )
     .unwrap();
     // statics: a force h on the mass

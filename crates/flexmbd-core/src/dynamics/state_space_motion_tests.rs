@@ -23,6 +23,14 @@ pub(super) fn spring_mass(m: f64, ea: f64, l: f64) -> Model {
     b.build().unwrap()
 }
 
+/// The default options with modal damping ratio `zeta`.
+pub(super) fn damped(zeta: f64) -> StateSpaceOptions {
+    StateSpaceOptions {
+        damping: zeta,
+        ..Default::default()
+    }
+}
+
 pub(super) fn out(model: &Model, node: &str, dof: Dof, kind: OutputKind) -> Output {
     Output::node(model.node_id(node).unwrap(), dof, kind)
 }
@@ -101,18 +109,8 @@ pub(super) fn check_base_excitation(
     more: impl Fn(&StateSpace, f64, c64, &[Vec<c64>]),
 ) {
     for zeta in [0.0, 0.04] {
-        let ss = state_space_with_motions(
-            model,
-            step,
-            &[],
-            &[motion],
-            outputs,
-            &StateSpaceOptions {
-                damping: zeta,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let ss =
+            state_space_with_motions(model, step, &[], &[motion], outputs, &damped(zeta)).unwrap();
         assert_eq!(ss.n_modes(), 1);
         assert_eq!(ss.n_states(), 4);
         assert!((ss.eigenvalues[0] - wn * wn).abs() < 1e-9 * wn * wn);
@@ -413,18 +411,8 @@ fn motion_through_a_rigid_link_is_lifted_onto_the_constraint() {
         out(&model, "m", Dof::X, OutputKind::Disp),
     ];
     let zeta = 0.02;
-    let ss = state_space_with_motions(
-        &model,
-        &step,
-        &[],
-        &[motion],
-        &outputs,
-        &StateSpaceOptions {
-            damping: zeta,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let ss =
+        state_space_with_motions(&model, &step, &[], &[motion], &outputs, &damped(zeta)).unwrap();
     assert_eq!(ss.ndof, 1);
     let wn = (ea / l / m).sqrt();
     for f in [1.0, 10.0, 30.0] {
