@@ -247,23 +247,7 @@ fn motion_static_gain_matches_statics_solver() {
 /// Cantilever of 3 massless beams with point masses at n1..n3, clamped at n0, optionally
 /// under gravity (statics only).
 fn point_mass_cantilever(gravity_y: f64) -> Model {
-    let mut b = ModelBuilder::new("cantilever");
-    let props = BeamProps {
-        ea: 2e6,
-        gj: 0.7,
-        eiy: 1.0,
-        eiz: 3.0,
-        ..Default::default()
-    };
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [0.1, 0.0, 0.0],
-        3,
-        Some([0.0, 0.0, 1.0]),
-        Some(props),
-    )
-    .unwrap();
+    let mut b = three_beams_of("cantilever", 0.1, 2e6);
     b.fix("n0", None).unwrap();
     for (k, m) in [(1, 0.01), (2, 0.02), (3, 0.05)] {
         b.add_point_mass(&format!("n{k}"), m).unwrap();
@@ -495,9 +479,14 @@ fn rotated_clamp(load: [f64; 3], rz: Option<f64>) -> Model {
 /// A builder with 3 massless beams n0–n1–n2–n3 along x (L = 0.3 m, EA = 2e4 N, GJ = 0.7,
 /// EI_y = 1, EI_z = 3 N·m², local y along global z).
 pub(super) fn three_beams(name: &str) -> ModelBuilder {
+    three_beams_of(name, 0.3, 2e4)
+}
+
+/// [`three_beams`] of length `l` [m] and axial stiffness `ea` [N].
+fn three_beams_of(name: &str, l: f64, ea: f64) -> ModelBuilder {
     let mut b = ModelBuilder::new(name);
     let props = BeamProps {
-        ea: 2e4,
+        ea,
         gj: 0.7,
         eiy: 1.0,
         eiz: 3.0,
@@ -506,7 +495,7 @@ pub(super) fn three_beams(name: &str) -> ModelBuilder {
     b.add_beam_chain(
         "",
         [0.0; 3],
-        [0.3, 0.0, 0.0],
+        [l, 0.0, 0.0],
         3,
         Some([0.0, 0.0, 1.0]),
         Some(props),
