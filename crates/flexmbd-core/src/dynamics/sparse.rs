@@ -1094,7 +1094,43 @@ pub(crate) fn sparse_modes(
     step: &StepResult,
     count: usize,
 ) -> Result<SparseModes, ModalError> {
+    modes_of(&Problem::new(model, step), model, step, count)
+}
+
+/// The sparse problem of a model at a step, kept by [`sparse_modes_kept`] for further solves
+/// on the same matrices ([`SparseProblem::static_responses`]).
+pub(crate) struct SparseProblem(Problem);
+
+/// [`sparse_modes`], keeping the sparse problem for static solves with the same matrices.
+pub(crate) fn sparse_modes_kept(
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+) -> Result<(SparseModes, SparseProblem), ModalError> {
     let p = Problem::new(model, step);
+    let sm = modes_of(&p, model, step, count)?;
+    Ok((sm, SparseProblem(p)))
+}
+
+impl SparseProblem {
+    /// δx = K⁻¹ f of each load in x (module `sparse_static`).
+    pub(crate) fn static_responses(
+        &self,
+        model: &Model,
+        step: &StepResult,
+        loads: &[Vec<f64>],
+    ) -> Result<Vec<Vec<f64>>, ModalError> {
+        static_responses(&self.0, model, step, loads)
+    }
+}
+
+/// The lowest `count` eigenpairs of the problem `p` of `model` at `step`.
+fn modes_of(
+    p: &Problem,
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+) -> Result<SparseModes, ModalError> {
     let nc = p.nc;
     let n_constraints = p.n - nc;
     if nc < n_constraints {
@@ -1108,7 +1144,7 @@ pub(crate) fn sparse_modes(
         return Err(ModalError::NoMass);
     }
     let ndof = nc - n_constraints;
-    let mut op = Shifted::new(&p);
+    let mut op = Shifted::new(p);
     // scale of the eigenvalues: the largest Rayleigh quotient of a unit coordinate
     let (kd, md) = p.diagonals();
     let lambda_ref = kd
@@ -1125,7 +1161,7 @@ pub(crate) fn sparse_modes(
     shifts.extend((0..12).map(|i| -floor * 100f64.powi(i)));
     let mut chosen = None;
     for &s in &shifts {
-        if op.factor(&p, s, false) && op.below == Some(0) {
+        if op.factor(p, s, false) && op.below == Some(0) {
             chosen = Some(s);
             break;
         }
@@ -1133,7 +1169,7 @@ pub(crate) fn sparse_modes(
     if chosen.is_none() {
         // no L D Lᵀ without eigenvalues below the shift: LU, without the inertia check
         for &s in &shifts {
-            if op.factor(&p, s, true) {
+            if op.factor(p, s, true) {
                 chosen = Some(s);
                 break;
             }
@@ -1152,7 +1188,7 @@ pub(crate) fn sparse_modes(
         return Err(ModalError::SparseSingular);
     };
     // massless directions: the finite eigenvalues all lie below a shift far above them
-    let massless = match op.count_below(&p, 1e8 * lambda_ref) {
+    let massless = match op.count_below(p, 1e8 * lambda_ref) {
         Some(finite) if finite <= ndof => ndof - finite,
         _ => md.iter().filter(|&&m| m <= 0.0).count().min(ndof),
     };
@@ -1169,7 +1205,7 @@ pub(crate) fn sparse_modes(
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
     let (mut found, mut thetas, mut applications) =
-        lanczos_runs(&p, &mut op, want, max_applications)?;
+        lanczos_runs(p, &mut op, want, max_applications)?;
     // A shift that makes the operator amplify some directions far more than the wanted modes
     // costs these digits when they are orthogonalised against those directions: a shift far
     // closer to the lowest eigenvalue than to the last wanted one (zero-frequency motions, an
@@ -1183,11 +1219,11 @@ pub(crate) fn sparse_modes(
     let barely_regular = sigma < 0.0 && -sigma < 1e-3 * (l1 - sigma);
     if dominated || barely_regular {
         let s2 = (l1 - 0.1 * (lk - l1)).min(-0.5 * l1.abs());
-        if op.factor(&p, s2, false) && op.below == Some(0) {
+        if op.factor(p, s2, false) && op.below == Some(0) {
             let budget = max_applications.saturating_sub(applications).max(1);
-            let (f2, t2, a2) = lanczos_runs(&p, &mut op, want, budget)?;
+            let (f2, t2, a2) = lanczos_runs(p, &mut op, want, budget)?;
             (found, thetas, sigma, applications) = (f2, t2, s2, applications + a2);
-        } else if !op.factor(&p, sigma, true) {
+        } else if !op.factor(p, sigma, true) {
             return Err(ModalError::SparseSingular);
         }
     }
@@ -1202,7 +1238,7 @@ pub(crate) fn sparse_modes(
     for (c, &i) in order.iter().enumerate() {
         if massless > 0 {
             let xc = found.col_as_slice(i).to_vec();
-            op.apply(&p, &xc, y.col_as_slice_mut(c));
+            op.apply(p, &xc, y.col_as_slice_mut(c));
         } else {
             y.col_as_slice_mut(c).copy_from_slice(found.col_as_slice(i));
         }
@@ -1303,7 +1339,7 @@ pub(crate) fn sparse_modes(
 
 #[path = "sparse_static.rs"]
 mod static_solve;
-pub(crate) use static_solve::static_responses;
+use static_solve::static_responses;
 
 #[cfg(test)]
 #[path = "sparse_tests.rs"]

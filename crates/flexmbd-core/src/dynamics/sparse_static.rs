@@ -45,18 +45,19 @@ fn saddle_times(p: &Problem, model: &Model, step: &StepResult, z: &[f64]) -> Vec
     out
 }
 
-/// δx (length nx) of the linearised statics at `step` for each load vector in x (length nx):
+/// δx (length nx) of the linearised statics of the problem `p` (of `model` at `step`, the one
+/// the modes came from) for each load vector in x (length nx):
 /// K δx + Gᵀ μ = f, G δx = 0 (held coordinates, rigid and prescribed deformations stay).
 /// `Err(SparseSingular)` when the stiffness is singular on the constrained space (a mechanism,
 /// a buckled state) or the solve does not give finite values.
-pub(crate) fn static_responses(
+pub(super) fn static_responses(
+    p: &Problem,
     model: &Model,
     step: &StepResult,
     loads: &[Vec<f64>],
 ) -> Result<Vec<Vec<f64>>, ModalError> {
-    let p = Problem::new(model, step);
-    let mut op = Shifted::new(&p);
-    if !op.factor(&p, 0.0, true) {
+    let mut op = Shifted::new(p);
+    if !op.factor(p, 0.0, true) {
         return Err(ModalError::SparseSingular);
     }
     let mut out = Vec::with_capacity(loads.len());
@@ -67,7 +68,7 @@ pub(crate) fn static_responses(
         op.solve(&mut z);
         let mut last = f64::INFINITY;
         for _ in 0..MAX_REFINEMENTS {
-            let az = saddle_times(&p, model, step, &z);
+            let az = saddle_times(p, model, step, &z);
             let mut r: Vec<f64> = b.iter().zip(&az).map(|(b, a)| b - a).collect();
             op.solve(&mut r);
             let size = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -1050,7 +1050,7 @@ fn build_sparse(
     count: usize,
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
-    let sm = super::sparse::sparse_modes(model, step, count)?;
+    let (sm, problem) = super::sparse::sparse_modes_kept(model, step, count)?;
     let mut warnings = Vec::new();
     let available = sm.ndof - sm.massless;
     let n = sm.eigenvalues.len();
@@ -1083,7 +1083,7 @@ fn build_sparse(
     let mut d_static = Mat::zeros(no, ni);
     let residual = opts.static_correction || sm.massless > 0;
     if residual && outputs.iter().any(|o| o.kind == OutputKind::Disp) {
-        let dx = super::sparse::static_responses(model, step, &f)?;
+        let dx = problem.static_responses(model, step, &f)?;
         for (o, out) in outputs.iter().enumerate() {
             if out.kind != OutputKind::Disp {
                 continue;
