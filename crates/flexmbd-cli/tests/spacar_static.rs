@@ -1,31 +1,32 @@
 //! `flexmbd static` on SPACAR `.dat` files.
 //!
-//! The public SPACAR Light 1.29 model `dvogureckiy99__dynastatflex__simple_beam.dat` (read from
-//! the shared folder, not copied) is a straight strip clamped at x = 0 and loaded by a pure
-//! moment at its middle node. Everything the references need is read off the file (line numbers
-//! of that file; `file_says_what_the_references_assume` checks them against the text):
+//! `strip_end_moment.dat` (flexmbd's own fixture in the layout of SPACAR Light 1.29 output, in
+//! `crates/flexmbd-io/tests/models`; written by `make_fixtures.py` there) is a straight steel
+//! strip clamped at x = 0 and loaded by a pure moment at a node inside the span. Everything the
+//! references need is read off the file (line numbers of that file;
+//! `file_says_what_the_references_assume` checks them against the text):
 //!
-//! - lines 8–32: translational nodes 1, 3, …, 49 at x = 0, 0.001667, 0.003333, …, 0.04 m
+//! - lines 7–25: translational nodes 1, 3, …, 37 at x = 0, 0.001667, 0.003333, …, 0.03 m
 //!   (6 decimals, so the element lengths alternate between 0.001666 and 0.001667 m), y = z = 0;
-//! - lines 38–84: `BEAM k 2k−1 2k 2k+1 2k+2 0 0 1`: the orientation vector (local y) is global
+//! - lines 30–64: `BEAM k 2k−1 2k 2k+1 2k+2 0 0 1`: the orientation vector (local y) is global
 //!   z, so bending in the x–y plane is about local y: modes 3 and 4, stiffness EIy;
-//! - lines 89–112: `DYNE k 3 4`: only those two modes deform, the other four are rigid;
-//! - lines 117–118: `FIX 1`, `FIX 2`: node 1 and its rotation 2 clamped;
-//! - lines 128–151: `ESTIFF`, column 3: EIy = 0.004916666666667 N·m² for every beam;
-//! - line 185: `ITERSTEP 10 4 …`: 4 load increments (5 states with the unloaded one);
-//! - line 190: `DELXF 26 0 0 0.3`: Mz = 0.3 N·m on rotational node 26, which beams 12 and 13
-//!   pair with translational node 25 at x = 0.02 m (line 20).
+//! - lines 68–85: `DYNE k 3 4`: only those two modes deform, the other four are rigid;
+//! - lines 89–90: `FIX 1`, `FIX 2`: node 1 and its rotation 2 clamped;
+//! - lines 98–115: `ESTIFF`, column 3: EIy = 0.0168 N·m² for every beam;
+//! - line 141: `ITERSTEP 10 5 …`: 5 load increments (6 states with the unloaded one);
+//! - line 145: `DELXF 20 0 0 1`: Mz = 1 N·m on rotational node 20, which beams 9 and 10
+//!   pair with translational node 19 at x = 0.015 m (line 16).
 //!
-//! References, in the x–y plane, for the 12 elements between the clamp and the loaded node
-//! (the 12 beyond it carry no moment and stay straight, rotated as a rigid body):
+//! References, in the x–y plane, for the 9 elements between the clamp and the loaded node
+//! (the 9 beyond it carry no moment and stay straight, rotated as a rigid body):
 //!
 //! - discrete closed form (theory.md §11.3, verified against SPACAR): under a constant moment
 //!   each element rotates by exactly 2β = asin(M l0/EI) (ε3 = ε4 = l0 sin β), its chord is
 //!   shortened by l0 sin²β/6 (elongation rigid) and turned by β relative to the element's first
 //!   node;
 //! - Euler–Bernoulli elastica: constant curvature κ = M/EI, θ(s) = κs, x = sin(κs)/κ,
-//!   y = (1 − cos κs)/κ, straight beyond s = 0.02 m. The discrete model differs from it by its
-//!   discretisation error: asin(κ l0) = κ l0 (1 + ε + O(ε²)) with ε = (M l0/EI)²/6 ≈ 1.72e-3,
+//!   y = (1 − cos κs)/κ, straight beyond s = 0.015 m. The discrete model differs from it by its
+//!   discretisation error: asin(κ l0) = κ l0 (1 + ε + O(ε²)) with ε = (M l0/EI)²/6 ≈ 1.64e-3,
 //!   so the rotation at every node is κs (1 + ε) to within 1 % of ε, and the position error,
 //!   the integral of that rotation error, is at most ε θ(s) s.
 
@@ -33,26 +34,30 @@ use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;
 
-/// The SPACAR file in the shared folder.
+/// The SPACAR fixture (inside the repository: the io crate's test models).
 fn dat() -> PathBuf {
     PathBuf::from(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/spacar-models/dvogureckiy99__dynastatflex__simple_beam.dat"
+        "/../flexmbd-io/tests/models/strip_end_moment.dat"
     ))
 }
 
-/// Lines 8–32: x of translational nodes 1, 3, …, 49 [m].
-const X: [f64; 25] = [
+/// Lines 7–25: x of translational nodes 1, 3, …, 37 [m].
+const X: [f64; 19] = [
     0.000000, 0.001667, 0.003333, 0.005000, 0.006667, 0.008333, 0.010000, 0.011667, 0.013333,
     0.015000, 0.016667, 0.018333, 0.020000, 0.021667, 0.023333, 0.025000, 0.026667, 0.028333,
-    0.030000, 0.031667, 0.033333, 0.035000, 0.036667, 0.038333, 0.040000,
+    0.030000,
 ];
-/// Lines 128–151, column 3: EIy [N·m²].
-const EI: f64 = 0.004916666666667;
-/// Line 190: Mz on rotational node 26 [N·m].
-const M: f64 = 0.3;
-/// Index of the loaded node in `X` (translational node 25, line 20).
-const LOADED: usize = 12;
+/// The number of beams.
+const N: usize = X.len() - 1;
+/// Lines 98–115, column 3: EIy [N·m²].
+const EI: f64 = 0.0168;
+/// Line 145: Mz on rotational node 20 [N·m].
+const M: f64 = 1.0;
+/// Index of the loaded node in `X` (translational node 19, line 16).
+const LOADED: usize = 9;
+/// Index of the last state: `ITERSTEP 10 5` gives 5 increments after the unloaded state.
+const LAST: usize = 5;
 
 fn run(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_flexmbd"))
@@ -96,7 +101,7 @@ fn state(step: &Value, i: usize) -> ([f64; 2], f64) {
 fn discrete() -> Vec<([f64; 2], f64)> {
     let (mut r, mut th) = ([0.0, 0.0], 0.0);
     let mut out = vec![(r, th)];
-    for k in 0..24 {
+    for k in 0..N {
         let l0 = X[k + 1] - X[k];
         let beta = if k < LOADED {
             0.5 * (M * l0 / EI).asin()
@@ -133,40 +138,40 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 #[test]
 fn file_says_what_the_references_assume() {
-    let text = std::fs::read_to_string(dat()).expect("the shared SPACAR models");
+    let text = std::fs::read_to_string(dat()).expect("the SPACAR fixture");
     let lines: Vec<Vec<&str>> = text
         .lines()
         .map(|l| l.split_whitespace().collect())
         .collect();
     let line = |n: usize| &lines[n - 1];
     for (i, x) in X.iter().enumerate() {
-        let l = line(8 + i);
-        assert_eq!(l[..2], ["X", &(2 * i + 1).to_string()], "line {}", 8 + i);
+        let l = line(7 + i);
+        assert_eq!(l[..2], ["X", &(2 * i + 1).to_string()], "line {}", 7 + i);
         assert_eq!(l[2].parse::<f64>().unwrap(), *x);
         assert_eq!(l[3..5], ["0.000000", "0.000000"]);
     }
-    for k in 1..=24usize {
-        let b = line(36 + 2 * k);
+    for k in 1..=N {
+        let b = line(28 + 2 * k);
         let want = [2 * k - 1, 2 * k, 2 * k + 1, 2 * k + 2].map(|n| n.to_string());
         assert_eq!(b[..2], ["BEAM", &k.to_string()]);
         assert_eq!(b[2..6], want);
         assert_eq!(b[6..9], ["0.000000", "0.000000", "1.000000"]);
-        assert_eq!(line(88 + k)[..], ["DYNE", &k.to_string(), "3", "4"]);
-        let e = line(127 + k);
+        assert_eq!(line(67 + k)[..], ["DYNE", &k.to_string(), "3", "4"]);
+        let e = line(97 + k);
         assert_eq!(e[..2], ["ESTIFF", &k.to_string()]);
         assert_eq!(e[4].parse::<f64>().unwrap(), EI);
     }
-    assert_eq!(line(117)[..], ["FIX", "1"]);
-    assert_eq!(line(118)[..], ["FIX", "2"]);
-    assert_eq!(line(185)[..3], ["ITERSTEP", "10", "4"]);
+    assert_eq!(line(89)[..], ["FIX", "1"]);
+    assert_eq!(line(90)[..], ["FIX", "2"]);
+    assert_eq!(line(141)[..3], ["ITERSTEP", "10", "5"]);
     assert_eq!(
-        line(190)[..],
-        ["DELXF", "26", "0.000000", "0.000000", "0.300000"]
+        line(145)[..],
+        ["DELXF", "20", "0.000000", "0.000000", "1.000000"]
     );
-    // rotational node 26 belongs to translational node 25, the 13th node (x = 0.02)
-    assert_eq!(line(60)[2..6], ["23", "24", "25", "26"]);
-    assert_eq!(line(20)[1], "25");
-    assert_eq!(X[LOADED], 0.02);
+    // rotational node 20 belongs to translational node 19, the 10th node (x = 0.015)
+    assert_eq!(line(46)[2..6], ["17", "18", "19", "20"]);
+    assert_eq!(line(16)[1], "19");
+    assert_eq!(X[LOADED], 0.015);
 }
 
 #[test]
@@ -175,15 +180,15 @@ fn end_moment_on_the_strip_matches_the_elastica() {
     // nothing in this file needs approximating: no warnings
     assert!(stderr.is_empty(), "{stderr}");
     let steps = doc["steps"].as_array().unwrap();
-    assert_eq!(steps.len(), 5, "ITERSTEP 10 4: 4 increments");
-    let last = &steps[4];
+    assert_eq!(steps.len(), LAST + 1, "ITERSTEP 10 5: 5 increments");
+    let last = &steps[LAST];
     assert_eq!(last["load_factor"].as_f64(), Some(1.0));
-    // 48 flexible deformations (DYNE 3 4 of 24 beams), the other 96 rigid
+    // 36 flexible deformations (DYNE 3 4 of 18 beams), the other 72 rigid
     let roles = doc["roles"].as_array().unwrap();
-    assert_eq!(roles.iter().filter(|r| *r == "flexible").count(), 48);
-    assert_eq!(roles.iter().filter(|r| *r == "rigid").count(), 96);
+    assert_eq!(roles.iter().filter(|r| *r == "flexible").count(), 2 * N);
+    assert_eq!(roles.iter().filter(|r| *r == "rigid").count(), 4 * N);
 
-    let length = X[24];
+    let length = X[N];
     let disc = discrete();
     let eps = (M * (X[1] - X[0]) / EI).powi(2) / 6.0; // longest element: 0.001667 m
     let theta_l = M * X[LOADED] / EI;
@@ -218,11 +223,11 @@ fn end_moment_on_the_strip_matches_the_elastica() {
     }
     // the part beyond the loaded node is straight
     let (_, th_l) = state(last, LOADED);
-    for i in LOADED..25 {
+    for i in LOADED..=N {
         assert!((state(last, i).1 - th_l).abs() < 1e-12);
     }
     eprintln!(
-        "simple_beam.dat: θ(0.02 m) = {th_l:.12} (discrete {:.12}, elastica {theta_l:.12}); \
+        "strip_end_moment.dat: θ(0.015 m) = {th_l:.12} (discrete {:.12}, elastica {theta_l:.12}); \
          max |Δr|/L vs discrete {worst_disc:.1e}; vs elastica: rotation {worst_rot:.4e} \
          (ε = {eps:.4e}), position {worst_pos:.2e}",
         disc[LOADED].1
@@ -233,7 +238,7 @@ fn end_moment_on_the_strip_matches_the_elastica() {
 fn converted_toml_gives_the_same_final_state() {
     let dir = std::env::temp_dir().join(format!("flexmbd-spacar-static-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let toml = dir.join("simple_beam.toml");
+    let toml = dir.join("strip_end_moment.toml");
     let out = run(&["convert", dat().to_str().unwrap(), toml.to_str().unwrap()]);
     assert!(
         out.status.success(),
@@ -243,9 +248,9 @@ fn converted_toml_gives_the_same_final_state() {
     let text = std::fs::read_to_string(&toml).unwrap();
     // the shear flexibilities cannot be written: kept as comments (a pure moment bends each
     // element with ε3 = ε4, where the bending stiffness does not depend on them, theory.md §11.2)
-    assert!(text.contains("shear flexibilities ShearY=2.715e-7 ShearZ=0.0001086"));
+    assert!(text.contains("shear flexibilities ShearY=3.1e-7 ShearZ=0.00012"));
     assert!(text.contains("fixed = [1, 2, 5, 6]"));
-    assert!(text.contains("[static]\nsteps = 4\n"));
+    assert!(text.contains("[static]\nsteps = 5\n"));
     let (a, _) = static_json(dat().to_str().unwrap());
     let (b, stderr) = static_json(toml.to_str().unwrap());
     assert!(stderr.is_empty(), "{stderr}");
@@ -255,11 +260,11 @@ fn converted_toml_gives_the_same_final_state() {
     );
     assert_eq!(sa.len(), sb.len());
     let mut worst = 0.0f64;
-    for i in 0..25 {
-        let ((pa, ta), (pb, tb)) = (state(&sa[4], i), state(&sb[4], i));
-        worst = worst.max(dist(pa, pb)).max((ta - tb).abs() * X[24]);
+    for i in 0..=N {
+        let ((pa, ta), (pb, tb)) = (state(&sa[LAST], i), state(&sb[LAST], i));
+        worst = worst.max(dist(pa, pb)).max((ta - tb).abs() * X[N]);
     }
-    assert!(worst <= 1e-10 * X[24], "largest difference {worst:.3e} m");
+    assert!(worst <= 1e-10 * X[N], "largest difference {worst:.3e} m");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

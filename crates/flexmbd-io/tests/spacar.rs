@@ -1,5 +1,7 @@
-//! The SPACAR importer on real files: every public `.dat` model in the shared folder parses and
-//! gives the counts read off the file by hand; `.dat` → TOML → model gives the same kinematic
+//! The SPACAR importer on real files: every `.dat` fixture in `tests/models` (the public models
+//! in `public/`, with their origin and licence in `tests/models/README.md`, and flexmbd's own
+//! files in the layouts of SPACAR Light 1.29 and 0.7) parses and gives the counts read off the
+//! file by hand; `.dat` → TOML → model gives the same kinematic
 //! result; mutated files never panic and fail only with a line number; a hand-written SPACAR
 //! parallel guide matches the same guide written in TOML.
 
@@ -10,28 +12,30 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::path::{Path, PathBuf};
 
-fn shared() -> PathBuf {
-    PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/spacar-models"
-    ))
-}
-
+/// A fixture of `tests/models` (`public/NAME` for the public models).
 fn own(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/models")
         .join(name)
 }
 
-/// All `.dat` files: the shared public models and our own fixture.
+/// The public models, copied with their licence into `tests/models/public`.
+fn public(name: &str) -> PathBuf {
+    own("public").join(name)
+}
+
+/// All `.dat` files of `tests/models` and `tests/models/public`.
 fn dat_files() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(shared())
-        .expect("the shared SPACAR models (../shared/spacar-models)")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "dat"))
-        .collect();
+    let mut v = Vec::new();
+    for dir in [own(""), own("public")] {
+        let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        v.extend(
+            entries
+                .map(|e| e.unwrap().path())
+                .filter(|p| p.extension().is_some_and(|e| e == "dat")),
+        );
+    }
     v.sort();
-    v.push(own("parallel_guide.dat"));
     v
 }
 
@@ -83,34 +87,34 @@ fn counts(m: &SpacarModel, model: &Model, a: &ConstraintAnalysis) -> Counts {
 /// The counts read off each file by hand.
 fn expected(file: &str) -> Counts {
     match file {
-        // SPACAR Light 1.29, cantilever strip: X lines 1, 3, …, 49 (25 translational nodes),
-        // 24 BEAMs with rotational nodes 2, 4, …, 50 (25). FIX 1 (x y z) and FIX 2 (λ1..λ3):
-        // 6 fixed. DYNE 3 4 on every beam: 48 input deformations, no RLSE. Dcc rows: all
-        // 24 × 6 deformations; columns: 50 nodes × 3 velocities − 6 fixed = 144. Exact.
-        "dvogureckiy99__dynastatflex__simple_beam.dat" => Counts {
-            trans: 25,
-            rot: 25,
-            nodes: 50,
-            elements: 24,
+        // Our strip in the SPACAR Light 1.29 layout: X lines 1, 3, …, 37 (19 translational
+        // nodes), 18 BEAMs with rotational nodes 2, 4, …, 38 (19). FIX 1 (x y z) and FIX 2
+        // (λ1..λ3): 6 fixed. DYNE 3 4 on every beam: 36 input deformations, no RLSE. Dcc rows:
+        // all 18 × 6 deformations; columns: 38 nodes × 3 velocities − 6 fixed = 108. Exact.
+        "strip_end_moment.dat" => Counts {
+            trans: 19,
+            rot: 19,
+            nodes: 38,
+            elements: 18,
             fixed: 6,
             x_input: 0,
             released: 0,
-            e_input: 48,
-            dcc: (144, 144, 144),
+            e_input: 36,
+            dcc: (108, 108, 108),
             table1: 1,
         },
-        // SPACAR Light 0.7 cantilever: X 1, 3, 5, 7, 9; 4 BEAMs with rotational nodes 2, 4, 6,
-        // 8, 10; FIX 1, FIX 2 (6 fixed); DYNE 1..6 on all four (24). 24 × 24, exact.
-        "precision-utwente__spatools__spacar_file.dat" => Counts {
-            trans: 5,
-            rot: 5,
-            nodes: 10,
-            elements: 4,
+        // Our cantilever in the SPACAR Light 0.7 layout: X 1, 3, 5, 7; 3 BEAMs with rotational
+        // nodes 2, 4, 6, 8; FIX 1, FIX 2 (6 fixed); DYNE 1..6 on all three (18). 18 × 18, exact.
+        "cantilever_light07.dat" => Counts {
+            trans: 4,
+            rot: 4,
+            nodes: 8,
+            elements: 3,
             fixed: 6,
             x_input: 0,
             released: 0,
-            e_input: 24,
-            dcc: (24, 24, 24),
+            e_input: 18,
+            dcc: (18, 18, 18),
             table1: 1,
         },
         // Flexible catheter: 24 BEAMs, translational 1, 3, …, 49, rotational 2, 4, …, 50.
@@ -188,26 +192,29 @@ fn every_model_parses_and_gives_the_counts_of_the_file() {
 }
 
 #[test]
-fn static_data_and_warnings_of_the_shared_models() {
-    let read = |f: &str| flexmbd_io::read_dat(&shared().join(f)).unwrap();
-    let m = read("dvogureckiy99__dynastatflex__simple_beam.dat");
-    assert_eq!(m.estiff.len(), 24);
+fn static_data_and_warnings_of_the_fixtures() {
+    let read = |p: PathBuf| flexmbd_io::read_dat(&p).unwrap();
+    let m = read(own("strip_end_moment.dat"));
+    assert_eq!(m.estiff.len(), 18);
     assert_eq!(m.em[0].values.len(), 5);
-    assert_eq!(m.delxf[0].node, 26);
-    assert_eq!(m.delxf[0].values, [0.0, 0.0, 0.3]);
+    assert_eq!(m.delxf[0].node, 20);
+    assert_eq!(m.delxf[0].values, [0.0, 0.0, 1.0]);
     assert_eq!(
         m.iterstep.as_ref().unwrap().values,
-        [10.0, 4.0, 5e-7, 1.0, 3.0, 0.0]
+        [10.0, 5.0, 5e-7, 1.0, 3.0, 0.0]
     );
+    // INITIAL, COLOR, BEAMPROPS, CROSSTYPE, CROSSDIM, GRAPHICS, FACECOLOR
     assert_eq!(m.visualization.len(), 7);
     assert!(m.warnings.is_empty(), "{:?}", m.warnings);
 
-    let m = read("precision-utwente__spatools__spacar_file.dat");
-    assert_eq!(m.xf[0].values, [0.0, 10.0, 0.0]);
-    assert_eq!(m.delxf[0].values, [-1e10, 0.0, 0.0]);
+    let m = read(own("cantilever_light07.dat"));
+    assert_eq!(m.xf[0].values, [0.0, 200.0, 0.0]);
+    assert_eq!(m.delxf[0].values, [0.0, 0.0, -500.0]);
     assert!(m.warnings.is_empty(), "{:?}", m.warnings);
 
-    let m = read("roepnaamstraat__FlexibleInstrumentSimulation__FLEX_CAT_S_3D_V2.dat");
+    let m = read(public(
+        "roepnaamstraat__FlexibleInstrumentSimulation__FLEX_CAT_S_3D_V2.dat",
+    ));
     assert_eq!(m.estiff[0].values, [0.0, 0.0093, 0.012, 0.012]);
     assert_eq!(m.timestep.as_ref().unwrap().values, [1.2, 8000.0]);
     assert_eq!(m.error_tol.as_ref().unwrap().values, [1e-4, 1e-4]);
@@ -221,7 +228,9 @@ fn static_data_and_warnings_of_the_shared_models() {
     let lines: Vec<usize> = m.warnings.iter().map(|w| w.line).collect();
     assert_eq!(lines, [200, 202]);
 
-    let m = read("roepnaamstraat__FlexibleInstrumentSimulation__RIG_CAT_S_3D_V2.dat");
+    let m = read(public(
+        "roepnaamstraat__FlexibleInstrumentSimulation__RIG_CAT_S_3D_V2.dat",
+    ));
     assert_eq!(m.xm.len(), 33);
     assert_eq!(m.xm[0].values.len(), 6);
     assert_eq!(m.em.len(), 12);
@@ -493,53 +502,51 @@ fn mutated_files_never_panic_and_errors_name_a_line() {
     assert!(ok > 100 && failed > 100, "ok {ok}, failed {failed}");
 }
 
-/// The static data of the public models, mapped for `flexmbd static` (docs/spacar-import.md §6).
+/// The static data of the fixtures, mapped for `flexmbd static` (docs/spacar-import.md §6).
 #[test]
-fn static_mapping_of_the_shared_models() {
+fn static_mapping_of_the_fixtures() {
     use flexmbd_core::statics::{roles, Role};
-    let read = |f: &str| flexmbd_io::read_dat(&shared().join(f)).unwrap();
+    let read = |p: PathBuf| flexmbd_io::read_dat(&p).unwrap();
     let count = |m: &Model, r: Role| roles(m).iter().filter(|x| **x == r).count();
 
-    // the strip: DYNE 3 4 flexible (48), the other 96 modes rigid although they have ESTIFF;
-    // DELXF 26 0 0 0.3 (line 190) a moment on "25@26"; ITERSTEP 10 4 5e-7 (line 185)
-    let (f, w) = read("dvogureckiy99__dynastatflex__simple_beam.dat")
-        .to_model_file()
-        .unwrap();
+    // the strip: DYNE 3 4 flexible (36), the other 72 modes rigid although they have ESTIFF;
+    // DELXF 20 0 0 1 (line 145) a moment on "19@20"; ITERSTEP 10 5 5e-7 (line 141)
+    let (f, w) = read(own("strip_end_moment.dat")).to_model_file().unwrap();
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(
         (f.settings.steps, f.settings.tol_force),
-        (Some(4), Some(5e-7))
+        (Some(5), Some(5e-7))
     );
     let m = &f.model;
-    assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (48, 96));
+    assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (36, 72));
     assert_eq!(m.loads.nodal.len(), 1);
-    assert_eq!(m.nodes[m.loads.nodal[0].node].name, "25@26");
-    assert_eq!(m.loads.nodal[0].moment, [0.0, 0.0, 0.3]);
+    assert_eq!(m.nodes[m.loads.nodal[0].node].name, "19@20");
+    assert_eq!(m.loads.nodal[0].moment, [0.0, 0.0, 1.0]);
     match &m.elements[0].element {
         flexmbd_core::elements::Element::Beam(b) => {
             let p = b.props.unwrap();
-            assert_eq!((p.eiy, p.shear), (0.004916666666667, [2.715e-7, 1.086e-4]));
-            assert_eq!(p.rho_a, 0.0254);
+            assert_eq!((p.eiy, p.shear), (0.0168, [3.1e-7, 1.2e-4]));
+            assert_eq!(p.rho_a, 0.0468);
         }
         other => panic!("{other:?}"),
     }
 
-    // SPACAR Light 0.7 cantilever: all six modes DYNE (flexible), XF 3 0 10 0 (line 61) an
-    // initial load with 9 steps: a warning; one load XF + DELXF on node 3
-    let (f, w) = read("precision-utwente__spatools__spacar_file.dat")
-        .to_model_file()
-        .unwrap();
+    // SPACAR Light 0.7 layout: all six modes DYNE (flexible), XF 3 0 200 0 (line 47) an
+    // initial load with 6 steps: a warning; one load XF + DELXF on node 3
+    let (f, w) = read(own("cantilever_light07.dat")).to_model_file().unwrap();
     let lines: Vec<usize> = w.iter().map(|w| w.line).collect();
-    assert_eq!(lines, [61], "{w:?}");
-    assert_eq!(f.settings.steps, Some(9));
-    assert_eq!(count(&f.model, Role::Flexible), 24);
+    assert_eq!(lines, [47], "{w:?}");
+    assert_eq!(f.settings.steps, Some(6));
+    assert_eq!(count(&f.model, Role::Flexible), 18);
     assert_eq!(f.model.loads.nodal.len(), 1);
-    assert_eq!(f.model.loads.nodal[0].force, [-1e10, 10.0, 0.0]);
+    assert_eq!(f.model.loads.nodal[0].force, [0.0, 200.0, -500.0]);
 
     // flexible catheter: RLSE 2..6 with ESTIFF flexible, EA = 0 (elongation rigid); the DYNX
     // coordinates are unknowns, only INPUTX 49 1 stays an input; loads in user routines only
-    let (f, w) = read("roepnaamstraat__FlexibleInstrumentSimulation__FLEX_CAT_S_3D_V2.dat")
-        .to_model_file()
+    let (f, w) = read(public(
+        "roepnaamstraat__FlexibleInstrumentSimulation__FLEX_CAT_S_3D_V2.dat",
+    ))
+    .to_model_file()
         .unwrap();
     assert!(w.is_empty(), "{w:?}");
     let m = &f.model;
@@ -555,8 +562,10 @@ fn static_mapping_of_the_shared_models() {
 
     // rigid catheter: hinge springs (RLSE 1) flexible, the other two hinge modes and the
     // RBEAMs rigid; the RBEAM masses (EM M/L) lumped at their ends, the XM inertias unused
-    let (f, w) = read("roepnaamstraat__FlexibleInstrumentSimulation__RIG_CAT_S_3D_V2.dat")
-        .to_model_file()
+    let (f, w) = read(public(
+        "roepnaamstraat__FlexibleInstrumentSimulation__RIG_CAT_S_3D_V2.dat",
+    ))
+    .to_model_file()
         .unwrap();
     assert!(w.is_empty(), "{w:?}");
     let m = &f.model;
