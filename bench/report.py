@@ -24,7 +24,7 @@ import sys
 sys.dont_write_bytecode = True
 
 # Exact inextensible elastica at k = PL^2/EI = 3 (shooting on theta'' = -k cos theta, rtol 1e-12;
-# /work/shared/peers/peercommon.py elastica(3); validation.md S01 row k = 3.0 rounds these to
+# the peer kit's peercommon.py elastica(3); validation.md S01 row k = 3.0 rounds these to
 # 0.25442, 0.60325, 0.98602).
 ELASTICA_K3 = {"u": 0.254420185, "w": 0.603253441, "phi": 0.986016947}
 # Euler-Bernoulli clamped-free bending frequencies of the peers' steel strip (validation.md F01

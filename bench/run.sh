@@ -14,20 +14,23 @@
 #   --threads T            RAYON_NUM_THREADS for flexmbd and OMP/OPENBLAS threads for the peers
 #                          (default: unset = flexmbd uses all cores, Exudyn is single-threaded)
 #   --skip-static | --skip-modes
-#   --with-calculix        also run the shared CalculiX strip-modes script (needs ccx installed:
-#                          bash /work/shared/peers/install.sh --with-calculix, as root)
+#   --with-calculix        also run the peer kit's CalculiX strip-modes script (needs ccx:
+#                          bash PEERS/install.sh --with-calculix, as root)
 #   --out DIR              result directory (default bench/results); writes latest.jsonl (raw
 #                          records), latest.log (peer messages, stderr) and latest.json (summary)
+#   --peers DIR            the peer kit (default: $FLEXMBD_PEERS_DIR; one of the two is needed)
 #
-# Peers: installed (idempotently) by /work/shared/peers/install.sh into
-# ${FLEXMBD_PEERS_VENV:-$HOME/.cache/flexmbd-peers/venv}. Shared scripts are read from
-# ${FLEXMBD_PEERS_DIR:-/work/shared/peers}; nothing is written there.
+# The peer kit is a folder of Python scripts kept outside this repository (install.sh,
+# peercommon.py, strip_modes_exudyn.py, strip_modes_opensees.py, strip_modes_calculix.py).
+# Its install.sh puts Exudyn, OpenSeesPy, numpy and scipy from PyPI (idempotently) into
+# ${FLEXMBD_PEERS_VENV:-$HOME/.cache/flexmbd-peers/venv}; nothing is written into the kit.
+# The logs and records name paths relative to the repository, the kit ($PEERS) and the venv
+# ($PEERS_VENV), never the machine's absolute paths.
 set -uo pipefail
 
 BENCH="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$BENCH/.." && pwd)"
-PEERS="${FLEXMBD_PEERS_DIR:-/work/shared/peers}"
-export FLEXMBD_PEERS_DIR="$PEERS"
+PEERS="${FLEXMBD_PEERS_DIR:-}"
 SIZES="10 100 1000 10000"
 MSIZES="10 100 1000 10000"
 NMODES=10
@@ -39,7 +42,7 @@ DO_MODES=1
 WITH_CCX=0
 OUTDIR="$BENCH/results"
 
-usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; }
 die() { echo "run.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -54,6 +57,7 @@ while [ $# -gt 0 ]; do
     --skip-modes) DO_MODES=0; shift ;;
     --with-calculix) WITH_CCX=1; shift ;;
     --out) OUTDIR="${2:?}"; shift 2 ;;
+    --peers) PEERS="${2:?}"; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) die "unknown argument $1 (see --help)" ;;
   esac
@@ -62,24 +66,54 @@ done
 [[ "$REPEAT" =~ ^[0-9]+$ ]] && [ "$REPEAT" -ge 1 ] || die "bad --repeat"
 [[ "$NMODES" =~ ^[0-9]+$ ]] && [ "$NMODES" -ge 1 ] || die "bad --modes"
 for n in $SIZES $MSIZES; do [[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -gt 0 ] || die "bad size '$n'"; done
+# the peer kit: given, present and complete, or a message that says what to get
+need_peers="install.sh peercommon.py"
+[ "$DO_MODES" -eq 1 ] && need_peers="$need_peers strip_modes_exudyn.py strip_modes_opensees.py"
+[ "$WITH_CCX" -eq 1 ] && need_peers="$need_peers strip_modes_calculix.py"
+if [ -z "$PEERS" ]; then
+  die "no peer kit given: pass --peers DIR or set FLEXMBD_PEERS_DIR to the folder of the peer
+scripts (it must hold: $need_peers). The kit is the team's benchmark folder of
+Exudyn/OpenSeesPy scripts, kept outside this repository; its install.sh installs Exudyn 1.13.6,
+OpenSeesPy 3.7.1.2, numpy and scipy from PyPI into \$HOME/.cache/flexmbd-peers/venv
+(or \$FLEXMBD_PEERS_VENV). See bench/README.md, 'Install the peers'."
+fi
+[ -d "$PEERS" ] || die "peer kit $PEERS: no such folder (--peers / FLEXMBD_PEERS_DIR)"
+PEERS="$(cd "$PEERS" && pwd)"
+for f in $need_peers; do
+  [ -f "$PEERS/$f" ] || die "peer kit $PEERS has no $f: is it the benchmark peer kit? (it must hold: $need_peers)"
+done
+export FLEXMBD_PEERS_DIR="$PEERS"
 if [ -n "$THREADS" ]; then
   export RAYON_NUM_THREADS="$THREADS" OMP_NUM_THREADS="$THREADS" OPENBLAS_NUM_THREADS="$THREADS"
 fi
 
 mkdir -p "$OUTDIR"
 OUTDIR="$(cd "$OUTDIR" && pwd)"
-case "$OUTDIR/" in "$PEERS"/*) die "--out must not point into $PEERS";; esac
+case "$OUTDIR/" in "$PEERS"/*) die "--out must not point into the peer kit $PEERS";; esac
 JSONL="$OUTDIR/latest.jsonl"; LOG="$OUTDIR/latest.log"; SUMMARY="$OUTDIR/latest.json"
 : >"$JSONL"; : >"$LOG"
 TMPD="$(mktemp -d)"
-trap 'rm -rf "$TMPD"' EXIT
+VENV=""
+# Machine paths -> names in everything written under --out (the results are committed): the
+# temporary folder, the venv, the peer kit, the repository (relative), the home folder.
+scrub_results() {
+  local f args=()
+  [ -n "$TMPD" ] && args+=(-e "s#$TMPD#\$TMP#g")
+  [ -n "$VENV" ] && args+=(-e "s#$VENV#\$PEERS_VENV#g")
+  args+=(-e "s#$PEERS#\$PEERS#g" -e "s#$ROOT/##g" -e "s#$ROOT#.#g" -e "s#$HOME#\$HOME#g")
+  for f in "$JSONL" "$LOG" "$SUMMARY"; do
+    [ -f "$f" ] && sed -i "${args[@]}" "$f"
+  done
+}
+trap 'scrub_results; rm -rf "$TMPD"' EXIT
 T_START=$(date +%s)
 say() { echo "[bench] $*" >&2; }
 
 # ---- 1. peers (idempotent: ~2 s when already installed) -------------------------------------
 say "peers: $PEERS/install.sh"
 PY="$(bash "$PEERS/install.sh" 2>>"$LOG" | tail -n 1)"
-[ -x "$PY" ] || die "peer install failed (see $LOG)"
+[ -x "$PY" ] || die "the peer kit's install.sh did not give a Python with Exudyn and OpenSeesPy (it needs Python 3 with venv and pip, and PyPI; see $LOG)"
+VENV="$(cd "$(dirname "$PY")/.." && pwd)"
 
 # ---- 2. flexmbd, release (bench profile) ----------------------------------------------------
 say "building flexmbd (cargo bench --no-run, release profile)"
@@ -124,7 +158,7 @@ rec = {"peer": "run.sh", "problem": "meta", "status": "meta",
        "mem_gib": $(awk '/MemTotal/{printf "%.1f", $2/1048576}' /proc/meminfo),
        "os": "$(. /etc/os-release && echo "${PRETTY_NAME:-?}")",
        "rustc": "$(rustc --version 2>/dev/null)", "flexmbd_commit": "$COMMIT",
-       "python": "$PY", "sizes": "$SIZES", "modes_sizes": "$MSIZES", "flexmbd_modes": $NMODES,
+       "python": "$("$PY" -c 'import sys; print(sys.version.split()[0])')", "sizes": "$SIZES", "modes_sizes": "$MSIZES", "flexmbd_modes": $NMODES,
        "timeout_s": $TIMEOUT,
        "repeat": $REPEAT, "rayon_num_threads": os.environ.get("RAYON_NUM_THREADS", "unset (all cores)"),
        "omp_num_threads": os.environ.get("OMP_NUM_THREADS", "unset"),
@@ -134,7 +168,7 @@ EOF
 
 # ---- helpers --------------------------------------------------------------------------------
 # peer_case NAME PROBLEM N -- COMMAND ...: JSON lines to $JSONL, the rest to $LOG; a failure
-# without a JSON line still leaves a record (as /work/shared/peers/run_all.sh does).
+# without a JSON line still leaves a record (as the peer kit's run_all.sh does).
 peer_case() {
   local peer="$1" problem="$2" n="$3"; shift 4
   local t0 t1 rc nrec

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Exudyn peer, problem cantilever_k3: flexmbd's large-deflection cantilever bench, same inputs.
 
-Derived from /work/shared/peers/strip_static_exudyn.py (same Exudyn model, solver and retry logic;
+Derived from the peer kit's strip_static_exudyn.py (same Exudyn model, solver and retry logic;
 peercommon.py from that directory supplies the CLI, scratch dir, JSON output and the elastica).
 Only the problem data differ: the shared script solves the steel strip (L = 50 mm, EI = 2.8e-3,
 EA L^2/EI = 7.5e5, k = 1, 2, 5, 10, max(5, 2k) load steps); this one solves exactly the case of
@@ -27,7 +27,10 @@ import os
 import sys
 
 sys.dont_write_bytecode = True
-sys.path.insert(0, os.environ.get("FLEXMBD_PEERS_DIR", "/work/shared/peers"))
+if not os.environ.get("FLEXMBD_PEERS_DIR"):
+    sys.exit("cantilever_k3_exudyn.py: set FLEXMBD_PEERS_DIR to the peer kit (bench/README.md); "
+             "bench/run.sh --peers DIR does it")
+sys.path.insert(0, os.environ["FLEXMBD_PEERS_DIR"])
 import peercommon as pc  # noqa: E402
 
 L, EI, GJ, EA = 1.0, 1.0, 1.0, 1e7

@@ -1,5 +1,5 @@
 //! Strip eigenfrequency benchmark (issue 6): the peers' clamped steel strip (bench/README.md,
-//! /work/shared/peers/peercommon.py) with N Euler–Bernoulli beam elements, the lowest modes.
+//! the peer kit's peercommon.py) with N Euler–Bernoulli beam elements, the lowest modes.
 //!
 //! `cargo bench -p flexmbd-core --bench strip_modes -- [N ...] [--modes M] [--solver S]`
 //! (defaults: N = 10 100 1000 10000, M = 10, S = auto). Prints one JSON record per N in the
