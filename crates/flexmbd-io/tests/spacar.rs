@@ -547,7 +547,7 @@ fn static_mapping_of_the_fixtures() {
         "roepnaamstraat__FlexibleInstrumentSimulation__FLEX_CAT_S_3D_V2.dat",
     ))
     .to_model_file()
-        .unwrap();
+    .unwrap();
     assert!(w.is_empty(), "{w:?}");
     let m = &f.model;
     assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (120, 24));
@@ -566,7 +566,7 @@ fn static_mapping_of_the_fixtures() {
         "roepnaamstraat__FlexibleInstrumentSimulation__RIG_CAT_S_3D_V2.dat",
     ))
     .to_model_file()
-        .unwrap();
+    .unwrap();
     assert!(w.is_empty(), "{w:?}");
     let m = &f.model;
     assert_eq!((count(m, Role::Flexible), count(m, Role::Rigid)), (33, 102));
