@@ -4,6 +4,7 @@
 //! 3 `check --require-exact` on a model that is not exactly constrained.
 
 mod dynamics_cmd;
+mod hints;
 mod output_cmd;
 mod progress;
 mod view_cmd;
@@ -461,6 +462,9 @@ fn main() -> ExitCode {
         Err(e) => {
             let bad_input = e.downcast_ref::<BadInput>().is_some();
             eprintln!("error: {e:#}");
+            if let Some(hint) = hints::cli_hint(&e) {
+                eprintln!("hint: {hint}");
+            }
             ExitCode::from(if bad_input { 2 } else { 1 })
         }
     }

@@ -217,7 +217,9 @@ fn stroke_axis(model: &Model, sol: &StaticSolution) -> (Vec<f64>, String) {
 fn target_name(model: &Model, t: Target) -> (String, &'static str) {
     match t {
         Target::Coordinate(i) => {
-            let (node, label) = model.coordinate_owner(i);
+            let Some((node, label)) = model.coordinate_owner(i) else {
+                return (format!("coordinate {i}"), "-");
+            };
             let (dof, unit) = match label {
                 "lambda1" => ("rx", "rad"),
                 "lambda2" => ("ry", "rad"),

@@ -2,7 +2,7 @@
 //! exactly degenerate pairs): the frequencies and mode shapes of the dense path, through the
 //! library and through `flexmbd sweep --solver`.
 
-use flexmbd_core::dynamics::mass::mass_times;
+use flexmbd_core::assembly::mass::mass_times;
 use flexmbd_core::dynamics::{modes_with, EigenSolver, Modal, ModalError, ModalOptions};
 use flexmbd_core::statics::{solve, StaticOptions, StepResult};
 use flexmbd_core::Model;
@@ -119,9 +119,29 @@ fn over_constrained_kinematic_example() {
     assert!(matches!(run(EigenSolver::Dense), Err(ModalError::NoDof)));
     assert!(matches!(run(EigenSolver::Auto), Err(ModalError::NoDof)));
     match run(EigenSolver::Sparse) {
-        Err(e @ ModalError::SparseSingular) => assert!(e.to_string().contains("--solver dense")),
+        Err(e @ ModalError::SparseSingular) => {
+            assert!(e.to_string().contains("dense eigen solver"))
+        }
         other => panic!("{:?}", other.map(|m| m.ndof)),
     }
+}
+
+/// The library's error names the remedy in neutral words; the command line adds the option
+/// that applies it (a `hint:` line).
+#[test]
+fn the_command_line_spells_the_remedy_as_an_option() {
+    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args(["modes", "--solver", "sparse", "--quiet"])
+        .arg(example_path("folded_sheet_guide_6.toml"))
+        .output()
+        .expect("run flexmbd");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("use the dense eigen solver"), "{err}");
+    assert!(
+        err.contains("\nhint: run `flexmbd check` on the model, or use --solver dense"),
+        "{err}"
+    );
 }
 
 fn sweep_frequencies(solver: &str) -> Vec<Vec<f64>> {

@@ -24,7 +24,6 @@ pub mod linalg;
 pub mod math;
 pub mod model;
 pub mod section;
-pub mod spin;
 pub mod statics;
 
 pub use model::{CoordKind, DefKind, Model, ModelBuilder, ModelError, Partition};

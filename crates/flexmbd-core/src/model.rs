@@ -199,14 +199,64 @@ pub struct Loads {
     /// Gravitational acceleration [m/s²].
     pub gravity: [f64; 3],
     /// Steady rotation of the whole model (centrifugal loads, analysis in the co-rotating
-    /// frame; [`crate::spin`]).
-    pub spin: Option<crate::spin::Spin>,
+    /// frame; [`Spin`]).
+    pub spin: Option<Spin>,
     /// Point masses at nodes [kg].
     pub point_masses: Vec<(NodeId, f64)>,
     /// Inertia tensors at rotational nodes [kg·m²], global axes in the reference orientation.
     pub inertias: Vec<(NodeId, [[f64; 3]; 3])>,
     /// Prescribed inputs.
     pub prescribed: Vec<Prescribed>,
+}
+
+/// A steady rotation of the whole model (a rotor, a rotating blade, a spinning stage): angular
+/// velocity `omega` [rad/s] (global axes) about the axis through `point` [m]; the analysis is in
+/// the co-rotating frame.
+///
+/// A static state is an equilibrium under the centrifugal (inertial) loads (validation.md F03:
+/// "steady rotation (or the static centrifugal load) first, then a linearised modal analysis
+/// about it, including the geometric stiffness"): the field a(r) = Ω² P (r − a), P = I − n nᵀ,
+/// on the translational mass and the moment −Ω × (I Ω) on the rotary inertia
+/// ([`crate::elements::AccelerationField`], consistent with each element's mass model). The loads
+/// are computed on the reference configuration and applied as dead loads that grow with the
+/// load factor like every other load (Ω² ramps linearly); they do not follow the deflection:
+/// the classical small-deflection pre-stress analysis of rotating beams (centrifugal stiffening
+/// through the axial force N(x) = ρAΩ²(L² − x²)/2 of a radial beam). The linearised dynamics add
+/// the centrifugal softening −Ω² M_P ([`crate::assembly::mass::softening_matrix`]: the
+/// translational mass with the projection P) and leave out the Coriolis (gyroscopic) coupling
+/// 2Ω × ṙ: out-of-plane (flapwise) motion is exact, in-plane (lead-lag) motion follows
+/// ω² = ω²_elastic − Ω² without the coupling to axial motion (docs/dynamics.md).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Spin {
+    /// Angular velocity vector Ω [rad/s].
+    pub omega: [f64; 3],
+    /// A point on the rotation axis [m].
+    pub point: [f64; 3],
+}
+
+impl Spin {
+    /// Ω² P = Ω² I − Ω Ωᵀ: the centrifugal acceleration of a point at r is Ω² P (r − a).
+    pub fn projector(&self) -> [[f64; 3]; 3] {
+        let w = self.omega;
+        let w2 = crate::math::dot(w, w);
+        std::array::from_fn(|i| {
+            std::array::from_fn(|k| if i == k { w2 } else { 0.0 } - w[i] * w[k])
+        })
+    }
+}
+
+impl Loads {
+    /// The acceleration field of gravity and of the steady rotation together (their sum; the
+    /// centrifugal field of the spin), `None` when there is neither.
+    pub fn acceleration_field(&self) -> Option<crate::elements::AccelerationField> {
+        let field = crate::elements::AccelerationField {
+            w: self.spin.map_or([[0.0; 3]; 3], |s| s.projector()),
+            point: self.spin.map_or([0.0; 3], |s| s.point),
+            uniform: self.gravity,
+            omega: self.spin.map_or([0.0; 3], |s| s.omega),
+        };
+        (!field.is_zero()).then_some(field)
+    }
 }
 
 impl Model {
@@ -235,21 +285,17 @@ impl Model {
         (el, k - self.elements[el].ie)
     }
     /// The node and coordinate label of global coordinate index `i` ("x", "y", "z",
-    /// "lambda0".."lambda3").
-    pub fn coordinate_owner(&self, i: usize) -> (NodeId, &'static str) {
-        let n = self
-            .nodes
-            .iter()
-            .position(|n| n.own_range().contains(&i))
-            .expect("i < nx");
+    /// "lambda0".."lambda3"); `None` for i ≥ nx.
+    pub fn coordinate_owner(&self, i: usize) -> Option<(NodeId, &'static str)> {
+        let n = self.nodes.iter().position(|n| n.own_range().contains(&i))?;
         let labels = ["x", "y", "z", "lambda0", "lambda1", "lambda2", "lambda3"];
         let node = &self.nodes[n];
-        (
+        Some((
             n,
             node.ix_rot
                 .filter(|&r| i >= r)
                 .map_or(labels[i - node.ix_pos], |r| labels[3 + i - r]),
-        )
+        ))
     }
     /// Number of rotational nodes (each adds one implicit Euler normalisation constraint).
     pub fn n_rotational_nodes(&self) -> usize {
@@ -308,7 +354,7 @@ pub enum ModelError {
         kind: &'static str,
     },
     /// A moment on a node without rotation coordinates.
-    #[error("load on node `{node}`: a moment needs a rotational node (a beam, hinge or rigid-body reference node, or `rot = true`)")]
+    #[error("load on node `{node}`: a moment needs a rotational node (a beam, hinge or rigid-body reference node, or a node given rotation coordinates)")]
     MomentWithoutRotation {
         /// Node name.
         node: String,
@@ -386,7 +432,7 @@ pub enum ModelError {
         mode: usize,
     },
     /// A rotation dof on a node that has no rotation coordinates.
-    #[error("{what} entry `{node}`: `{dof}` is a rotation, but no beam, hinge or rigid body uses the rotation of node `{node}` (add `rot = true` to the node to give it one)")]
+    #[error("{what} entry `{node}`: `{dof}` is a rotation, but no beam, hinge or rigid body uses the rotation of node `{node}` (give the node rotation coordinates)")]
     NoRotation {
         /// "fix" or "inputs".
         what: &'static str,
@@ -519,7 +565,7 @@ pub struct ModelBuilder {
     rigid_modes: Vec<(usize, usize)>,
     loads: Vec<(String, [f64; 3], [f64; 3])>,
     gravity: [f64; 3],
-    spin: Option<crate::spin::Spin>,
+    spin: Option<Spin>,
     masses: Vec<(String, f64)>,
     inertias: Vec<(String, [[f64; 3]; 3])>,
     prescribed_x: Vec<(String, Dof, f64)>,
@@ -843,11 +889,11 @@ impl ModelBuilder {
     }
 
     /// Steady rotation at angular velocity `omega` [rad/s] about the axis through `point`
-    /// ([`crate::spin`]): centrifugal loads in statics, centrifugal softening in dynamics.
+    /// ([`Spin`]): centrifugal loads in statics, centrifugal softening in dynamics.
     pub fn set_spin(&mut self, omega: [f64; 3], point: [f64; 3]) -> Result<(), ModelError> {
         check_finite(&Item::Model, "spin", &omega)?;
         check_finite(&Item::Model, "spin_point", &point)?;
-        self.spin = Some(crate::spin::Spin { omega, point });
+        self.spin = Some(Spin { omega, point });
         Ok(())
     }
 

@@ -541,7 +541,7 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         let s = l.get_ref();
         spans.insert(Item::Load(s.node.clone()), l.span());
         b.add_load(&s.node, s.force, s.moment)
-            .map_err(|e| err(&l.span(), e.to_string()))?;
+            .map_err(|e| err(&l.span(), toml_message(&e)))?;
     }
     for m in &spec.mass {
         let s = m.get_ref();
@@ -633,13 +633,25 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
     };
 
     let model = b.build().map_err(|e| match spans.get(&e.item()) {
-        Some(span) => err(span, e.to_string()),
+        Some(span) => err(span, toml_message(&e)),
         None => InputError::File {
             file: file.into(),
-            message: e.to_string(),
+            message: toml_message(&e),
         },
     })?;
     Ok(ModelFile { model, settings })
+}
+
+/// A model error in this format's words: the core's neutral message plus the TOML spelling of
+/// its remedy where it has one.
+fn toml_message(e: &flexmbd_core::ModelError) -> String {
+    use flexmbd_core::ModelError::{MomentWithoutRotation, NoRotation};
+    match e {
+        NoRotation { .. } | MomentWithoutRotation { .. } => {
+            format!("{e}; in a TOML model: `rot = true` on the node")
+        }
+        _ => e.to_string(),
+    }
 }
 
 type Materials = HashMap<String, Material>;

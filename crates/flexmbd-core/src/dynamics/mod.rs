@@ -21,7 +21,6 @@
 //! directions with m ≤ 1e-12 max m are condensed out of the stiffness (exact for the quasi-static
 //! response of massless coordinates); they are reported.
 
-pub mod mass;
 pub mod sparse;
 pub mod state_space;
 pub mod sweep;
@@ -162,8 +161,11 @@ pub enum ModalError {
     /// Linear algebra failure.
     #[error(transparent)]
     Eigen(#[from] EigenError),
+    /// A matrix of the state is not finite (coordinates beyond the range of f64 arithmetic).
+    #[error("the linearised model at this state is not finite (products of the coordinates overflow double precision: are node positions beyond about 1e150 m?)")]
+    NonFinite(#[from] crate::linalg::LinalgError),
     /// No mass at all.
-    #[error("the model has no mass: give beams a material with density, or add [[mass]] / [[inertia]] entries")]
+    #[error("the model has no mass: give beams a material with density, or add point masses or inertia tensors")]
     NoMass,
     /// A massless part is a mechanism (its condensed stiffness is singular).
     #[error("massless coordinates form a mechanism (zero stiffness and zero inertia); nodes without inertia: {nodes}. Give them mass or fix them")]
@@ -175,7 +177,7 @@ pub enum ModalError {
     #[error("the model has no degree of freedom: every coordinate is fixed or prescribed")]
     NoDof,
     /// The dense eigen solver cannot resolve part of the spectrum.
-    #[error("dense eigen solver: {unresolved} of the {n} modes cannot be resolved in double precision: the model's ω² span {spread:.1e} (masses or stiffnesses over many decades, e.g. the rotary inertia of thin sheets). Use the sparse solver (--solver sparse), which computes the lowest modes accurately, or fewer, longer elements")]
+    #[error("dense eigen solver: {unresolved} of the {n} modes cannot be resolved in double precision: the model's ω² span {spread:.1e} (masses or stiffnesses over many decades, e.g. the rotary inertia of thin sheets). Use the sparse eigen solver, which computes the lowest modes accurately, or fewer, longer elements")]
     DenseInaccurate {
         /// Modes without an accurate eigenvalue.
         unresolved: usize,
@@ -185,10 +187,10 @@ pub enum ModalError {
         spread: f64,
     },
     /// The sparse path found no shift at which the shifted stiffness can be factored.
-    #[error("sparse eigen solver: the shifted stiffness matrix [K − σM, Gᵀ; G, 0] is singular at every shift tried, so the model has a motion without both stiffness and inertia, or rigid/prescribed constraints that repeat each other. Check the model with `flexmbd check`, or use the dense solver (--solver dense), which removes repeated constraints")]
+    #[error("sparse eigen solver: the shifted stiffness matrix [K − σM, Gᵀ; G, 0] is singular at every shift tried, so the model has a motion without both stiffness and inertia, or rigid/prescribed constraints that repeat each other. Check the model with the kinematic check, or use the dense eigen solver, which removes repeated constraints")]
     SparseSingular,
     /// The Lanczos iteration of the sparse path did not converge.
-    #[error("sparse eigen solver: only {found} of the {wanted} lowest modes converged after {applications} shift-invert steps (restarted Lanczos, tolerance 1e-10). Ask for fewer modes (--count), or use the dense solver (--solver dense) if the model has at most a few thousand degrees of freedom")]
+    #[error("sparse eigen solver: only {found} of the {wanted} lowest modes converged after {applications} shift-invert steps (restarted Lanczos, tolerance 1e-10). Ask for fewer modes, or use the dense eigen solver if the model has at most a few thousand degrees of freedom")]
     NotConverged {
         /// Modes converged.
         found: usize,
@@ -201,7 +203,9 @@ pub enum ModalError {
 
 /// Minimal-coordinate basis Z (nx × ndof) at a state: velocity coordinates of the free
 /// coordinates, restricted to the null space of the rigid/prescribed deformation constraints.
-pub fn minimal_basis(model: &Model, x: &[f64]) -> Mat<f64> {
+///
+/// A non-finite x (or Jacobian) is an error, not a basis.
+pub fn minimal_basis(model: &Model, x: &[f64]) -> Result<Mat<f64>, crate::linalg::LinalgError> {
     // velocity basis T of the statics unknowns (free coordinates)
     let part = Partition {
         x: model.partition.x.clone(),
@@ -227,16 +231,16 @@ pub fn minimal_basis(model: &Model, x: &[f64]) -> Mat<f64> {
         .filter(|&i| role[i] != Role::Flexible)
         .collect();
     if rows.is_empty() {
-        return t;
+        return Ok(t);
     }
     let g = Mat::from_fn(rows.len(), model.nx, |r, c| ev.D[(rows[r], c)]);
     let gt = &g * &t;
-    let f = svd(gt.as_ref(), "constraint Jacobian").expect("finite");
+    let f = svd(gt.as_ref(), "constraint Jacobian")?;
     let tol = f64::EPSILON.sqrt() * f.s.first().copied().unwrap_or(0.0);
     let r = numerical_rank(&f.s, tol);
     let n = gt.ncols();
     let z2 = Mat::from_fn(n, n - r, |i, j| f.V[(i, r + j)]);
-    &t * &z2
+    Ok(&t * &z2)
 }
 
 /// The linearised system at a static state in minimal coordinates, with its massless
@@ -288,7 +292,7 @@ pub fn reduced_matrices_with(
     step: &StepResult,
     lin: &Linearized,
 ) -> Result<Reduced, ModalError> {
-    let z = minimal_basis(model, &step.x);
+    let z = minimal_basis(model, &step.x)?;
     let ndof = z.ncols();
     if ndof == 0 {
         return Err(ModalError::NoDof);
@@ -304,9 +308,9 @@ pub fn reduced_matrices_with(
         }
     }
     if model.loads.spin.is_some() {
-        kx += crate::spin::softening_matrix(model, &step.x);
+        kx += crate::assembly::mass::softening_matrix(model, &step.x);
     }
-    let mx = mass::mass_matrix(model, &step.x);
+    let mx = crate::assembly::mass::mass_matrix(model, &step.x);
     let k0 = sym(z.transpose() * &kx * &z);
     let m0 = sym(z.transpose() * &mx * &z);
     let massless_nodes = massless_nodes(model, &step.x);
@@ -370,7 +374,7 @@ pub fn massless_nodes(model: &Model, x: &[f64]) -> Vec<usize> {
         x: model.partition.x.clone(),
         e: vec![DefKind::Free; model.ne],
     };
-    let blocks = mass::node_blocks(model, x);
+    let blocks = crate::assembly::mass::node_blocks(model, x);
     let mut massless = vec![false; model.nodes.len()];
     for c in columns(model, &part, x) {
         let v: [f64; 7] = if c.dof.is_rotation() {
@@ -674,7 +678,7 @@ fn describe_all(
     // has no translation rows of its own)
     let kinetic = kinetic.unwrap_or_else(|| {
         let refs: Vec<&[f64]> = shapes.iter().map(|v| v.as_slice()).collect();
-        let m_shapes = mass::mass_times(model, &step.x, &refs);
+        let m_shapes = crate::assembly::mass::mass_times(model, &step.x, &refs);
         shapes
             .iter()
             .zip(&m_shapes)

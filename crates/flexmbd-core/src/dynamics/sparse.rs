@@ -51,6 +51,7 @@
 //!   factorisation (σ + 1/θ) and the product uᵀ K u lose the lowest eigenvalues to round-off.
 
 use super::ModalError;
+use crate::elements::ElementKind;
 use crate::linalg::{sym_eigen_seq, EigenError};
 use crate::math::small_eigen::{sym_eigen_small, sym_eigen_small_largest, SMALL_EIGEN_MAX};
 use crate::math::sparse_lu::{amd_order, csc_residual, sort_small, SparseLu};
@@ -344,16 +345,8 @@ impl Problem {
         // element mass blocks, in the order of the element entries
         let ne = lin.vals.len();
         let mut m_el = vec![0.0; ne];
-        let ranges: Vec<(usize, std::ops::Range<usize>)> = model
-            .elements
-            .iter()
-            .enumerate()
-            .filter_map(|(el, entry)| match &entry.element {
-                crate::elements::Element::Beam(b) if b.props.is_some() => {
-                    Some((el, lin.element_entries(el)))
-                }
-                _ => None,
-            })
+        let ranges: Vec<(usize, std::ops::Range<usize>)> = (0..model.elements.len())
+            .map(|el| (el, lin.element_entries(el)))
             .collect();
         {
             // split m_el at the element ranges (ascending, disjoint) and fill in parallel
@@ -369,12 +362,11 @@ impl Problem {
             }
             let fill = |(el, out): (usize, &mut [f64])| {
                 let entry = &model.elements[el];
-                let crate::elements::Element::Beam(b) = &entry.element else {
-                    return;
-                };
+                let n = entry.xmap.len();
                 let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-                if let Some(me) = super::mass::beam_local_mass(b, &xk) {
-                    lin.element_block(model, el, x, &|a, c| me[a][c], out);
+                let mut me = vec![0.0; n * n];
+                if entry.element.mass(&xk, None, true, &mut me) {
+                    lin.element_block(model, el, x, &|a, c| me[a * n + c], out);
                 }
             };
             if pieces.len() < 256 {
@@ -383,19 +375,18 @@ impl Problem {
                 pieces.into_par_iter().with_min_len(64).for_each(fill);
             }
         }
-        // centrifugal softening of a steady rotation (crate::spin): −Ω² M_P on the beams, on the
-        // element pattern, counted with the geometric part (it enters the Rayleigh quotients)
+        // centrifugal softening of a steady rotation (model::Spin): −Ω² M_P on the elements, on
+        // the element pattern, counted with the geometric part (it enters the Rayleigh quotients)
         let w = model.loads.spin.map(|sp| sp.projector());
         if let Some(w) = &w {
             for (el, r) in &ranges {
                 let entry = &model.elements[*el];
-                let crate::elements::Element::Beam(b) = &entry.element else {
-                    continue;
-                };
+                let n = entry.xmap.len();
                 let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-                if let Some(ms) = super::mass::beam_local_mass_with(b, &xk, Some(w), false) {
+                let mut ms = vec![0.0; n * n];
+                if entry.element.mass(&xk, Some(w), false, &mut ms) {
                     let mut soft = vec![0.0; r.end - r.start];
-                    lin.element_block(model, *el, x, &|a, c| -ms[a][c], &mut soft);
+                    lin.element_block(model, *el, x, &|a, c| -ms[a * n + c], &mut soft);
                     for (i, v) in r.clone().zip(soft) {
                         lin.vals[i] += v;
                         lin.geo[i] += v;
@@ -428,7 +419,7 @@ impl Problem {
             let Some(r) = model.nodes[*node].ix_rot else {
                 continue;
             };
-            let blk = super::mass::node_inertia_block(&x[r..r + 4], tensor);
+            let blk = crate::math::inertia::node_inertia_block(&x[r..r + 4], tensor);
             extra.extend(
                 lin.lambda_block(x, r, &blk)
                     .into_iter()

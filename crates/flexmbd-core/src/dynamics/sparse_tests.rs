@@ -2,10 +2,10 @@
 //! path (rigid bodies, hinges, massless nodes, pre-stress, degenerate pairs, an unstable
 //! state), M-orthonormality, errors.
 
-use super::super::mass::mass_times;
 use super::super::{
     eigenvalues_with, modes_with, EigenSolver, Modal, ModalError, ModalOptions, SPARSE_THRESHOLD,
 };
+use crate::assembly::mass::mass_times;
 use crate::model::{Dof, ElementSpec, Model, ModelBuilder};
 use crate::section::{BeamProps, Material, Shape};
 use crate::statics::{last_step, StepResult};
@@ -566,7 +566,7 @@ fn dense_path_resolves_thin_strips_or_says_it_cannot() {
     )
     .unwrap_err();
     assert!(matches!(err, ModalError::DenseInaccurate { .. }), "{err}");
-    assert!(err.to_string().contains("--solver sparse"));
+    assert!(err.to_string().contains("sparse eigen solver"));
     let sparse = run(&model, &step, 3, EigenSolver::Sparse);
     assert!((sparse.modes[0].frequency - 67.0552).abs() < 1e-5 * 67.0552);
 }

@@ -476,7 +476,7 @@ pub enum StateSpaceError {
     #[error(transparent)]
     Modal(#[from] ModalError),
     /// A moment input or rotation output on a node without rotation coordinates.
-    #[error("node `{node}` has no rotation coordinates: a moment or rotation needs a rotational node (give it `rot = true` or connect it to a beam)")]
+    #[error("node `{node}` has no rotation coordinates: a moment or rotation needs a rotational node (give the node rotation coordinates or connect it to a beam)")]
     NoRotation {
         /// Node name.
         node: String,
@@ -494,7 +494,7 @@ pub enum StateSpaceError {
     #[error("a kept mode has zero frequency (a rigid-body motion or mechanism): the static gain is unbounded")]
     Singular,
     /// A motion input on a coordinate that is not held.
-    #[error("input {input}: a prescribed-motion input needs a coordinate held by a support, `[inputs]` or `[[prescribe]]`, and this one is free; apply a force input (NODE:DIR:force) instead, or hold the coordinate in the model")]
+    #[error("input {input}: a prescribed-motion input needs a coordinate held by a support, an input or a prescribed value, and this one is free; apply a force input (NODE:DIR:force) instead, or hold the coordinate in the model")]
     MotionNotHeld {
         /// Input name.
         input: String,
@@ -506,7 +506,7 @@ pub enum StateSpaceError {
         input: String,
     },
     /// The sparse state space needs the number of modes.
-    #[error("the model has {ndof} degrees of freedom, too many for the dense state space (at most {limit}); the sparse one keeps the lowest modes only: give --modes N (e.g. 20), with --static-correction for the exact static gain")]
+    #[error("the model has {ndof} degrees of freedom, too many for the dense state space (at most {limit}); the sparse one keeps the lowest modes only: give the number of modes to keep (e.g. 20), with the static correction for the exact static gain")]
     SparseNeedsModes {
         /// Degrees of freedom.
         ndof: usize,
@@ -524,7 +524,7 @@ pub enum StateSpaceError {
         limit: usize,
     },
     /// A force output on a rigid or prescribed deformation.
-    #[error("output {output}: this deformation is rigid or prescribed, so its force is a constraint reaction, which the dense state space gives (models up to 3000 degrees of freedom, --solver dense or auto) but the sparse one does not")]
+    #[error("output {output}: this deformation is rigid or prescribed, so its force is a constraint reaction, which the dense state space gives (models up to 3000 degrees of freedom, with the dense or the automatic solver choice) but the sparse one does not")]
     ForceOfHeldDeformation {
         /// Output name.
         output: String,
@@ -536,7 +536,7 @@ pub enum StateSpaceError {
         output: String,
     },
     /// A reaction at a coordinate that is not held.
-    #[error("output {output}: this coordinate is free, so it has no reaction; a reaction needs a coordinate held by a support, `[inputs]` or `[[prescribe]]`")]
+    #[error("output {output}: this coordinate is free, so it has no reaction; a reaction needs a coordinate held by a support, an input or a prescribed value")]
     ReactionNotHeld {
         /// Output name.
         output: String,
@@ -554,7 +554,7 @@ pub enum StateSpaceError {
         output: String,
     },
     /// A motion input on a deformation that is not held.
-    #[error("input {input}: deformation {mode} ({name}) of {kind} `{element}` is flexible; a prescribed-deformation motion needs a held mode: make it an `input` mode of the element (with a [[prescribe]] value where it is not zero), or apply a force input")]
+    #[error("input {input}: deformation {mode} ({name}) of {kind} `{element}` is flexible; a prescribed-deformation motion needs a held mode: make it an input mode of the element (with a prescribed value where it is not zero), or apply a force input")]
     DeformationNotHeld {
         /// Input name.
         input: String,
@@ -727,7 +727,7 @@ fn motion_loads(
         }
     }
     if model.loads.spin.is_some() {
-        kx += crate::spin::softening_matrix(model, &step.x);
+        kx += crate::assembly::mass::softening_matrix(model, &step.x);
     }
     // the velocity basis of the free coordinates
     let ev = crate::assembly::evaluate(model, &step.x);
@@ -1056,7 +1056,7 @@ fn build_sparse(
     let n = sm.eigenvalues.len();
     if count > n {
         warnings.push(format!(
-            "--modes {count}: the model has {n} modes that carry mass; all are kept"
+            "{count} modes asked for: the model has {n} modes that carry mass; all are kept"
         ));
     }
     held_input_warnings(model, inputs, &mut warnings);
@@ -1097,7 +1097,7 @@ fn build_sparse(
         }
         if sm.massless > 0 && !opts.static_correction {
             warnings.push(format!(
-                "the model has {} direction(s) without inertia: D carries their static response together with that of the dropped modes (as --static-correction), which the sparse path cannot separate",
+                "the model has {} direction(s) without inertia: D carries their static response together with that of the dropped modes (as the static correction does), which the sparse path cannot separate",
                 sm.massless
             ));
         }
@@ -1162,7 +1162,7 @@ fn build(
     if let Some(k) = opts.modes {
         if k > available {
             warnings.push(format!(
-                "--modes {k}: the model has {available} modes that carry mass; all are kept"
+                "{k} modes asked for: the model has {available} modes that carry mass; all are kept"
             ));
         }
     }

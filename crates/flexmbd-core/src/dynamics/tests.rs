@@ -1,7 +1,7 @@
 //! Validation of the modal analysis (validation.md F01, F02).
 
-use super::mass::mass_matrix;
 use super::*;
+use crate::assembly::mass::mass_matrix;
 use crate::model::ModelBuilder;
 use crate::section::{BeamProps, Material, Shape};
 

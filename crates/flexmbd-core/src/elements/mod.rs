@@ -9,7 +9,6 @@
 //! order, its position r (3, if `pos`) then its Euler parameters λ (4, if `rot`).
 
 pub mod beam;
-pub mod beam_fast;
 pub mod hinge;
 pub mod rigid;
 pub mod truss;
@@ -17,7 +16,7 @@ pub mod truss;
 #[cfg(test)]
 pub(crate) mod testing;
 
-pub use beam::Beam;
+pub use beam::{Beam, BeamFirst};
 pub use hinge::Hinge;
 pub use rigid::Rigid;
 pub use truss::Truss;
@@ -57,7 +56,47 @@ impl NodeUse {
     }
 }
 
-/// The element contract: deformations, their first and second derivatives, stiffness.
+/// A steady acceleration field acting on the mass of a model: a(r) = W (r − a₀) + g on its
+/// translational mass and the gyroscopic moment −Ω × (I Ω) on its rotary inertia. Gravity is
+/// W = 0, Ω = 0; a steady rotation Ω about an axis through a₀ is W = Ω² P = Ω² I − Ω Ωᵀ
+/// (its centrifugal field, [`crate::model::Spin`]); both at once add up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AccelerationField {
+    /// W [1/s²]: Ω² P for a steady rotation, zero otherwise.
+    pub w: [[f64; 3]; 3],
+    /// a₀ [m]: a point on the rotation axis.
+    pub point: [f64; 3],
+    /// g [m/s²]: the uniform part (gravity).
+    pub uniform: [f64; 3],
+    /// Ω [rad/s]: the angular velocity of the steady rotation (zero without one).
+    pub omega: [f64; 3],
+}
+
+impl AccelerationField {
+    /// The acceleration W (r − a₀) + g at the point r.
+    pub fn at(&self, r: [f64; 3]) -> [f64; 3] {
+        let d = [
+            r[0] - self.point[0],
+            r[1] - self.point[1],
+            r[2] - self.point[2],
+        ];
+        std::array::from_fn(|k| crate::math::dot(self.w[k], d) + self.uniform[k])
+    }
+    /// The gyroscopic moment −Ω × (I Ω) of a body with inertia tensor `i` (global axes)
+    /// turning steadily with the field's rotation (Euler's equation).
+    pub fn gyroscopic_moment(&self, i: &[[f64; 3]; 3]) -> [f64; 3] {
+        let h: [f64; 3] = std::array::from_fn(|k| crate::math::dot(i[k], self.omega));
+        let m = crate::math::cross(self.omega, h);
+        [-m[0], -m[1], -m[2]]
+    }
+    /// True when the field has no effect (no gravity, no rotation).
+    pub fn is_zero(&self) -> bool {
+        self.uniform == [0.0; 3] && self.omega == [0.0; 3] && self.w == [[0.0; 3]; 3]
+    }
+}
+
+/// The element contract: deformations, their first and second derivatives, stiffness, and the
+/// element's mass (mass matrix and the loads of acceleration fields on it).
 ///
 /// Sizes: nx_k = Σ `NodeUse::len` over [`ElementKind::node_uses`], ne_k = [`ElementKind::ne`].
 pub trait ElementKind {
@@ -75,6 +114,41 @@ pub trait ElementKind {
     fn hessian_weighted(&self, xk: &[f64], w: &[f64]) -> Mat<f64>;
     /// S in σ = S e  (ne_k × ne_k); zero where the model gives no stiffness.
     fn stiffness(&self) -> Mat<f64>;
+    /// The mass matrix M_k on the local coordinates at `xk` (theory.md §12), written row-major
+    /// into `out` (nx_k × nx_k), with the translational kinetic energy weighted by a symmetric
+    /// `weight` W (½ ∫ ṙᵀ W ṙ dm; `None` = I) and with or without the rotary inertia (W = Ω² P
+    /// without rotary inertia gives the centrifugal softening of a steady rotation). Returns
+    /// `false`, leaving `out` alone, for an element that carries no mass (the default).
+    fn mass(
+        &self,
+        xk: &[f64],
+        weight: Option<&[[f64; 3]; 3]>,
+        rotary: bool,
+        out: &mut [f64],
+    ) -> bool {
+        let _ = (xk, weight, rotary, out);
+        false
+    }
+    /// The generalised loads of an acceleration field (gravity, the centrifugal field of a
+    /// steady rotation) on the element's mass, consistent with [`ElementKind::mass`], at the
+    /// coordinates `xk`: one (force, moment) per node use, global axes, added to `out`
+    /// (length: the number of node uses). Nothing for an element without mass (the default).
+    fn field_loads(&self, xk: &[f64], field: &AccelerationField, out: &mut [([f64; 3], [f64; 3])]) {
+        let _ = (xk, field, out);
+    }
+    /// The closed-form evaluation in fixed-size arrays of an element on two full nodes (14 local
+    /// coordinates, 6 deformations) that has one: the analyses' fast path. `None` (the
+    /// default): the analyses use the generic methods above.
+    fn closed_form(&self) -> Option<&dyn ClosedForm14> {
+        None
+    }
+}
+
+/// Closed-form values, Jacobian and Hessian products in fixed-size arrays (no heap allocation)
+/// for an element on two full nodes: x_k = [r_p; λ_p; r_q; λ_q] (14), six deformations.
+pub trait ClosedForm14 {
+    /// e, D and the intermediate data of the Hessian products at `xk`.
+    fn first(&self, xk: &[f64; 14]) -> BeamFirst;
 }
 
 /// All element types; the only `match` over element types lives in this impl.
@@ -131,6 +205,21 @@ impl ElementKind for Element {
     }
     fn stiffness(&self) -> Mat<f64> {
         self.kind().stiffness()
+    }
+    fn mass(
+        &self,
+        xk: &[f64],
+        weight: Option<&[[f64; 3]; 3]>,
+        rotary: bool,
+        out: &mut [f64],
+    ) -> bool {
+        self.kind().mass(xk, weight, rotary, out)
+    }
+    fn field_loads(&self, xk: &[f64], field: &AccelerationField, out: &mut [([f64; 3], [f64; 3])]) {
+        self.kind().field_loads(xk, field, out)
+    }
+    fn closed_form(&self) -> Option<&dyn ClosedForm14> {
+        self.kind().closed_form()
     }
 }
 

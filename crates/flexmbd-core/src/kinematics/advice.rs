@@ -64,29 +64,41 @@ pub enum Action {
 impl Action {
     /// The changed partition (coordinates and deformations are made inputs where the action
     /// allows both fixing and input: Dcc is the same either way).
-    pub fn apply(&self, model: &Model, p: &Partition) -> Partition {
+    ///
+    /// An action that names an element, mode, node or coordinate `model` does not have (an
+    /// action of another model) is an error.
+    pub fn apply(&self, model: &Model, p: &Partition) -> Result<Partition, KinematicsError> {
         let mut p = p.clone();
+        let unknown = |what: String| KinematicsError::UnknownInAction(what);
         let def_index = |element: &str, mode: usize| {
             let e = model
                 .elements
                 .iter()
                 .find(|e| e.name == element)
-                .expect("known element");
-            e.ie + mode - 1
+                .ok_or_else(|| unknown(format!("element `{element}`")))?;
+            if mode == 0 || mode > e.element.ne() {
+                return Err(unknown(format!("mode {mode} of element `{element}`")));
+            }
+            Ok(e.ie + mode - 1)
         };
         match self {
             Action::Release { element, mode, .. } | Action::MakeDependent { element, mode, .. } => {
-                p.e[def_index(element, *mode)] = DefKind::Free;
+                p.e[def_index(element, *mode)?] = DefKind::Free;
             }
             Action::FixOrInputDeformation { element, mode, .. } => {
-                p.e[def_index(element, *mode)] = DefKind::Input;
+                p.e[def_index(element, *mode)?] = DefKind::Input;
             }
             Action::FixOrInputCoordinate { node, dof } => {
-                let n = &model.nodes[model.node_id(node).expect("known node")];
-                p.x[n.x_index(*dof).expect("existing dof")] = CoordKind::Input;
+                let id = model
+                    .node_id(node)
+                    .ok_or_else(|| unknown(format!("node `{node}`")))?;
+                let i = model.nodes[id]
+                    .x_index(*dof)
+                    .ok_or_else(|| unknown(format!("coordinate {node}:{dof:?}")))?;
+                p.x[i] = CoordKind::Input;
             }
         }
-        p
+        Ok(p)
     }
     /// Human description.
     pub fn describe(&self) -> String {
@@ -321,7 +333,7 @@ fn verify(
         if out.len() >= max {
             break;
         }
-        let p = action.apply(model, partition);
+        let p = action.apply(model, partition)?;
         let (motions_after, self_stresses_after) = counts(model, &p, x, opts)?;
         if (motions_after, self_stresses_after) == want {
             out.push(Suggestion {
@@ -374,7 +386,7 @@ pub fn auto_generalised(
     }
     let mut p = partition.clone();
     for c in &chosen {
-        p = c.apply(model, &p);
+        p = c.apply(model, &p)?;
     }
     // coordinates could not remove every motion: add free deformations
     let mut analysis = check(model, &p, x, opts)?;
@@ -400,7 +412,7 @@ pub fn auto_generalised(
         }
         p = partition.clone();
         for c in &chosen {
-            p = c.apply(model, &p);
+            p = c.apply(model, &p)?;
         }
         analysis = check(model, &p, x, opts)?;
     }

@@ -226,6 +226,10 @@ pub enum KinematicsError {
     /// The rank tolerance is not a finite non-negative number.
     #[error("the rank tolerance must be a finite number ≥ 0, found {0}")]
     BadTolerance(f64),
+    /// A repair action names an element, a mode, a node or a coordinate the model does not have
+    /// (an action of another model).
+    #[error("the action names {0}, which this model does not have")]
+    UnknownInAction(String),
 }
 
 /// The velocity-form columns for a partition at configuration x.

@@ -49,6 +49,9 @@ pub enum LinearError {
     /// An eigenproblem failed.
     #[error(transparent)]
     Eigen(#[from] EigenError),
+    /// A matrix of the state is not finite.
+    #[error(transparent)]
+    Linalg(#[from] crate::linalg::LinalgError),
 }
 
 fn dense(
@@ -201,15 +204,15 @@ pub fn compliance(
 }
 
 /// Null-space basis of G (columns), by SVD.
-fn null_space(g: &Mat<f64>) -> Mat<f64> {
+fn null_space(g: &Mat<f64>) -> Result<Mat<f64>, crate::linalg::LinalgError> {
     let nf = g.ncols();
     if g.nrows() == 0 {
-        return Mat::identity(nf, nf);
+        return Ok(Mat::identity(nf, nf));
     }
-    let f = crate::linalg::svd(g.as_ref(), "G").expect("constraint Jacobian is finite");
+    let f = crate::linalg::svd(g.as_ref(), "constraint Jacobian G")?;
     let tol = f64::EPSILON.sqrt() * f.s.first().copied().unwrap_or(0.0);
     let r = crate::linalg::numerical_rank(&f.s, tol);
-    Mat::from_fn(nf, nf - r, |i, j| f.V[(i, r + j)])
+    Ok(Mat::from_fn(nf, nf - r, |i, j| f.V[(i, r + j)]))
 }
 
 fn sym(a: &Mat<f64>) -> Mat<f64> {
@@ -230,7 +233,7 @@ pub struct Buckling {
 
 /// Buckling multipliers (at most `count` of each sign) at the linearised state.
 pub fn buckling(model: &Model, lin: &Linearized, count: usize) -> Result<Buckling, LinearError> {
-    let z = null_space(&lin.g);
+    let z = null_space(&lin.g)?;
     let km = sym(&(z.transpose() * &lin.km * &z));
     let kg = sym(&(z.transpose() * &lin.kg * &z));
     // (K_m + μ K_g) v = 0  ⇔  −K_g v = (1/μ) K_m v

@@ -25,8 +25,10 @@
 //! fully free node; after every Newton update λ is projected back onto the unit sphere.
 //!
 //! Loads: dead nodal forces, dead moments (global axes; generalised force 2 Λ̄(λ)ᵀ M on λ, whose
-//! derivative gives a load stiffness), gravity on point masses and on the beams' mass (ρA l0/2
-//! lumped at each end). All loads and prescribed values grow linearly with the load factor t
+//! derivative gives a load stiffness), gravity and the centrifugal field of a steady rotation on
+//! the elements' and point masses, consistent with the mass matrix (`assembly::loads`: for a
+//! beam ρA g l0/2 at each end and the end moments ±ρA l0² (t × g)/12), on the reference
+//! configuration. All loads and prescribed values grow linearly with the load factor t
 //! from 0 to 1 over the load steps (SPACAR's `DELXF`/`DELINPX`); a step that does not converge
 //! (or whose residual grows a thousandfold, `DIVERGENCE`) is halved automatically.
 //!
@@ -35,12 +37,12 @@
 //! node instead of four Euler parameters and a normalisation row), with a sparse LU whose
 //! structure and ordering are computed once per solve and which is refactored with the previous
 //! pivots (L D Lᵀ for symmetric systems, `math::sparse_lu`); beams use closed-form derivatives
-//! (`elements::beam_fast`); the Euler parameters are updated so that node triads turn with the
+//! (`elements::beam::closed_form`); the Euler parameters are updated so that node triads turn with the
 //! chords (`chord_consistent_scale`); a load step starts from the last converged state (a
 //! secant predictor only with prescribed coordinates).
 
 use crate::assembly::gather;
-use crate::elements::{Element, ElementKind};
+use crate::elements::ElementKind;
 use crate::math::lambda_bar;
 use crate::math::sparse_lu::SparseLu;
 use crate::model::{CoordKind, DefKind, Model, Target};
@@ -158,7 +160,7 @@ pub struct StaticSolution {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolveError {
     /// Newton did not converge even with the smallest step.
-    #[error("no equilibrium found at load factor {load_factor:.6} (step {step}): after {halvings} step halvings Newton still fails ({reason}); the last converged load factor is {last_converged:.6}. Try more load steps (--steps), check for buckling or a snap-through near this load, or for an under-constrained model (a mechanism has no static equilibrium under load)")]
+    #[error("no equilibrium found at load factor {load_factor:.6} (step {step}): after {halvings} step halvings Newton still fails ({reason}); the last converged load factor is {last_converged:.6}. Try more load steps, check for buckling or a snap-through near this load, or for an under-constrained model (a mechanism has no static equilibrium under load)")]
     NoConvergence {
         /// Load step being solved.
         step: usize,
@@ -257,27 +259,13 @@ fn setup(model: &Model) -> Setup {
             }
         }
     }
-    let g = model.loads.gravity;
-    let mut add_weight = |ix: usize, m: f64| {
-        for k in 0..3 {
-            f_dead[ix + k] += m * g[k];
-        }
-    };
-    for &(node, m) in &model.loads.point_masses {
-        add_weight(model.nodes[node].ix_pos, m);
-    }
-    for entry in &model.elements {
-        if let Element::Beam(b) = &entry.element {
-            if let Some(p) = &b.props {
-                let half = 0.5 * p.rho_a * b.l0;
-                add_weight(model.nodes[b.nodes[0]].ix_pos, half);
-                add_weight(model.nodes[b.nodes[1]].ix_pos, half);
-            }
-        }
-    }
-    // centrifugal loads of a steady rotation (dead, on the reference configuration)
-    if model.loads.spin.is_some() {
-        for (node, (f, m)) in crate::spin::centrifugal_loads(model).iter().enumerate() {
+    // gravity and the centrifugal loads of a steady rotation, consistent with the mass model
+    // (dead, on the reference configuration)
+    if model.loads.acceleration_field().is_some() {
+        for (node, (f, m)) in crate::assembly::loads::field_loads(model)
+            .iter()
+            .enumerate()
+        {
             let n = &model.nodes[node];
             for k in 0..3 {
                 f_dead[n.ix_pos + k] += f[k];
@@ -607,7 +595,7 @@ impl Reduction {
                 .collect();
             n_entries += element_entry_count(ec.len(), cons.len());
             elem_cons.push(cons);
-            let full = matches!(entry.element, Element::Beam(_))
+            let full = entry.element.closed_form().is_some()
                 && ec.len() == 12
                 && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
                 && ec.iter().enumerate().all(|(c, (col, _))| match (c, *col) {
@@ -936,10 +924,10 @@ fn element_local(
             }
             debug_assert_eq!(i, vals.len());
         };
-    if let Element::Beam(beam) = &entry.element {
-        // closed-form derivatives in fixed-size arrays (elements/beam_fast.rs)
+    if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
+        // closed-form derivatives in fixed-size arrays (elements/beam/closed_form.rs)
         let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-        let first = beam.first(&xk);
+        let first = cf.first(&xk);
         e_out.copy_from_slice(&first.e);
         let energy = stress(&first.e, sigma_out);
         let d = &first.d;
@@ -1618,12 +1606,6 @@ fn newton(
     let mut r_start: f64 = 0.0;
     for it in 0..=opts.max_iterations {
         let (rn, gn) = (inf_norm(&a.r), inf_norm(&a.g));
-        if std::env::var("FLEXMBD_DEBUG_NEWTON").is_ok() {
-            eprintln!(
-                "t {t:.6} it {it} |r| {rn:.3e} |g| {gn:.3e} inc {last_inc:.3e} fscale {:.3e}",
-                a.f_scale
-            );
-        }
         if !(rn.is_finite() && gn.is_finite()) {
             return Newton::Failed {
                 reason: "the residual is not finite".into(),
@@ -2225,10 +2207,10 @@ pub(crate) fn deformation_energies(
 ) -> Vec<f64> {
     let ne = entry.element.ne();
     let mut out = Vec::with_capacity(ne * shapes.len());
-    if let (Element::Beam(b), 6, 14) = (&entry.element, ne, entry.xmap.len()) {
+    if let (Some(cf), 6, 14) = (entry.element.closed_form(), ne, entry.xmap.len()) {
         // the same sums as below, without allocations per shape
         let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-        let d = b.first(&xk).d;
+        let d = cf.first(&xk).d;
         for dx in shapes {
             let de: [f64; 6] = std::array::from_fn(|r| {
                 entry

@@ -30,7 +30,14 @@
 //! Stiffness (theory.md §11.2, SPACAR's storage): S11 = EA/l0, S22 = GJ/l0³, bending blocks
 //! EI/(l0³ (1 + Φ)) [[4 + Φ, −(2 − Φ)], [−(2 − Φ), 4 + Φ]], Φ = 12 EI/(kGA l0²).
 
-use super::{fixed_values, local_frame, ElementKind, FrameError, NodeId, NodeUse};
+pub mod closed_form;
+pub mod mass;
+
+pub use closed_form::BeamFirst;
+
+use super::{
+    fixed_values, local_frame, AccelerationField, ElementKind, FrameError, NodeId, NodeUse,
+};
 use crate::math::{cst3, dot, mul, norm, rotate, sub, Scalar, SmoothMap, V3};
 use crate::section::BeamProps;
 use faer::Mat;
@@ -124,6 +131,12 @@ impl Beam {
     }
 }
 
+impl super::ClosedForm14 for Beam {
+    fn first(&self, xk: &[f64; 14]) -> BeamFirst {
+        Beam::first(self, xk)
+    }
+}
+
 impl SmoothMap<14, 6> for Beam {
     /// Paper eq. (2).
     fn eval<T: Scalar>(&self, x: &[T; 14]) -> [T; 6] {
@@ -177,7 +190,7 @@ impl ElementKind for Beam {
         fixed_values(self, xk)
     }
     fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
-        // closed form (beam_fast.rs); the jet version (SmoothMap) is its reference in the tests
+        // closed form (closed_form.rs); the jet version (SmoothMap) is its reference in the tests
         let d = self.first(&local14(xk)).d;
         Mat::from_fn(6, 14, |i, k| d[i][k])
     }
@@ -201,6 +214,35 @@ impl ElementKind for Beam {
             }
         }
         s
+    }
+    fn mass(
+        &self,
+        xk: &[f64],
+        weight: Option<&[[f64; 3]; 3]>,
+        rotary: bool,
+        out: &mut [f64],
+    ) -> bool {
+        let Some(m) = mass::local_mass(self, xk, weight, rotary) else {
+            return false;
+        };
+        for (o, v) in out.chunks_exact_mut(14).zip(&m) {
+            o.copy_from_slice(v);
+        }
+        true
+    }
+    fn field_loads(&self, xk: &[f64], field: &AccelerationField, out: &mut [([f64; 3], [f64; 3])]) {
+        let Some(loads) = mass::field_loads(self, xk, field) else {
+            return;
+        };
+        for (o, (f, m)) in out.iter_mut().zip(loads) {
+            for k in 0..3 {
+                o.0[k] += f[k];
+                o.1[k] += m[k];
+            }
+        }
+    }
+    fn closed_form(&self) -> Option<&dyn super::ClosedForm14> {
+        Some(self)
     }
 }
 
@@ -238,7 +280,7 @@ mod tests {
 
     #[test]
     fn closed_form_derivatives_match_jets() {
-        // the closed forms of beam_fast.rs against the jet evaluation of eq. (2) (SmoothMap):
+        // the closed forms of closed_form.rs against the jet evaluation of eq. (2) (SmoothMap):
         // random frames, c_t ≠ 0, large rotations, λ of non-unit length, stretched chords
         use crate::elements::testing::Rng;
         let mut rng = Rng(0x5eed_beef);

@@ -1,6 +1,9 @@
 //! Assembly: gather element coordinates x_k from x, evaluate the elements, scatter e_k and
 //! D_k = ∂e_k/∂x_k into the global e and D (paper eq. (3): e = 𝒟(x)).
 
+pub mod loads;
+pub mod mass;
+
 use crate::elements::ElementKind;
 use crate::model::{ElementEntry, Model};
 use faer::Mat;

@@ -1,7 +1,7 @@
 //! Closed-form first and second derivatives of the beam deformations (paper eq. (2)).
 //!
 //! Same functions as the generic [`SmoothMap`](crate::math::SmoothMap) implementation in
-//! [`super::beam`] (which stays the reference, see the tests there), evaluated analytically in
+//! [`super`] (which stays the reference, see the tests there), evaluated analytically in
 //! fixed-size arrays: no jets, no heap allocation.
 //!
 //! Reduced variables z = (d, λ_p, λ_q) with d = r_q − r_p (11 values). Every auxiliary quantity

@@ -1,148 +1,57 @@
-//! Steady rotation of the whole model (a rotor, a rotating blade, a spinning stage): analysis in
-//! the co-rotating frame.
+//! The loads of acceleration fields on the model's mass: gravity and the centrifugal field of a
+//! steady rotation ([`crate::model::Spin`]), as nodal forces and moments.
 //!
-//! The model turns at a constant angular velocity Ω = Ω n about an axis through the point a.
-//! In the co-rotating frame a static state is an equilibrium under the centrifugal (inertial)
-//! loads (validation.md F03: "steady rotation (or the static centrifugal load) first, then a
-//! linearised modal analysis about it, including the geometric stiffness"):
-//!
-//! - distributed on every beam with mass: f(s) = ρA Ω² P (r(s) − a), P = I − n nᵀ; the nodal
-//!   loads are consistent with the beam's mass model (`dynamics::mass`): r(ξ) is the cubic
-//!   Hermite centre line through the end positions and end tangents, so with
-//!   y = (r_p − a, l₀ t_p, r_q − a, l₀ t_q) and Hᵢⱼ = ∫₀¹ HᵢHⱼ dξ the generalised forces are
-//!   F_p = ρA l₀ Ω² Σⱼ H₁ⱼ P yⱼ, M_p = l₀ t_p × (ρA l₀ Ω² Σⱼ H₂ⱼ P yⱼ) and likewise at q
-//!   (the virtual displacement of the tangent term is l₀ δθ × t);
-//! - point masses: m Ω² P (r − a);
-//! - rotary inertia (the beams' lumped ρI l₀/2 at each end, and `[[inertia]]` tensors): the
-//!   moment −Ω × (I Ω) (Euler's equation of a body turning steadily with the frame).
-//!
-//! The loads are computed on the reference configuration and applied as dead loads that grow
-//! with the load factor like every other load (Ω² ramps linearly). They do not follow the
-//! deflection: this is the classical small-deflection pre-stress analysis of rotating beams
-//! (centrifugal stiffening through the axial force N(x) = ρAΩ²(L² − x²)/2 of a radial beam).
-//! The linearised dynamics add the centrifugal softening −Ω² M_P ([`softening_matrix`]: the
-//! translational mass with the projection P) and leave out the Coriolis (gyroscopic) coupling
-//! 2Ω × ṙ: out-of-plane (flapwise) motion is exact, in-plane (lead-lag) motion follows
-//! ω² = ω²_elastic − Ω² without the coupling to axial motion (docs/dynamics.md).
+//! One mass model serves the mass matrix and these loads: each element's loads come from
+//! [`ElementKind::field_loads`], consistent with its [`ElementKind::mass`] (the beam: the
+//! Hermite centre line, `elements/beam/mass.rs`); a point mass m gets m a(r), an inertia tensor
+//! the gyroscopic moment −Ω × (I Ω). The loads are computed on the reference configuration and
+//! applied as dead loads growing with the load factor (statics).
 
-use crate::elements::Element;
-use crate::math::{cross, dot};
+use crate::assembly::gather;
+use crate::elements::ElementKind;
 use crate::model::Model;
 
-/// A steady rotation: angular velocity `omega` [rad/s] (global axes) about the axis through
-/// `point` [m].
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Spin {
-    /// Angular velocity vector Ω [rad/s].
-    pub omega: [f64; 3],
-    /// A point on the rotation axis [m].
-    pub point: [f64; 3],
-}
-
-impl Spin {
-    /// Ω² P = Ω² I − Ω Ωᵀ: the centrifugal acceleration of a point at r is Ω² P (r − a).
-    pub fn projector(&self) -> [[f64; 3]; 3] {
-        let w = self.omega;
-        let w2 = dot(w, w);
-        std::array::from_fn(|i| {
-            std::array::from_fn(|k| if i == k { w2 } else { 0.0 } - w[i] * w[k])
-        })
-    }
-
-    /// Centrifugal acceleration Ω² P (r − a) at the point r.
-    pub fn acceleration(&self, r: [f64; 3]) -> [f64; 3] {
-        apply(&self.projector(), sub3(r, self.point))
-    }
-
-    /// Inertial moment −Ω × (I Ω) of a body with inertia tensor `i` (global axes).
-    pub fn moment(&self, i: &[[f64; 3]; 3]) -> [f64; 3] {
-        let h = apply(i, self.omega);
-        let m = cross(self.omega, h);
-        [-m[0], -m[1], -m[2]]
-    }
-}
-
-fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn apply(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|i| dot(m[i], v))
-}
-
-/// Centrifugal nodal loads of the model's spin on the reference configuration: per node
-/// (force, moment) in global axes [N, N·m]; all zero without a spin.
-pub fn centrifugal_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
+/// The nodal loads of gravity and of the model's spin on the reference configuration: per node
+/// (force, moment) in global axes [N, N·m]; all zero without gravity and spin.
+pub fn field_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
     let mut out = vec![([0.0; 3], [0.0; 3]); model.nodes.len()];
-    let Some(spin) = model.loads.spin else {
+    let Some(field) = model.loads.acceleration_field() else {
         return out;
     };
-    let pw = spin.projector();
+    let x0 = model.x0();
     let add = |v: &mut [f64; 3], a: [f64; 3]| {
         for k in 0..3 {
             v[k] += a[k];
         }
     };
+    let mut per_use = Vec::new();
     for entry in &model.elements {
-        let Element::Beam(b) = &entry.element else {
-            continue;
-        };
-        let Some(p) = &b.props else { continue };
-        let [np, nq] = b.nodes;
-        let (rp, rq) = (model.nodes[np].x0, model.nodes[nq].x0);
-        // straight reference beam: both end tangents are ex
-        let t = b.frame[0];
-        let lt = [b.l0 * t[0], b.l0 * t[1], b.l0 * t[2]];
-        let y = [sub3(rp, spin.point), lt, sub3(rq, spin.point), lt];
-        let py: Vec<[f64; 3]> = y.iter().map(|&v| apply(&pw, v)).collect();
-        let ml = p.rho_a * b.l0;
-        let g: [[f64; 3]; 4] = std::array::from_fn(|i| {
-            std::array::from_fn(|k| {
-                ml * (0..4)
-                    .map(|j| crate::dynamics::mass::HERMITE[i][j] * py[j][k])
-                    .sum::<f64>()
-            })
-        });
-        add(&mut out[np].0, g[0]);
-        add(&mut out[nq].0, g[2]);
-        add(&mut out[np].1, cross(lt, g[1]));
-        add(&mut out[nq].1, cross(lt, g[3]));
-        // lumped rotary inertia, half the element's to each end (reference orientation)
-        let it = crate::dynamics::mass::beam_end_inertia(b, p, &crate::elements::EULER_IDENTITY);
-        let m = spin.moment(&it);
-        add(&mut out[np].1, m);
-        add(&mut out[nq].1, m);
+        let uses = entry.element.node_uses();
+        per_use.clear();
+        per_use.resize(uses.len(), ([0.0; 3], [0.0; 3]));
+        entry
+            .element
+            .field_loads(&gather(entry, &x0), &field, &mut per_use);
+        for (u, (f, m)) in uses.iter().zip(&per_use) {
+            add(&mut out[u.node].0, *f);
+            add(&mut out[u.node].1, *m);
+        }
     }
     for &(node, m) in &model.loads.point_masses {
-        let a = spin.acceleration(model.nodes[node].x0);
+        let a = field.at(model.nodes[node].x0);
         add(&mut out[node].0, a.map(|v| m * v));
     }
     for (node, tensor) in &model.loads.inertias {
-        add(&mut out[*node].1, spin.moment(tensor));
+        add(&mut out[*node].1, field.gyroscopic_moment(tensor));
     }
     out
-}
-
-/// The centrifugal softening −Ω² M_P (nx × nx) at x: the second derivative of the centrifugal
-/// potential −½ ∫ ρA |P^½ Ω (r − a)|² of the beams' translational (Hermite) mass and the point
-/// masses, added to the stiffness of the linearised dynamics. Zero without a spin. The rotary
-/// inertias' centrifugal moments are left out (their stiffness, the "propeller moment", matters
-/// for the torsion of blades turning about their chord).
-pub fn softening_matrix(model: &Model, x: &[f64]) -> faer::Mat<f64> {
-    let mut k = faer::Mat::zeros(model.nx, model.nx);
-    let Some(spin) = model.loads.spin else {
-        return k;
-    };
-    let w = spin.projector();
-    crate::dynamics::mass::for_each_entry(model, x, Some(&w), false, |r, c, v| k[(r, c)] -= v);
-    k
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::dynamics::modes;
-    use crate::model::ModelBuilder;
+    use crate::model::{ModelBuilder, Spin};
     use crate::section::{BeamProps, Material, Shape};
     use crate::statics::{last_step, StaticOptions};
 
@@ -185,7 +94,7 @@ mod tests {
             point: [0.0; 3],
         };
         let m = radial_strip(4, 2.0, 0.5, spin);
-        let loads = centrifugal_loads(&m);
+        let loads = field_loads(&m);
         let (c, h) = (0.0312 * 25.0, 0.5);
         for (i, load) in loads.iter().enumerate() {
             let mut want = 0.0;
@@ -208,6 +117,63 @@ mod tests {
     }
 
     #[test]
+    fn gravity_loads_are_the_mass_matrix_times_the_rigid_acceleration() {
+        // one mass model: the generalised gravity force is M ẍ_g, ẍ_g the coordinate
+        // acceleration of a rigid translation by g (g on every position, λ̈ = 0). On λ a moment m
+        // is the generalised force 2 Λ̄ᵀ m = (0, 2m) at the reference orientation. An inclined
+        // beam chain with a point mass, so that every Hermite term and the end moments enter.
+        let g = [0.3, -9.81, 1.7];
+        let p = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.02, t: 0.002 }, true);
+        let mut b = ModelBuilder::new("inclined");
+        b.add_beam_chain(
+            "",
+            [0.1, 0.0, 0.2],
+            [0.4, 0.5, -0.1],
+            3,
+            Some([0.0, 0.0, 1.0]),
+            Some(p),
+        )
+        .unwrap();
+        b.add_point_mass("n2", 0.25).unwrap();
+        b.set_gravity(g).unwrap();
+        let m = b.build().unwrap();
+        let x0 = m.x0();
+        let mx = crate::assembly::mass::mass_matrix(&m, &x0);
+        let mut a = vec![0.0; m.nx];
+        for n in &m.nodes {
+            a[n.ix_pos..n.ix_pos + 3].copy_from_slice(&g);
+        }
+        let ma: Vec<f64> = (0..m.nx)
+            .map(|i| (0..m.nx).map(|j| mx[(i, j)] * a[j]).sum())
+            .collect();
+        let loads = field_loads(&m);
+        let scale = ma.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+        for (n, (f, mom)) in m.nodes.iter().zip(&loads) {
+            for k in 0..3 {
+                assert!((ma[n.ix_pos + k] - f[k]).abs() < 1e-13 * scale, "{f:?}");
+            }
+            let r = n.ix_rot.unwrap();
+            assert!(ma[r].abs() < 1e-13 * scale);
+            for k in 0..3 {
+                let want = 2.0 * mom[k];
+                assert!((ma[r + 1 + k] - want).abs() < 1e-13 * scale, "{mom:?}");
+            }
+        }
+        // and the end moments are there: ρA l0² |t × g|/12 at the first node
+        let l0 = ((0.3f64).powi(2) + 0.25 + 0.09).sqrt() / 3.0;
+        let t = [0.3 / (3.0 * l0), 0.5 / (3.0 * l0), -0.3 / (3.0 * l0)];
+        let txg = crate::math::cross(t, g);
+        let want = p.rho_a * l0 * l0 / 12.0;
+        for k in 0..3 {
+            assert!(
+                (loads[0].1[k] - want * txg[k]).abs() < 1e-12 * want,
+                "{:?}",
+                loads[0].1
+            );
+        }
+    }
+
+    #[test]
     fn offset_axis_loads_reproduce_resultant_and_moment() {
         // a spin Ω = 2 about x through (0, 1, 0): every point of the beam (on y = 0) is 1 m
         // off the axis, so the load is −ρAΩ² per length along y: resultant −(0.0312·2 + 0.5)·4,
@@ -217,7 +183,7 @@ mod tests {
             point: [0.0, 1.0, 0.0],
         };
         let m = radial_strip(3, 2.0, 0.5, spin);
-        let loads = centrifugal_loads(&m);
+        let loads = field_loads(&m);
         let fy: f64 = loads.iter().map(|l| l.0[1]).sum();
         let fx: f64 = loads.iter().map(|l| l.0[0]).sum();
         assert!((fy + (0.0312 * 2.0 + 0.5) * 4.0).abs() < 1e-12, "{fy}");
@@ -239,7 +205,13 @@ mod tests {
             point: [0.0; 3],
         };
         let i = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
-        assert_eq!(spin.moment(&i), [0.0, 0.0, -1.0]);
+        let field = crate::elements::AccelerationField {
+            w: spin.projector(),
+            point: spin.point,
+            uniform: [0.0; 3],
+            omega: spin.omega,
+        };
+        assert_eq!(field.gyroscopic_moment(&i), [0.0, 0.0, -1.0]);
     }
 
     /// Flapwise (global z, out of the plane of rotation) natural frequencies ω̄ = ω √(ρA L⁴/EI)

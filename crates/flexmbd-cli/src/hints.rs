@@ -1,0 +1,47 @@
+//! The command line's spelling of the neutral hints in flexmbd-core's errors: core says "use the
+//! sparse eigen solver", the CLI adds which option does that (docs: core messages name no flag).
+
+use flexmbd_core::dynamics::state_space::StateSpaceError;
+use flexmbd_core::dynamics::ModalError;
+use flexmbd_core::statics::SolveError;
+
+/// The options that act on the failure of `e` (searched through its chain of causes), if flexmbd
+/// knows them.
+pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
+    e.chain().find_map(|cause| {
+        if let Some(m) = cause.downcast_ref::<ModalError>() {
+            return modal(m);
+        }
+        if let Some(s) = cause.downcast_ref::<StateSpaceError>() {
+            return match s {
+                StateSpaceError::Modal(m) => modal(m),
+                StateSpaceError::SparseNeedsModes { .. } => {
+                    Some("give --modes N (e.g. --modes 20), with --static-correction for the exact static gain")
+                }
+                StateSpaceError::ForceOfHeldDeformation { .. } => {
+                    Some("use --solver dense (or auto) on models of at most 3000 degrees of freedom")
+                }
+                StateSpaceError::NoRotation { .. } => {
+                    Some("in a TOML model, `rot = true` gives a node rotation coordinates")
+                }
+                _ => None,
+            };
+        }
+        if let Some(SolveError::NoConvergence { .. }) = cause.downcast_ref::<SolveError>() {
+            return Some("more load steps: --steps N (or `steps` in the model's [static] table)");
+        }
+        None
+    })
+}
+
+fn modal(m: &ModalError) -> Option<&'static str> {
+    match m {
+        ModalError::NoMass => Some(
+            "in a TOML model: a [[material]] with `rho` for the beams, or [[mass]] / [[inertia]] entries",
+        ),
+        ModalError::DenseInaccurate { .. } => Some("use --solver sparse"),
+        ModalError::SparseSingular => Some("run `flexmbd check` on the model, or use --solver dense"),
+        ModalError::NotConverged { .. } => Some("ask for fewer modes (--count), or use --solver dense"),
+        _ => None,
+    }
+}

@@ -1,0 +1,172 @@
+//! The mass matrix M in x (theory.md §12), element by element through
+//! [`ElementKind::mass`] (the beam's model: `elements/beam/mass.rs`), plus point masses m I₃ on a
+//! node's position and inertia tensors (global axes, reference orientation, rotated with the
+//! node) on its λ; and the centrifugal softening −Ω² M_P of a steady rotation from the same
+//! entries.
+
+use crate::elements::ElementKind;
+use crate::math::inertia::node_inertia_block;
+use crate::model::Model;
+use faer::Mat;
+
+/// The largest number of local coordinates of an element with mass that the scratch buffers
+/// of this module hold without allocating (a beam: 14).
+const SMALL: usize = 14;
+
+/// Every entry of the mass matrix at x, element by element, as `f(row, column, value)` in x
+/// (repeated positions add up): the elements' mass matrices, point masses and inertia
+/// tensors. With a `weight` W the translational kinetic energy is ½ ṙᵀ W ṙ (elements and point
+/// masses), and `rotary = false` leaves the rotary inertias out (the centrifugal softening).
+pub(crate) fn for_each_entry(
+    model: &Model,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    mut f: impl FnMut(usize, usize, f64),
+) {
+    for_each_element(model, x, weight, rotary, |xmap, me| {
+        let n = xmap.len();
+        for (r, &gr) in xmap.iter().enumerate() {
+            for (c, &gc) in xmap.iter().enumerate() {
+                f(gr, gc, me[r * n + c]);
+            }
+        }
+    });
+    for_each_node_entry(model, x, weight, rotary, f);
+}
+
+/// The elements' mass matrices ([`ElementKind::mass`], row-major) with their coordinates in x,
+/// as `f(xmap, matrix)`, in the order of the elements; elements without mass are skipped.
+pub(crate) fn for_each_element(
+    model: &Model,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    mut f: impl FnMut(&[usize], &[f64]),
+) {
+    let (mut xk, mut me) = ([0.0; SMALL], [0.0; SMALL * SMALL]);
+    let (mut xk_big, mut me_big) = (Vec::new(), Vec::new());
+    for entry in &model.elements {
+        let n = entry.xmap.len();
+        let (xk, me) = if n <= SMALL {
+            (&mut xk[..n], &mut me[..n * n])
+        } else {
+            xk_big.resize(n, 0.0);
+            me_big.resize(n * n, 0.0);
+            (&mut xk_big[..], &mut me_big[..])
+        };
+        xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
+        if entry.element.mass(xk, weight, rotary, me) {
+            f(&entry.xmap, me);
+        }
+    }
+}
+
+/// The entries of point masses and inertia tensors (the part of [`for_each_entry`] after the
+/// elements).
+fn for_each_node_entry(
+    model: &Model,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    mut f: impl FnMut(usize, usize, f64),
+) {
+    for &(node, mass) in &model.loads.point_masses {
+        let ip = model.nodes[node].ix_pos;
+        for r in 0..3 {
+            match weight {
+                Some(w) => (0..3).for_each(|c| f(ip + r, ip + c, mass * w[r][c])),
+                None => f(ip + r, ip + r, mass),
+            }
+        }
+    }
+    if !rotary {
+        return;
+    }
+    for (node, tensor) in &model.loads.inertias {
+        let Some(r) = model.nodes[*node].ix_rot else {
+            continue;
+        };
+        let blk = node_inertia_block(&x[r..r + 4], tensor);
+        for a in 0..4 {
+            for c in 0..4 {
+                f(r + a, r + c, blk[a][c]);
+            }
+        }
+    }
+}
+
+/// Dense mass matrix M (nx × nx) at x.
+pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
+    let mut m = Mat::zeros(model.nx, model.nx);
+    for_each_entry(model, x, None, true, |r, c, v| m[(r, c)] += v);
+    m
+}
+
+/// M v for several vectors v in x at once, element by element (no global matrix): the
+/// products that the energy split of the modes needs, also for models too large for a dense M.
+pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
+    let mut out = vec![vec![0.0; model.nx]; vs.len()];
+    // per vector the same additions in the same order as entry by entry
+    for_each_element(model, x, None, true, |xmap, me| {
+        let n = xmap.len();
+        for (v, o) in vs.iter().zip(out.iter_mut()) {
+            for (r, &gr) in xmap.iter().enumerate() {
+                let mut acc = o[gr];
+                for (c, &gc) in xmap.iter().enumerate() {
+                    acc += me[r * n + c] * v[gc];
+                }
+                o[gr] = acc;
+            }
+        }
+    });
+    for_each_node_entry(model, x, None, true, |r, c, m| {
+        for (v, o) in vs.iter().zip(out.iter_mut()) {
+            o[r] += m * v[c];
+        }
+    });
+    out
+}
+
+/// The blocks of M on each node's own coordinates (7 × 7: position x, y, z, then λ0..λ3; a
+/// node `at` a host has its host's position, so only its λ block is filled), element by
+/// element: the inertia of every velocity direction of a node, without a global matrix.
+pub fn node_blocks(model: &Model, x: &[f64]) -> Vec<[[f64; 7]; 7]> {
+    // x index → (node, local index 0..7)
+    let mut owner = vec![(usize::MAX, 0usize); model.nx];
+    for (id, n) in model.nodes.iter().enumerate() {
+        if n.host.is_none() {
+            for k in 0..3 {
+                owner[n.ix_pos + k] = (id, k);
+            }
+        }
+        if let Some(r) = n.ix_rot {
+            for k in 0..4 {
+                owner[r + k] = (id, 3 + k);
+            }
+        }
+    }
+    let mut out = vec![[[0.0; 7]; 7]; model.nodes.len()];
+    for_each_entry(model, x, None, true, |gr, gc, v| {
+        let ((nr, lr), (nc, lc)) = (owner[gr], owner[gc]);
+        if nr == nc && nr != usize::MAX {
+            out[nr][lr][lc] += v;
+        }
+    });
+    out
+}
+
+/// The centrifugal softening −Ω² M_P (nx × nx) at x: the second derivative of the centrifugal
+/// potential −½ ∫ |P^½ Ω (r − a)|² dm of the translational mass (elements and point masses),
+/// added to the stiffness of the linearised dynamics. Zero without a spin. The rotary inertias'
+/// centrifugal moments are left out (their stiffness, the "propeller moment", matters for the
+/// torsion of blades turning about their chord).
+pub fn softening_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
+    let mut k = Mat::zeros(model.nx, model.nx);
+    let Some(spin) = model.loads.spin else {
+        return k;
+    };
+    let w = spin.projector();
+    for_each_entry(model, x, Some(&w), false, |r, c, v| k[(r, c)] -= v);
+    k
+}

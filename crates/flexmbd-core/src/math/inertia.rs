@@ -1,0 +1,123 @@
+//! Rotational kinematics of inertia: the derivative of a rotated vector with respect to the Euler
+//! parameters, inertia tensors that turn with a node, and their blocks on λ (theory.md §12).
+
+use super::{cross, dot, lambda_bar, rotate};
+
+/// The unit vector along global axis `k`.
+pub fn unit(k: usize) -> [f64; 3] {
+    let mut v = [0.0; 3];
+    v[k] = 1.0;
+    v
+}
+
+/// ∂(R(λ) a)/∂λ (3 × 4), in closed form: R(λ) a = r/n² with
+/// r = (λ0² − v·v) a + 2 (v·a) v + 2 λ0 (v × a), n² = λ0² + v·v, v = (λ1, λ2, λ3)
+/// (as [`rotate`]).
+pub fn d_rotated(l: &[f64], a: [f64; 3]) -> [[f64; 4]; 3] {
+    let (l0, v) = (l[0], [l[1], l[2], l[3]]);
+    let vv = dot(v, v);
+    let va = dot(v, a);
+    let n2 = l0 * l0 + vv;
+    let vxa = cross(v, a);
+    let c0 = l0 * l0 - vv;
+    let r: [f64; 3] = std::array::from_fn(|i| c0 * a[i] + 2.0 * va * v[i] + 2.0 * l0 * vxa[i]);
+    let mut dr = [[0.0; 4]; 3];
+    for i in 0..3 {
+        dr[i][0] = 2.0 * l0 * a[i] + 2.0 * vxa[i];
+    }
+    for k in 0..3 {
+        let ek = unit(k);
+        let exa = cross(ek, a);
+        for i in 0..3 {
+            dr[i][k + 1] =
+                -2.0 * v[k] * a[i] + 2.0 * a[k] * v[i] + 2.0 * va * ek[i] + 2.0 * l0 * exa[i];
+        }
+    }
+    let dn2 = [2.0 * l0, 2.0 * v[0], 2.0 * v[1], 2.0 * v[2]];
+    let mut out = [[0.0; 4]; 3];
+    for i in 0..3 {
+        for j in 0..4 {
+            out[i][j] = dr[i][j] / n2 - r[i] * dn2[j] / (n2 * n2);
+        }
+    }
+    out
+}
+
+/// Inertia tensor block on λ: 4 Λ̄ᵀ I Λ̄ (4 × 4), I in global axes (ω = 2 Λ̄ λ̇).
+pub fn lambda_block(l: &[f64], i: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
+    let lb = lambda_bar(&[l[0], l[1], l[2], l[3]]);
+    let mut out = [[0.0; 4]; 4];
+    for a in 0..4 {
+        for b in 0..4 {
+            let mut v = 0.0;
+            for r in 0..3 {
+                for c in 0..3 {
+                    v += lb[r][a] * i[r][c] * lb[c][b];
+                }
+            }
+            out[a][b] = 4.0 * v;
+        }
+    }
+    out
+}
+
+/// R(λ) diag(d) Rᵀ: a tensor with principal values `d` along the axes whose reference directions
+/// are the rows of `frame`, turned by the Euler parameters `l`.
+pub fn rotated_tensor(l: &[f64], frame: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {
+    let lam = [l[0], l[1], l[2], l[3]];
+    let axes: [[f64; 3]; 3] = std::array::from_fn(|k| rotate(&lam, frame[k]));
+    let mut i = [[0.0; 3]; 3];
+    for k in 0..3 {
+        for r in 0..3 {
+            for c in 0..3 {
+                i[r][c] += d[k] * axes[k][r] * axes[k][c];
+            }
+        }
+    }
+    i
+}
+
+/// The block on the Euler parameters `l` of an inertia tensor given in global axes at the
+/// reference orientation: the tensor turns with the node (R I Rᵀ), then 4 Λ̄ᵀ (R I Rᵀ) Λ̄.
+pub fn node_inertia_block(l: &[f64], tensor: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
+    let lam = [l[0], l[1], l[2], l[3]];
+    let cols: [[f64; 3]; 3] = std::array::from_fn(|k| rotate(&lam, unit(k)));
+    let mut ig = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            for p in 0..3 {
+                for q in 0..3 {
+                    ig[a][b] += cols[p][a] * tensor[p][q] * cols[q][b];
+                }
+            }
+        }
+    }
+    lambda_block(l, &ig)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closed_form_rotation_derivative_matches_central_differences() {
+        let mut rng = crate::elements::testing::Rng(11);
+        for _ in 0..20 {
+            // not normalised: the formula holds for any λ ≠ 0
+            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let a: [f64; 3] = std::array::from_fn(|_| rng.next());
+            let d = d_rotated(&l, a);
+            let h = 1e-6;
+            for j in 0..4 {
+                let (mut lp, mut lm) = (l, l);
+                lp[j] += h;
+                lm[j] -= h;
+                let (rp, rm) = (rotate(&lp, a), rotate(&lm, a));
+                for i in 0..3 {
+                    let fd = (rp[i] - rm[i]) / (2.0 * h);
+                    assert!((d[i][j] - fd).abs() < 1e-7, "{i} {j}: {} vs {fd}", d[i][j]);
+                }
+            }
+        }
+    }
+}
