@@ -375,10 +375,8 @@ fn run_static(
     csv: Option<PathBuf>,
     line_search: bool,
 ) -> anyhow::Result<ExitCode> {
-    use flexmbd_core::statics::linear::{
-        buckling as buckle, compliance as comply, linearize, unstable_directions,
-    };
-    use flexmbd_io::static_report::{static_json, static_text, write_csv, StepExtras};
+    use flexmbd_core::statics::linear::LinearRequest;
+    use flexmbd_io::static_report::{static_json, static_text, write_csv};
     let (model, settings) = load_with_settings(path)?;
     let mut opts = dynamics_cmd::static_options(&settings, steps)?;
     for (name, v, target) in [
@@ -408,49 +406,22 @@ fn run_static(
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let n_buckling = buckling.unwrap_or(settings.buckling);
-
-    let sol = progress::solve_static(&model, &opts).context("static analysis failed")?;
-
-    // linearised results per step
-    let linear_wanted = !node_ids.is_empty() || n_buckling > 0;
-    let extras: Vec<StepExtras> = sol
-        .steps
-        .iter()
-        .map(|st| {
-            let mut x = StepExtras::default();
-            if !linear_wanted {
-                return x;
-            }
-            let lin = linearize(&model, st);
-            for (name, &id) in nodes.iter().zip(&node_ids) {
-                match comply(&model, &lin, st, id) {
-                    Ok(c) => x.compliance.push((name.clone(), c)),
-                    Err(e) => x.warnings.push(format!("compliance of `{name}`: {e}")),
-                }
-            }
-            if n_buckling > 0 {
-                match buckle(&model, &lin, n_buckling) {
-                    Ok(b) => x.buckling = Some(b),
-                    Err(e) => x.warnings.push(format!("buckling: {e}")),
-                }
-                match unstable_directions(&model, &lin) {
-                    Ok(n) => x.unstable_directions = Some(n),
-                    Err(e) => x.warnings.push(format!("stability: {e}")),
-                }
-            }
-            x
-        })
-        .collect();
+    let request = LinearRequest {
+        compliance: node_ids,
+        buckling: buckling.unwrap_or(settings.buckling),
+    };
+    let analysis =
+        progress::analyse_static(&model, &opts, &request).context("static analysis failed")?;
+    let (sol, extras) = (&analysis.solution, &analysis.linear);
     let fname = path.display().to_string();
     if let Some(dir) = &csv {
-        write_csv(dir, &model, &sol, &extras)
+        write_csv(dir, &model, sol, extras)
             .with_context(|| format!("cannot write CSV files into {}", dir.display()))?;
     }
     if json {
-        emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, &sol, &extras))? + "\n"))?;
+        emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, sol, extras))? + "\n"))?;
     } else {
-        emit(&static_text(&model, &fname, &sol, &extras))?;
+        emit(&static_text(&model, &fname, sol, extras))?;
     }
     Ok(ExitCode::SUCCESS)
 }

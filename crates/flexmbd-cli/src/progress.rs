@@ -60,6 +60,29 @@ pub fn solve_static(
     sol
 }
 
+/// The static analysis (equilibrium path and linearised results per step), with a bar over
+/// its load steps and a spinner for the linearised results.
+pub fn analyse_static(
+    model: &flexmbd_core::Model,
+    opts: &flexmbd_core::statics::StaticOptions,
+    req: &flexmbd_core::statics::linear::LinearRequest,
+) -> Result<flexmbd_core::statics::StaticAnalysis, flexmbd_core::statics::SolveError> {
+    let b = bar(opts.steps, "load step");
+    let s = std::cell::Cell::new(None);
+    let r = flexmbd_core::statics::analyse(model, opts, req, |k, n| {
+        b.set_position(k as u64);
+        if k == n && !req.is_empty() {
+            b.finish_and_clear();
+            s.set(Some(spinner("linearised results per step")));
+        }
+    });
+    b.finish_and_clear();
+    if let Some(s) = s.take() {
+        s.finish_and_clear();
+    }
+    r
+}
+
 /// Run `f` with a spinner labelled `what`.
 pub fn stage<T>(what: &str, f: impl FnOnce() -> T) -> T {
     let s = spinner(what);

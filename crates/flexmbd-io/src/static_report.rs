@@ -6,24 +6,14 @@ use crate::report::{fmt_num, table};
 use flexmbd_core::elements::Element;
 use flexmbd_core::math::lambda_bar;
 use flexmbd_core::model::{CoordKind, Model};
-use flexmbd_core::statics::linear::{Buckling, Compliance};
 use flexmbd_core::statics::{StaticSolution, StepResult};
 use serde::Serialize;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 
-/// Linearised results at one step.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct StepExtras {
-    /// Compliance of the requested nodes.
-    pub compliance: Vec<(String, Compliance)>,
-    /// Buckling multipliers, when requested.
-    pub buckling: Option<Buckling>,
-    /// Negative directions of the tangent stiffness (0: stable), when computed.
-    pub unstable_directions: Option<usize>,
-    /// Why a linearised analysis could not be done at this step.
-    pub warnings: Vec<String>,
-}
+/// The linearised results of one step (compliance, buckling, stability), as the core computes
+/// them ([`flexmbd_core::statics::linear::at_step`]).
+pub use flexmbd_core::statics::linear::StepLinear as StepExtras;
 
 /// Rotation vector (axis × angle, global axes) of Euler parameters.
 pub fn rotation_vector(l: &[f64]) -> [f64; 3] {
@@ -184,7 +174,7 @@ pub fn static_json(
                 })).collect::<Vec<_>>(),
                 "buckling": x.buckling,
                 "unstable_directions": x.unstable_directions,
-                "warnings": x.warnings,
+                "warnings": x.failures.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
             })
         })
         .collect();
@@ -284,7 +274,7 @@ pub fn static_text(
         s += "  (support stiffness 1/C_ii in the node's local axes: N/m for x, y, z; N·m/rad for rx, ry, rz;\n   held: a support or prescribed input holds that direction)\n";
     }
     for (k, x) in extras.iter().enumerate() {
-        for w in &x.warnings {
+        for w in &x.failures {
             let _ = writeln!(s, "  step {k}: {w}");
         }
         if let Some(n) = x.unstable_directions.filter(|n| *n > 0) {

@@ -297,19 +297,7 @@ pub fn reduced_matrices_with(
     if ndof == 0 {
         return Err(ModalError::NoDof);
     }
-    // stiffness on the free coordinates (statics unknown order) lifted to x
-    let mut kx = Mat::zeros(model.nx, model.nx);
-    for i in 0..model.nx {
-        let Some(ui) = lin.unknown[i] else { continue };
-        for j in 0..model.nx {
-            if let Some(uj) = lin.unknown[j] {
-                kx[(i, j)] = lin.km[(ui, uj)] + lin.kg[(ui, uj)];
-            }
-        }
-    }
-    if model.loads.spin.is_some() {
-        kx += crate::assembly::mass::softening_matrix(model, &step.x);
-    }
+    let kx = lin.tangent_in_x(model, &step.x);
     let mx = crate::assembly::mass::mass_matrix(model, &step.x);
     let k0 = sym(z.transpose() * &kx * &z);
     let m0 = sym(z.transpose() * &mx * &z);

@@ -56,7 +56,7 @@
 //! prescribed ones ([`Motion::Deformation`]).
 
 use super::{reduced_matrices_with, velocity_dof, EigenSolver, ModalError, Reduced};
-use crate::elements::{Element, ElementKind};
+use crate::elements::ElementKind;
 use crate::math::lambda_bar;
 use crate::model::{CoordKind, Dof, Model};
 use crate::statics::linear::linearize;
@@ -201,8 +201,8 @@ impl Motion {
     pub fn unit(&self, model: &Model) -> &'static str {
         let angle = match *self {
             Motion::Node { dof, .. } => dof.is_rotation(),
-            Motion::Deformation { element, .. } => {
-                matches!(model.elements[element].element, Element::Hinge(_))
+            Motion::Deformation { element, mode } => {
+                model.elements[element].element.mode_is_angle(mode)
             }
         };
         if angle {
@@ -354,7 +354,8 @@ impl Output {
     }
     /// SI unit.
     pub fn unit(&self, model: &Model) -> &'static str {
-        let hinge = |element: usize| matches!(model.elements[element].element, Element::Hinge(_));
+        let angle =
+            |element: usize, mode: usize| model.elements[element].element.mode_is_angle(mode);
         // rows: length, angle, force, torque; columns: value, rate, second rate
         const UNITS: [[&str; 3]; 4] = [
             ["m", "m/s", "m/s²"],
@@ -364,8 +365,8 @@ impl Output {
         ];
         let row = match self.probe {
             Probe::Node { dof, .. } => usize::from(dof.is_rotation()),
-            Probe::Deformation { element, .. } => usize::from(hinge(element)),
-            Probe::Force { element, .. } => 2 + usize::from(hinge(element)),
+            Probe::Deformation { element, mode } => usize::from(angle(element, mode)),
+            Probe::Force { element, mode } => 2 + usize::from(angle(element, mode)),
             Probe::Reaction { dof, .. } => 2 + usize::from(dof.is_rotation()),
         };
         UNITS[row][self.kind.order() as usize]
@@ -695,7 +696,7 @@ fn motion_loads(
             }
             Motion::Deformation { element, mode } => {
                 let entry = &model.elements[element];
-                if matches!(entry.element, Element::Rigid(_)) {
+                if entry.element.is_rigid_body() {
                     return Err(StateSpaceError::RigidBodyMotion { input: name });
                 }
                 let i = entry.ie + mode;
@@ -715,20 +716,8 @@ fn motion_loads(
     free.loads
         .prescribed
         .retain(|p| !matches!(p.target, crate::model::Target::Coordinate(i) if freed.contains(&i)));
-    let lin = linearize(&free, step);
     let nx = model.nx;
-    let mut kx = Mat::zeros(nx, nx);
-    for i in 0..nx {
-        let Some(ui) = lin.unknown[i] else { continue };
-        for j in 0..nx {
-            if let Some(uj) = lin.unknown[j] {
-                kx[(i, j)] = lin.km[(ui, uj)] + lin.kg[(ui, uj)];
-            }
-        }
-    }
-    if model.loads.spin.is_some() {
-        kx += crate::assembly::mass::softening_matrix(model, &step.x);
-    }
+    let kx = linearize(&free, step).tangent_in_x(&free, &step.x);
     // the velocity basis of the free coordinates
     let ev = crate::assembly::evaluate(model, &step.x);
     let gt = if rows.is_empty() {

@@ -71,6 +71,9 @@ impl ElementKind for Hinge {
     fn mode_name(&self, k: usize, _node_names: &[String]) -> String {
         HINGE_MODES[k].into()
     }
+    fn mode_is_angle(&self, _k: usize) -> bool {
+        true
+    }
     smooth_map_derivatives!();
     fn stiffness(&self) -> Mat<f64> {
         let mut s = Mat::zeros(3, 3);

@@ -106,6 +106,17 @@ pub trait ElementKind {
     fn ne(&self) -> usize;
     /// Human name of deformation mode `k` (0-based), e.g. "elongation".
     fn mode_name(&self, k: usize, node_names: &[String]) -> String;
+    /// True when deformation mode `k` is an angle [rad] (its stress resultant a torque [N·m]);
+    /// false for a length [m] (a force [N]), the default.
+    fn mode_is_angle(&self, k: usize) -> bool {
+        let _ = k;
+        false
+    }
+    /// True for a rigid body: its deformations are constraints that can never be released,
+    /// given stiffness or driven.
+    fn is_rigid_body(&self) -> bool {
+        false
+    }
     /// e_k = 𝒟_k(x_k)  (paper eq. (1)).
     fn deformations(&self, xk: &[f64]) -> Vec<f64>;
     /// D_k = ∂e_k/∂x_k  (ne_k × nx_k).
@@ -193,6 +204,12 @@ impl ElementKind for Element {
     }
     fn mode_name(&self, k: usize, node_names: &[String]) -> String {
         self.kind().mode_name(k, node_names)
+    }
+    fn mode_is_angle(&self, k: usize) -> bool {
+        self.kind().mode_is_angle(k)
+    }
+    fn is_rigid_body(&self) -> bool {
+        self.kind().is_rigid_body()
     }
     fn deformations(&self, xk: &[f64]) -> Vec<f64> {
         self.kind().deformations(xk)

@@ -154,6 +154,9 @@ impl ElementKind for Rigid {
     fn ne(&self) -> usize {
         (1..self.nodes.len()).map(|i| self.member_ne(i)).sum()
     }
+    fn is_rigid_body(&self) -> bool {
+        true
+    }
     fn mode_name(&self, k: usize, node_names: &[String]) -> String {
         let mut name = String::new();
         self.for_members(|i, ie, n| {

@@ -15,6 +15,7 @@
 //! Euler-parameter Dcc (theory.md §2.4); both sizes are reported. See docs/rotations.md.
 
 pub mod advice;
+pub mod classify;
 
 use crate::assembly::evaluate;
 use crate::elements::{ElementKind, NodeId};

@@ -70,6 +70,29 @@ fn dense(
     a
 }
 
+impl Linearized {
+    /// The tangent stiffness of the linearised dynamics in x (nx × nx): K = K_m + K_g on the
+    /// free coordinates (zero rows and columns elsewhere), minus the centrifugal softening
+    /// Ω² M_P of a steady rotation (`assembly::mass::softening_matrix`) at `x`. The one place
+    /// where the stiffness of modes and state space is put together.
+    pub fn tangent_in_x(&self, model: &Model, x: &[f64]) -> Mat<f64> {
+        let nx = model.nx;
+        let mut kx = Mat::zeros(nx, nx);
+        for i in 0..nx {
+            let Some(ui) = self.unknown[i] else { continue };
+            for j in 0..nx {
+                if let Some(uj) = self.unknown[j] {
+                    kx[(i, j)] = self.km[(ui, uj)] + self.kg[(ui, uj)];
+                }
+            }
+        }
+        if model.loads.spin.is_some() {
+            kx += crate::assembly::mass::softening_matrix(model, x);
+        }
+        kx
+    }
+}
+
 /// Linearise at a converged step.
 pub fn linearize(model: &Model, step: &StepResult) -> Linearized {
     let su = setup(model);
@@ -285,4 +308,84 @@ pub fn buckling(model: &Model, lin: &Linearized, count: usize) -> Result<Bucklin
 pub fn unstable_directions(model: &Model, lin: &Linearized) -> Result<usize, LinearError> {
     let b = buckling(model, lin, usize::MAX)?;
     Ok(b.multipliers.iter().filter(|&&m| m < 1.0 - 1e-9).count())
+}
+
+/// The linearised results wanted at every step of a static solution (SPACAR's support
+/// stiffness along a stroke, with buckling and stability).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LinearRequest {
+    /// Nodes whose compliance (and support stiffness) is wanted.
+    pub compliance: Vec<usize>,
+    /// Number of buckling multipliers of each sign (0: no buckling and stability analysis).
+    pub buckling: usize,
+}
+
+impl LinearRequest {
+    /// True when nothing is asked for.
+    pub fn is_empty(&self) -> bool {
+        self.compliance.is_empty() && self.buckling == 0
+    }
+}
+
+/// A linearised result that could not be computed at a step, and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinearFailure {
+    /// The compliance of a node.
+    #[error("compliance of `{node}`: {error}")]
+    Compliance {
+        /// Node name.
+        node: String,
+        /// Why.
+        error: LinearError,
+    },
+    /// The buckling multipliers.
+    #[error("buckling: {0}")]
+    Buckling(LinearError),
+    /// The stability (count of negative directions of the tangent).
+    #[error("stability: {0}")]
+    Stability(LinearError),
+}
+
+/// The linearised results at one step ([`at_step`]).
+#[derive(Clone, Debug, Default)]
+pub struct StepLinear {
+    /// Compliance of the requested nodes, by node name, in the order asked.
+    pub compliance: Vec<(String, Compliance)>,
+    /// Buckling multipliers, when requested.
+    pub buckling: Option<Buckling>,
+    /// Negative directions of the tangent stiffness (0: stable), when buckling is requested.
+    pub unstable_directions: Option<usize>,
+    /// What could not be computed at this step (the rest is still there).
+    pub failures: Vec<LinearFailure>,
+}
+
+/// The linearised results `req` at a converged step: one linearisation, then compliance,
+/// buckling and stability from it.
+pub fn at_step(model: &Model, step: &StepResult, req: &LinearRequest) -> StepLinear {
+    let mut out = StepLinear::default();
+    if req.is_empty() {
+        return out;
+    }
+    let lin = linearize(model, step);
+    for &id in &req.compliance {
+        let node = model
+            .nodes
+            .get(id)
+            .map_or_else(|| format!("#{id}"), |n| n.name.clone());
+        match compliance(model, &lin, step, id) {
+            Ok(c) => out.compliance.push((node, c)),
+            Err(error) => out.failures.push(LinearFailure::Compliance { node, error }),
+        }
+    }
+    if req.buckling > 0 {
+        match buckling(model, &lin, req.buckling) {
+            Ok(b) => out.buckling = Some(b),
+            Err(e) => out.failures.push(LinearFailure::Buckling(e)),
+        }
+        match unstable_directions(model, &lin) {
+            Ok(n) => out.unstable_directions = Some(n),
+            Err(e) => out.failures.push(LinearFailure::Stability(e)),
+        }
+    }
+    out
 }

@@ -1748,6 +1748,32 @@ pub(crate) fn last_step(model: &Model, steps: usize) -> StepResult {
     sol.steps.pop().expect("at least one step")
 }
 
+/// A static analysis: the equilibrium path and the linearised results at every step.
+#[derive(Clone, Debug)]
+pub struct StaticAnalysis {
+    /// The equilibrium at every load step.
+    pub solution: StaticSolution,
+    /// The linearised results at every step (same order; empty entries when none were asked).
+    pub linear: Vec<linear::StepLinear>,
+}
+
+/// The static analysis of a model: [`solve`] over the load steps, then the linearised results
+/// `req` (compliance, buckling, stability) at every step, in parallel over the steps.
+pub fn analyse(
+    model: &Model,
+    opts: &StaticOptions,
+    req: &linear::LinearRequest,
+    progress: impl FnMut(usize, usize),
+) -> Result<StaticAnalysis, SolveError> {
+    let solution = solve(model, opts, progress)?;
+    let linear = solution
+        .steps
+        .par_iter()
+        .map(|st| linear::at_step(model, st, req))
+        .collect();
+    Ok(StaticAnalysis { solution, linear })
+}
+
 /// Solve the static equilibrium over the load steps.
 pub fn solve(
     model: &Model,
