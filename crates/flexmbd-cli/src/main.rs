@@ -1,10 +1,12 @@
 //! `flexmbd`: exact-constraint design of compliant mechanisms from the command line.
 //!
 //! Exit codes: 0 success; 1 numerical failure; 2 invalid input (file, line and item named);
-//! 3 `check --require-exact` on a model that is not exactly constrained.
+//! 3 `check --require-exact` on a model that is not exactly constrained; 4 a file or stream
+//! could not be read or written (docs/reliability.md).
 
 mod dynamics_cmd;
 mod output_cmd;
+mod outputs;
 mod progress;
 mod view_cmd;
 
@@ -20,14 +22,42 @@ use std::process::ExitCode;
 #[command(
     name = "flexmbd",
     version,
-    about = "Exact-constraint design of compliant mechanisms (flexible multibody, SPACAR-style)"
+    about = "Exact-constraint design of compliant mechanisms (flexible multibody, SPACAR-style)",
+    after_help = AFTER_HELP
 )]
 struct Cli {
     /// No progress bars (they are drawn on stderr only when it is a terminal).
     #[arg(long, global = true)]
     quiet: bool,
+    /// Replace existing output files, and remove the files of an earlier run (flexmbd's own
+    /// file names only) from output folders. Without it, existing outputs are refused.
+    #[arg(long, global = true)]
+    force: bool,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The exit codes and output rules, printed by `flexmbd --help`.
+const AFTER_HELP: &str = "Exit codes: 0 success; 1 numerical failure (no convergence, singular matrices); \
+2 invalid input (the message names file, line and item); 3 `check --require-exact` on a model that \
+is not exactly constrained; 4 a file or stream could not be read or written.
+
+Outputs never replace an input file; an existing output file, or an output folder holding files of an \
+earlier run, is refused unless --force is given (docs/reliability.md).";
+
+/// Parse a number of load steps: 1 to the documented maximum.
+fn parse_steps(s: &str) -> Result<usize, String> {
+    let max = flexmbd_io::limits::MAX_STEPS;
+    let n: u128 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a whole number from 1 to {max}, found `{s}`"))?;
+    if n == 0 || n > max as u128 {
+        return Err(format!(
+            "the number of load steps must be from 1 to {max} (the limit, docs/reliability.md), found {s}"
+        ));
+    }
+    Ok(n as usize)
 }
 
 #[derive(Subcommand)]
@@ -57,7 +87,7 @@ enum Command {
         /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Number of load steps (overrides [static] steps; default 10).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = parse_steps)]
         steps: Option<usize>,
         /// Report the 6 × 6 compliance and support stiffness of this node at every step
         /// (repeatable; adds to [static] compliance).
@@ -94,7 +124,7 @@ enum Command {
         #[arg(long, value_name = "K")]
         at_step: Option<usize>,
         /// Number of load steps of the static solution (overrides [static] steps).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = parse_steps)]
         steps: Option<usize>,
         /// Eigen solver: dense for small models, shift-invert Lanczos on the sparse matrices
         /// for large ones (auto), or either one.
@@ -211,16 +241,25 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         ))
         .into());
     }
+    outputs::check_file(output, "OUTPUT", &[input])?;
+    if extension(output).as_deref() != Some("toml") {
+        return Err(BadInput(format!(
+            "OUTPUT {}: convert writes a TOML model; give a file name ending in .toml",
+            output.display()
+        ))
+        .into());
+    }
     let m = read_spacar(input)?;
     // build the model first, so that a file flexmbd cannot use is reported, not written
     m.to_model().map_err(|e| BadInput(e.to_string()))?;
     let text = m.to_toml().map_err(|e| BadInput(e.to_string()))?;
-    std::fs::write(output, text).with_context(|| format!("cannot write {}", output.display()))?;
+    outputs::write_file(output, &text)?;
     Ok(ExitCode::SUCCESS)
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     progress::set_quiet(cli.quiet);
+    outputs::set_force(cli.force);
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
@@ -378,6 +417,9 @@ fn run_static(
         buckling as buckle, compliance as comply, linearize, unstable_directions,
     };
     use flexmbd_io::static_report::{static_json, static_text, write_csv, StepExtras};
+    if let Some(dir) = &csv {
+        outputs::check_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
+    }
     let (model, settings) = load_with_settings(path)?;
     let mut opts = dynamics_cmd::static_options(&settings, steps)?;
     for (name, v, target) in [
@@ -443,8 +485,13 @@ fn run_static(
         .collect();
     let fname = path.display().to_string();
     if let Some(dir) = &csv {
-        write_csv(dir, &model, &sol, &extras)
-            .with_context(|| format!("cannot write CSV files into {}", dir.display()))?;
+        outputs::prepare_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
+        write_csv(dir, &model, &sol, &extras).map_err(|e| {
+            outputs::IoFailure(format!(
+                "cannot write CSV files into {}: {e}",
+                dir.display()
+            ))
+        })?;
     }
     if json {
         emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, &sol, &extras))? + "\n"))?;
@@ -454,14 +501,28 @@ fn run_static(
     Ok(ExitCode::SUCCESS)
 }
 
+/// 2 for the user's input, 4 for a file or stream that cannot be read or written, 1 otherwise
+/// (a numerical failure).
+fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.downcast_ref::<BadInput>().is_some() {
+        2
+    } else if e
+        .chain()
+        .any(|c| c.is::<outputs::IoFailure>() || c.is::<std::io::Error>())
+    {
+        4
+    } else {
+        1
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            let bad_input = e.downcast_ref::<BadInput>().is_some();
             eprintln!("error: {e:#}");
-            ExitCode::from(if bad_input { 2 } else { 1 })
+            ExitCode::from(exit_code(&e))
         }
     }
 }
