@@ -190,7 +190,12 @@ fn extension(path: &Path) -> Option<String> {
 fn read_spacar(path: &Path) -> anyhow::Result<flexmbd_io::SpacarModel> {
     let m = flexmbd_io::read_dat(path).map_err(|e| BadInput(e.to_string()))?;
     for w in &m.warnings {
-        eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+        eprintln!(
+            "warning: {}:{}: {}",
+            m.file,
+            w.line,
+            flexmbd_io::error::printable(&w.message)
+        );
     }
     Ok(m)
 }
@@ -208,7 +213,12 @@ fn load_with_settings(path: &Path) -> anyhow::Result<(flexmbd_core::Model, flexm
             let m = read_spacar(path)?;
             let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
             for w in &warnings {
-                eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+                eprintln!(
+                    "warning: {}:{}: {}",
+                    m.file,
+                    w.line,
+                    flexmbd_io::error::printable(&w.message)
+                );
             }
             Ok((file.model, file.settings))
         }
@@ -311,6 +321,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 return Err(BadInput(format!(
                     "--rank-tol must be a finite number >= 0, found {}",
                     opts.rank_tol
+                ))
+                .into());
+            }
+            if flexmbd_core::kinematics::rows(&m, &m.partition).is_empty() {
+                return Err(BadInput(format!(
+                    "{}: the model has no constraint rows (Dcc has 0 rows: no rigid or input deformation mode), so there is nothing to classify; keep a deformation mode of an element rigid (leave it out of `free`)",
+                    model.display()
                 ))
                 .into());
             }
@@ -521,7 +538,8 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // control characters copied from an input are shown escaped, not sent to the terminal
+            eprintln!("error: {}", flexmbd_io::error::printable(&format!("{e:#}")));
             ExitCode::from(exit_code(&e))
         }
     }

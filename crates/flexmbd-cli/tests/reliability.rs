@@ -321,3 +321,346 @@ fn help_lists_exit_codes() {
         assert!(text.contains(p), "`{p}` missing in:\n{text}");
     }
 }
+
+// ---- convert writes TOML that reads back --------------------------------------------------------
+
+/// Convert, then read the TOML back with `check`: `(convert stderr, check exit code)`.
+fn convert_and_check(t: &Temp, dat: &Path) -> (String, i32) {
+    let out = t.path("out.toml");
+    let c = run(&["convert", s(dat), s(&out)]);
+    let stderr = expect(&c, 0, &[]);
+    let text = std::fs::read_to_string(&out).expect("converted file");
+    assert!(
+        !text
+            .chars()
+            .any(|c| c.is_control() && c != '\n' && c != '\t'),
+        "control characters in the TOML"
+    );
+    let back = run(&["check", s(&out)]);
+    let back_err = String::from_utf8_lossy(&back.stderr).into_owned();
+    assert!(
+        !back_err.contains("invalid comment character"),
+        "{back_err}"
+    );
+    (stderr, back.status.code().unwrap_or(-1))
+}
+
+/// manual_convert_unreadable_output: control characters copied from `.dat` comments made TOML
+/// comments that TOML forbids. They are written as `\u{..}`, with a warning naming the line.
+#[test]
+fn manual_convert_unreadable_output() {
+    let t = Temp::new("unreadable");
+    let dat = finding("manual_convert_unreadable_output/in.dat");
+    let (stderr, code) = convert_and_check(&t, &dat);
+    assert_eq!(code, 0);
+    for line in [":1:", ":2:", ":8:"] {
+        assert!(
+            stderr.contains(&format!("in.dat{line} the line holds control characters")),
+            "{line} {stderr}"
+        );
+    }
+    // nothing raw on the terminal
+    assert!(!stderr.contains('\u{1b}'));
+    let text = std::fs::read_to_string(t.path("out.toml")).unwrap();
+    assert!(text.contains("Title with ctrl \\u{1b} char"), "{text}");
+}
+
+/// roundtrip_convert_534cf4800f: CR line ends (read as one comment) and control characters.
+#[test]
+fn roundtrip_convert_534cf4800f() {
+    let t = Temp::new("rt-534");
+    let dat = finding("roundtrip_convert_534cf4800f/in.dat");
+    let (stderr, code) = convert_and_check(&t, &dat);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        !stderr.contains("truncated"),
+        "CR line ends are line ends: {stderr}"
+    );
+    // the form feed ends a comment (trimmed) and the vertical tab separates two fields: both are
+    // blanks, nothing to warn about
+    assert!(!stderr.contains("control characters"), "{stderr}");
+    // the same model as the LF original: 18 beams
+    let text = std::fs::read_to_string(t.path("out.toml")).unwrap();
+    assert_eq!(text.matches("[[beam]]").count(), 18, "{text}");
+}
+
+/// roundtrip_convert_56eff6cc95: an escape sequence in a `USERINP` line (line 202) was copied
+/// into a TOML comment.
+#[test]
+fn roundtrip_convert_56eff6cc95() {
+    let t = Temp::new("rt-56e");
+    let dat = finding("roundtrip_convert_56eff6cc95/in.dat");
+    let (stderr, code) = convert_and_check(&t, &dat);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("in.dat:202: the line holds control characters"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("FFES\\u{1b}[31mMVA") && !stderr.contains('\u{1b}'));
+}
+
+/// roundtrip_convert_c8b8047827 (not a defect, kept for the record): a coordinate of -1e308
+/// fails numerically (exit 1) in the `.dat` and in its conversion alike.
+#[test]
+fn roundtrip_convert_c8b8047827() {
+    let t = Temp::new("rt-c8b");
+    let dat = finding("roundtrip_convert_c8b8047827/in.dat");
+    expect(&run(&["check", s(&dat)]), 1, &["non-finite"]);
+    let (_, code) = convert_and_check(&t, &dat);
+    assert_eq!(code, 1);
+}
+
+// ---- empty models -------------------------------------------------------------------------------
+
+/// manual_wrong_check_empty_model: an empty `.dat`, a TOML file with `[nodes]` only, and a
+/// `.dat` with CR-only line ends (read as one comment) passed `check --require-exact`.
+#[test]
+fn manual_wrong_check_empty_model() {
+    let dir = finding("manual_wrong_check_empty_model");
+    let f = |n: &str| dir.join(n);
+    let empty = f("in_empty.dat");
+    expect(
+        &run(&["check", "--require-exact", s(&empty)]),
+        2,
+        &["in_empty.dat:1:", "no elements"],
+    );
+    let nodes = f("in_nodes_only.toml");
+    expect(
+        &run(&["check", "--require-exact", s(&nodes)]),
+        2,
+        &["in_nodes_only.toml", "no elements"],
+    );
+    // CR line ends: the file is read as the truss it is (two free nodes: not exact, exit 3)
+    let cr = f("in_cr_only.dat");
+    let out = run(&["check", "--require-exact", s(&cr)]);
+    expect(&out, 3, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Dcc: 1 rows"), "{text}");
+    // a model whose elements are all free has no constraint rows: nothing to classify
+    let t = Temp::new("no-rows");
+    let m = t.write(
+        "free.toml",
+        b"[nodes]\na = [0.0, 0.0, 0.0]\nb = [1.0, 0.0, 0.0]\n[fix]\na = \"all\"\n[[truss]]\nid = \"t\"\nnodes = [\"a\", \"b\"]\nfree = [1]\n",
+    );
+    expect(
+        &run(&["check", "--require-exact", s(&m)]),
+        2,
+        &["free.toml", "no constraint rows"],
+    );
+}
+
+// ---- bounded counts -----------------------------------------------------------------------------
+
+/// manual_hang_segments_huge and the five fuzz timeouts: an unbounded `segments` grew memory
+/// and time without limit. It is 1 to 10 000, an error at the beam's line.
+#[test]
+fn segments_are_bounded() {
+    for (name, cmd, line, item, value) in [
+        (
+            "manual_hang_segments_huge",
+            "check",
+            23,
+            "b",
+            "9223372036854775807",
+        ),
+        (
+            "timeout_check_2117fd56a1",
+            "check",
+            52,
+            "leaf2",
+            "9223372036854775807",
+        ),
+        (
+            "timeout_check_943b885935",
+            "check",
+            40,
+            "blade",
+            "2147483648",
+        ),
+        (
+            "timeout_check_b0b72c3630",
+            "check",
+            40,
+            "strip",
+            "100000000",
+        ),
+        (
+            "timeout_modes_d2dcfdd934",
+            "modes",
+            43,
+            "leaf1",
+            "9223372036854775807",
+        ),
+        (
+            "timeout_static_e01bed0011",
+            "static",
+            40,
+            "strip",
+            "9223372036854775807",
+        ),
+    ] {
+        let p = finding(name).join("in.toml");
+        let started = std::time::Instant::now();
+        let out = run(&[cmd, s(&p)]);
+        expect(
+            &out,
+            2,
+            &[
+                &format!("in.toml:{line}:"),
+                &format!("element `{item}`"),
+                "`segments` must be from 1 to 10000",
+                value,
+            ],
+        );
+        assert!(started.elapsed().as_secs() < 30, "{name}: slow");
+    }
+}
+
+/// manual_panic_static_steps_overflow: huge `steps` panicked (capacity overflow), wrapped to 0
+/// (a hang) or aborted on allocation. Steps are 1 to 100 000: in `[static]`, `--steps` and
+/// `ITERSTEP`.
+#[test]
+fn manual_panic_static_steps_overflow() {
+    let p = finding("manual_panic_static_steps_overflow/in.toml");
+    expect(
+        &run(&["static", s(&p)]),
+        2,
+        &[
+            "in.toml:31:",
+            "[static]",
+            "`steps` must be from 1 to 100000",
+            "9223372036854775807",
+        ],
+    );
+    let ex = example("strip_f01.toml");
+    for n in [
+        "18446744073709551614",
+        "18446744073709551615",
+        "1000000000",
+        "100001",
+        "0",
+    ] {
+        for cmd in ["static", "modes", "sweep"] {
+            expect(
+                &run(&[cmd, s(&ex), "--steps", n]),
+                2,
+                &["--steps", "from 1 to 100000"],
+            );
+        }
+    }
+    // ITERSTEP field 2 in a .dat
+    let t = Temp::new("iterstep");
+    let src = std::fs::read_to_string(finding("manual_dataloss_convert_same_path/in.dat")).unwrap();
+    let (i, line) = src
+        .lines()
+        .enumerate()
+        .find(|(_, l)| l.starts_with("ITERSTEP"))
+        .expect("ITERSTEP line");
+    let mut fields: Vec<&str> = line.split_whitespace().collect();
+    fields[2] = "1000000000";
+    let changed = src.replace(line, &fields.join("\t"));
+    let dat = t.write("a.dat", changed.as_bytes());
+    expect(
+        &run(&["static", s(&dat)]),
+        2,
+        &[&format!("a.dat:{}:", i + 1), "ITERSTEP", "from 1 to 100000"],
+    );
+}
+
+/// `max_iterations = 0` was accepted; a negative shear factor too.
+#[test]
+fn max_iterations_and_shear_factor() {
+    let t = Temp::new("maxit");
+    let base =
+        std::fs::read_to_string(finding("manual_panic_static_steps_overflow/in.toml")).unwrap();
+    let m = t.write(
+        "m.toml",
+        base.replace("steps = 9223372036854775807", "max_iterations = 0")
+            .as_bytes(),
+    );
+    expect(
+        &run(&["static", s(&m)]),
+        2,
+        &[
+            "m.toml:31:",
+            "[static]",
+            "`max_iterations` must be from 1 to 10000",
+        ],
+    );
+    let g = t.write(
+        "g.toml",
+        base.replace("steps = 9223372036854775807", "")
+            .replace(
+                "shape = \"rectangle\"\nw = 0.02\nt = 0.0005",
+                "shape = \"general\"\nA = 1e-5\nIy = 1e-12\nIz = 1e-10\nJ = 1e-12\nk = -0.8",
+            )
+            .as_bytes(),
+    );
+    expect(
+        &run(&["check", s(&g)]),
+        2,
+        &["g.toml:17:", "section `s`", "shear factor", "-0.8"],
+    );
+}
+
+// ---- silently ignored input ---------------------------------------------------------------------
+
+/// manual_silent_duplicate_prescribe: two `[[prescribe]]` of one coordinate, the last won.
+#[test]
+fn manual_silent_duplicate_prescribe() {
+    let p = finding("manual_silent_duplicate_prescribe/in.toml");
+    for cmd in ["check", "static"] {
+        expect(
+            &run(&[cmd, s(&p)]),
+            2,
+            &[
+                "in.toml:37:",
+                "[[prescribe]] 2",
+                "coordinate z of node `tip`",
+                "lines 33 and 37",
+            ],
+        );
+    }
+}
+
+/// manual_silent_rho_a_ignored: `rho_a` beside `section` + `material` (in.toml) or without
+/// stiffness constants (in2.toml) was dropped silently; both are refused at the beam's line.
+#[test]
+fn manual_silent_rho_a_ignored() {
+    let dir = finding("manual_silent_rho_a_ignored");
+    expect(
+        &run(&["modes", s(&dir.join("in.toml"))]),
+        2,
+        &["in.toml:23:", "element `b`", "`rho_a`", "material `steel`"],
+    );
+    expect(
+        &run(&["modes", s(&dir.join("in2.toml"))]),
+        2,
+        &["in2.toml:23:", "element `b`", "`rho_a`", "`EA`"],
+    );
+    // with constants given directly it is read (the beam has mass)
+    let t = Temp::new("rho-a");
+    let text = std::fs::read_to_string(dir.join("in2.toml"))
+        .unwrap()
+        .replace(
+            "free=[2,3,4]\n",
+            "EA = 1e6\nGJ = 1.0\nEIy = 1.0\nEIz = 1.0\nfree=[1,2,3,4,5,6]\n",
+        );
+    let m = t.write("m.toml", text.as_bytes());
+    let out = run(&["modes", "--count", "2", s(&m)]);
+    expect(&out, 0, &[]);
+}
+
+// ---- messages name file, line and item ----------------------------------------------------------
+
+/// Invalid UTF-8 in a TOML file: the message gave neither line nor byte.
+#[test]
+fn invalid_utf8_names_line_and_byte() {
+    let t = Temp::new("utf8");
+    let m = t.write("m.toml", b"[nodes]\na = [0.0, 0.0, 0.0]\n# caf\xe9\n");
+    expect(
+        &run(&["check", s(&m)]),
+        2,
+        &["m.toml:3:6:", "not UTF-8", "0xE9", "byte offset 33"],
+    );
+}
