@@ -59,7 +59,7 @@ pub struct StatespaceArgs {
     )]
     damping: f64,
     /// Keep only the lowest N modes (default: all modes that carry mass).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::parse_count)]
     modes: Option<usize>,
     /// Add the static flexibility of the dropped modes to D (displacement outputs), so a
     /// truncated model keeps the exact static gain.
@@ -102,7 +102,7 @@ pub struct SweepArgs {
     /// Model file (.toml, or a SPACAR .dat file).
     model: PathBuf,
     /// Number of frequencies per step.
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", value_parser = crate::parse_count)]
     count: usize,
     /// Report the support stiffness of this node at every step (repeatable; adds to
     /// [static] compliance).

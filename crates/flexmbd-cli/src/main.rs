@@ -60,6 +60,20 @@ fn parse_steps(s: &str) -> Result<usize, String> {
     Ok(n as usize)
 }
 
+/// Parse a number of modes, frequencies or buckling multipliers: 0 to the documented maximum.
+fn parse_count(s: &str) -> Result<usize, String> {
+    let max = flexmbd_io::limits::MAX_MODES;
+    match s.trim().parse::<u128>() {
+        Ok(n) if n <= max as u128 => Ok(n as usize),
+        Ok(_) => Err(format!(
+            "the number must be from 0 to {max} (the limit, docs/reliability.md), found {s}"
+        )),
+        Err(_) => Err(format!(
+            "expected a whole number from 0 to {max}, found `{s}`"
+        )),
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Kinematic analysis: SVD of Dcc, Table 1 class, motions, self-stresses, repair advice.
@@ -94,7 +108,7 @@ enum Command {
         #[arg(long, value_name = "NODE")]
         compliance: Vec<String>,
         /// Report this many buckling load multipliers at every step (0: none).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = parse_count)]
         buckling: Option<usize>,
         /// Relative residual tolerance (default 1e-9).
         #[arg(long, value_name = "TOL")]
@@ -118,7 +132,7 @@ enum Command {
         /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Number of modes.
-        #[arg(long, default_value_t = 10, value_name = "N")]
+        #[arg(long, default_value_t = 10, value_name = "N", value_parser = parse_count)]
         count: usize,
         /// Linearise at this load step of the static solution (default: the last).
         #[arg(long, value_name = "K")]

@@ -41,7 +41,7 @@ pub struct ExportArgs {
     #[arg(long, value_name = "DIR")]
     plots: Option<PathBuf>,
     /// Number of modes (modes) or of frequencies per step in the frequency plot.
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", value_parser = crate::parse_count)]
     count: usize,
     /// Number of load steps (overrides [static] steps).
     #[arg(long, value_name = "N", value_parser = crate::parse_steps)]

@@ -29,7 +29,7 @@ pub struct ViewArgs {
     #[arg(short = 'o', long = "output", value_name = "FILE.html")]
     output: PathBuf,
     /// Number of modes (modes).
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", value_parser = crate::parse_count)]
     count: usize,
     /// Number of load steps (static, modes; overrides [static] steps).
     #[arg(long, value_name = "N", value_parser = crate::parse_steps)]

@@ -664,3 +664,29 @@ fn invalid_utf8_names_line_and_byte() {
         &["m.toml:3:6:", "not UTF-8", "0xE9", "byte offset 33"],
     );
 }
+
+/// Counts on the command line are bounded too (`sweep --count 18446744073709551615` panicked
+/// with a capacity overflow while writing its table).
+#[test]
+fn command_line_counts_are_bounded() {
+    let ex = example("strip_f01.toml");
+    let e = s(&ex);
+    let huge = "18446744073709551615";
+    for args in [
+        vec!["sweep", e, "--steps", "1", "--count", huge],
+        vec!["modes", e, "--steps", "1", "--count", huge],
+        vec!["static", e, "--steps", "1", "--buckling", huge],
+        vec![
+            "statespace",
+            e,
+            "--input",
+            "tip:z",
+            "--output",
+            "tip:z",
+            "--modes",
+            huge,
+        ],
+    ] {
+        expect(&run(&args), 2, &[huge, "from 0 to 10000"]);
+    }
+}

@@ -11,4 +11,7 @@ pub const MAX_STEPS: usize = 100_000;
 /// Most Newton iterations per load step (`[static] max_iterations`).
 pub const MAX_ITERATIONS: usize = 10_000;
 /// Most buckling multipliers reported per step (`[static] buckling`).
-pub const MAX_BUCKLING: usize = 10_000;
+pub const MAX_BUCKLING: usize = MAX_MODES;
+/// Most modes, frequencies per step or buckling multipliers a command line may ask for
+/// (`--count`, `--modes`, `--buckling`).
+pub const MAX_MODES: usize = 10_000;
