@@ -586,11 +586,19 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         let span = p.span();
         let line = crate::error::line_col(text, span.start).0;
         let target = match (&s.node, &s.dof, &s.element, s.mode) {
-            (Some(node), Some(dof), _, _) => Some((
-                format!("coordinate {dof} of node `{node}`"),
-                format!("node {node}"),
-                dof.clone(),
-            )),
+            (Some(node), Some(dof), _, _) => {
+                // a node `at` another shares its host's translations
+                let parsed = Dof::parse(dof);
+                let owner = match parsed {
+                    Some(d) if !d.is_rotation() => position_owner(nodes, node),
+                    _ => node.clone(),
+                };
+                Some((
+                    format!("coordinate {dof} of node `{node}`"),
+                    format!("node {owner}"),
+                    parsed.map_or_else(|| dof.clone(), |d| d.name().to_string()),
+                ))
+            }
             (None, None, Some(element), Some(mode)) => Some((
                 format!("deformation mode {mode} of element `{element}`"),
                 format!("element {element}"),
@@ -1063,6 +1071,19 @@ fn quoted(v: &str) -> Option<String> {
     let q = v.chars().next().filter(|c| *c == '"' || *c == '\'')?;
     let rest = &v[1..];
     Some(rest[..rest.find(q)?].to_string())
+}
+
+/// The node whose position coordinates `name` uses: its host for a node `at` another (the
+/// chain followed), else itself.
+fn position_owner(nodes: &IndexMap<String, Spanned<toml::Value>>, name: &str) -> String {
+    let mut current = name.to_string();
+    for _ in 0..nodes.len() {
+        match nodes.get(&current).map(|v| node_value(v.get_ref())) {
+            Some(Ok(NodeDef::Hosted(host))) => current = host,
+            _ => break,
+        }
+    }
+    current
 }
 
 /// A node definition.

@@ -1107,3 +1107,15 @@ fn errors_in_data_tables_name_the_item() {
         &["section `g`", "`k` (the shear factor) must be ≥ 0", "-0.5"],
     );
 }
+
+#[test]
+fn a_coordinate_is_prescribed_once() {
+    // directly, and through a node `at` another (they share the translations)
+    let body = "[nodes]\na = [0.0, 0.0, 0.0]\nb = { x = [1.0, 0.0, 0.0], rot = true }\nh = { at = \"b\" }\n[fix]\na = \"all\"\n[[beam]]\nid = \"w\"\nnodes = [\"a\", \"h\"]\norient = [0.0, 1.0, 0.0]\n";
+    check(
+        &format!("{body}[[prescribe]]\nnode = \"b\"\ndof = \"x\"\nvalue = 0.1\n[[prescribe]]  # <-\nnode = \"h\"\ndof = \"x\"\nvalue = 0.2\n"),
+        &["[[prescribe]] 2", "coordinate x of node `h`", "lines 11 and 15"],
+    );
+    // rotations of a node `at` another are its own
+    ok(&format!("{body}[[prescribe]]\nnode = \"b\"\ndof = \"rz\"\nvalue = 0.1\n[[prescribe]]\nnode = \"h\"\ndof = \"rz\"\nvalue = 0.2\n"));
+}
