@@ -452,49 +452,49 @@ fn manual_wrong_check_empty_model() {
 // ---- bounded counts -----------------------------------------------------------------------------
 
 /// manual_hang_segments_huge and the five fuzz timeouts: an unbounded `segments` grew memory
-/// and time without limit. It is 1 to 10 000, an error at the beam's line.
+/// and time without limit. It is 1 to 10 000, an error at the line of `segments`.
 #[test]
 fn segments_are_bounded() {
     for (name, cmd, line, item, value) in [
         (
             "manual_hang_segments_huge",
             "check",
-            23,
+            29,
             "b",
             "9223372036854775807",
         ),
         (
             "timeout_check_2117fd56a1",
             "check",
-            52,
+            58,
             "leaf2",
             "9223372036854775807",
         ),
         (
             "timeout_check_943b885935",
             "check",
-            40,
+            46,
             "blade",
             "2147483648",
         ),
         (
             "timeout_check_b0b72c3630",
             "check",
-            40,
+            46,
             "strip",
             "100000000",
         ),
         (
             "timeout_modes_d2dcfdd934",
             "modes",
-            43,
+            49,
             "leaf1",
             "9223372036854775807",
         ),
         (
             "timeout_static_e01bed0011",
             "static",
-            40,
+            46,
             "strip",
             "9223372036854775807",
         ),
@@ -526,7 +526,7 @@ fn manual_panic_static_steps_overflow() {
         &run(&["static", s(&p)]),
         2,
         &[
-            "in.toml:31:",
+            "in.toml:32:",
             "[static]",
             "`steps` must be from 1 to 100000",
             "9223372036854775807",
@@ -582,7 +582,7 @@ fn max_iterations_and_shear_factor() {
         &run(&["static", s(&m)]),
         2,
         &[
-            "m.toml:31:",
+            "m.toml:32:",
             "[static]",
             "`max_iterations` must be from 1 to 10000",
         ],

@@ -418,7 +418,7 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         let n = s.segments.unwrap_or(1);
         if n == 0 || n > MAX_SEGMENTS {
             return Err(err(
-                &t.span(),
+                &key_span(text, &t.span(), "segments"),
                 format!(
                     "element `{}`: `segments` must be from 1 to {MAX_SEGMENTS} (the limit, docs/reliability.md), found {n}",
                     s.id
@@ -673,7 +673,7 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
             if let Some(v) = v {
                 if v == 0 || v > max {
                     return Err(err(
-                        &sp.span(),
+                        &key_span(text, &sp.span(), what),
                         format!("[static]: `{what}` must be from 1 to {max} (the limit, docs/reliability.md), found {v}"),
                     ));
                 }
@@ -681,7 +681,7 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         }
         if st.buckling > MAX_BUCKLING {
             return Err(err(
-                &sp.span(),
+                &key_span(text, &sp.span(), "buckling"),
                 format!(
                     "[static]: `buckling` must be from 0 to {MAX_BUCKLING} (the limit, docs/reliability.md), found {}",
                     st.buckling
@@ -1049,6 +1049,25 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
             _ => msg,
         },
     }
+}
+
+/// The span of the `key = value` line in the body of a table (whose span starts at its header),
+/// or the table's span when the key is not found there.
+fn key_span(text: &str, table: &Range<usize>, key: &str) -> Range<usize> {
+    let start = table.start.min(text.len());
+    let mut offset = start;
+    for (k, line) in text[start..].split_inclusive('\n').enumerate() {
+        let trimmed = line.trim_start();
+        if k > 0 && trimmed.starts_with('[') {
+            break; // the next table
+        }
+        if line_key(line).as_deref() == Some(key) {
+            let lead = line.len() - trimmed.len();
+            return offset + lead..offset + line.len();
+        }
+        offset += line.len();
+    }
+    table.clone()
 }
 
 /// The key of a `key = value` line, if the line starts with one.

@@ -1099,7 +1099,7 @@ fn errors_in_data_tables_name_the_item() {
         &["[static]", "expected usize"],
     );
     check_ab(
-        "\n[static]  # <-\nmax_iterations = 0\n",
+        "\n[static]\nmax_iterations = 0  # <-\n",
         &["[static]", "`max_iterations` must be from 1 to 10000"],
     );
     check_ab(
