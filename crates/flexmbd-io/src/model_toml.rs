@@ -1031,9 +1031,14 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
         }
         "static" => Some("[static]".to_string()),
         // a top-level `section = value` before any header
-        "" => line_key(here)
-            .filter(|k| FileSpec::SECTIONS.contains(&k.as_str()))
-            .map(|k| format!("[{k}]")),
+        "" => match line_key(here) {
+            Some(k) if FileSpec::SECTIONS.contains(&k.as_str()) => Some(format!("[{k}]")),
+            // a key before the first table header
+            Some(k) if msg == "duplicate key" => {
+                return format!("`{k}` is given twice before the first [table]");
+            }
+            _ => None,
+        },
         _ => None,
     };
     match item {

@@ -1119,3 +1119,11 @@ fn a_coordinate_is_prescribed_once() {
     // rotations of a node `at` another are its own
     ok(&format!("{body}[[prescribe]]\nnode = \"b\"\ndof = \"rz\"\nvalue = 0.1\n[[prescribe]]\nnode = \"h\"\ndof = \"rz\"\nvalue = 0.2\n"));
 }
+
+#[test]
+fn a_duplicate_key_before_any_table_is_named() {
+    check(
+        "rho_a = 1.0\nrho_a = 1.0  # <-\n[nodes]\na = [0.0, 0.0, 0.0]\n",
+        &["`rho_a` is given twice before the first [table]"],
+    );
+}
