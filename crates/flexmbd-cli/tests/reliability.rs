@@ -690,3 +690,18 @@ fn command_line_counts_are_bounded() {
         expect(&run(&args), 2, &[huge, "from 0 to 10000"]);
     }
 }
+
+/// A full standard output is an I/O failure too (exit 4), not a numerical one.
+#[cfg(target_os = "linux")]
+#[test]
+fn full_stdout_exits_4() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        return; // no /dev/full here
+    };
+    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args(["check", s(&example("twelve_truss.toml"))])
+        .stdout(full)
+        .output()
+        .expect("run flexmbd");
+    expect(&out, 4, &["standard output"]);
+}
