@@ -234,9 +234,30 @@ pub fn prepare_dir(
 }
 
 /// Write an output file (checked before by [`check_file`]); a failure is an [`IoFailure`].
+///
+/// The text goes to a temporary file beside the target first, which then replaces it: a write
+/// that fails (a full disk) leaves an existing file as it was. A symbolic link is written
+/// through (its target is replaced).
 pub fn write_file(path: &Path, text: &str) -> Result<(), IoFailure> {
-    std::fs::write(path, text)
-        .map_err(|e| IoFailure(format!("cannot write {}: {e}", path.display())))
+    let fail = |e: std::io::Error| IoFailure(format!("cannot write {}: {e}", path.display()));
+    let target = match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(fail)?,
+        _ => path.to_path_buf(),
+    };
+    let Some(name) = target.file_name() else {
+        return std::fs::write(path, text).map_err(fail);
+    };
+    let tmp = target.with_file_name(format!(
+        ".{}.flexmbd-{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, &target));
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(fail(e));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
