@@ -1,6 +1,6 @@
 //! `flexmbd statespace` and `flexmbd sweep` (docs/state-space.md).
 
-use crate::{emit, BadInput};
+use crate::{emit, outputs, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
     log_space, state_space_with_motions, uses_sparse, Input, Motion, Output, OutputKind, Probe,
@@ -59,7 +59,7 @@ pub struct StatespaceArgs {
     )]
     damping: f64,
     /// Keep only the lowest N modes (default: all modes that carry mass).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::parse_count)]
     modes: Option<usize>,
     /// Add the static flexibility of the dropped modes to D (displacement outputs), so a
     /// truncated model keeps the exact static gain.
@@ -69,7 +69,7 @@ pub struct StatespaceArgs {
     #[arg(long, value_name = "K")]
     at_step: Option<usize>,
     /// Number of load steps of the static solution (overrides [static] steps).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::parse_steps)]
     steps: Option<usize>,
     /// Eigen solver: auto (dense up to 3000 degrees of freedom, sparse above), dense (all
     /// modes, prescribed-motion inputs) or sparse (the lowest --modes N by shift-invert
@@ -102,7 +102,7 @@ pub struct SweepArgs {
     /// Model file (.toml, or a SPACAR .dat file).
     model: PathBuf,
     /// Number of frequencies per step.
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", value_parser = crate::parse_count)]
     count: usize,
     /// Report the support stiffness of this node at every step (repeatable; adds to
     /// [static] compliance).
@@ -112,7 +112,7 @@ pub struct SweepArgs {
     #[arg(long)]
     local: bool,
     /// Number of load steps (overrides [static] steps).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::parse_steps)]
     steps: Option<usize>,
     /// Print JSON instead of the table.
     #[arg(long)]
@@ -155,12 +155,24 @@ pub(crate) fn static_options(
     settings: &Settings,
     steps: Option<usize>,
 ) -> anyhow::Result<StaticOptions> {
+    use flexmbd_io::limits::{MAX_ITERATIONS, MAX_STEPS};
     let mut opts = StaticOptions::default();
     opts.steps = steps.or(settings.steps).unwrap_or(opts.steps);
-    if opts.steps == 0 {
-        return Err(BadInput("--steps must be at least 1".into()).into());
+    if !(1..=MAX_STEPS).contains(&opts.steps) {
+        return Err(BadInput(format!(
+            "the number of load steps must be from 1 to {MAX_STEPS}, found {}",
+            opts.steps
+        ))
+        .into());
     }
     opts.max_iterations = settings.max_iterations.unwrap_or(opts.max_iterations);
+    if !(1..=MAX_ITERATIONS).contains(&opts.max_iterations) {
+        return Err(BadInput(format!(
+            "the number of Newton iterations must be from 1 to {MAX_ITERATIONS}, found {}",
+            opts.max_iterations
+        ))
+        .into());
+    }
     opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
     opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
     opts.line_search = settings.line_search;
@@ -464,12 +476,23 @@ fn solve_static(model: &Model, opts: &StaticOptions) -> anyhow::Result<StaticSol
         .context("the static equilibrium to linearise about was not found")
 }
 
-fn write_file(path: &Path, text: &str) -> anyhow::Result<()> {
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
-}
+/// Most points of a Bode table (`--bode-points`).
+const MAX_BODE_POINTS: usize = 100_000;
 
 /// `flexmbd statespace`.
 pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
+    for (flag, p) in [("--m", &a.m_file), ("--bode", &a.bode)] {
+        if let Some(p) = p {
+            outputs::check_file(p, flag, &[&a.model])?;
+        }
+    }
+    if let (Some(m), Some(b)) = (&a.m_file, &a.bode) {
+        if m == b || outputs::same_file(m, b) {
+            return Err(
+                BadInput(format!("--m and --bode name the same file {}", m.display())).into(),
+            );
+        }
+    }
     let (model, settings) = crate::load_with_settings(&a.model)?;
     let specs = a
         .inputs
@@ -505,9 +528,9 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     if a.modes == Some(0) {
         return Err(BadInput("--modes must be at least 1".into()).into());
     }
-    if a.bode.is_some() && a.bode_points < 2 {
+    if a.bode.is_some() && !(2..=MAX_BODE_POINTS).contains(&a.bode_points) {
         return Err(BadInput(format!(
-            "--bode-points must be at least 2, found {}",
+            "--bode-points must be from 2 to {MAX_BODE_POINTS}, found {}",
             a.bode_points
         ))
         .into());
@@ -589,7 +612,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     };
     let mut written = Vec::new();
     if let Some(p) = &a.m_file {
-        write_file(p, &report::statespace_m(&model, origin, &ss))?;
+        outputs::write_file(p, &report::statespace_m(&model, origin, &ss))?;
         written.push(p.display().to_string());
     }
     if let Some(p) = &a.bode {
@@ -610,7 +633,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
             .into());
         }
         let freqs = log_space(lo, hi, a.bode_points);
-        write_file(p, &report::bode_csv(&model, &ss, &freqs))?;
+        outputs::write_file(p, &report::bode_csv(&model, &ss, &freqs))?;
         written.push(p.display().to_string());
     }
     if a.json {
@@ -632,6 +655,9 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
 
 /// `flexmbd sweep`.
 pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
+    if let Some(p) = &a.csv {
+        outputs::check_file(p, "--csv", &[&a.model])?;
+    }
     let (model, settings) = crate::load_with_settings(&a.model)?;
     let mut nodes: Vec<String> = Vec::new();
     for n in settings.compliance.iter().chain(&a.compliance) {
@@ -666,7 +692,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
     }
     let file = a.model.display().to_string();
     if let Some(p) = &a.csv {
-        write_file(p, &report::sweep_csv(&points, a.count, &nodes, a.local))?;
+        outputs::write_file(p, &report::sweep_csv(&points, a.count, &nodes, a.local))?;
     }
     if a.json {
         let mut text =

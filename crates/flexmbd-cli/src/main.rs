@@ -1,11 +1,13 @@
 //! `flexmbd`: exact-constraint design of compliant mechanisms from the command line.
 //!
 //! Exit codes: 0 success; 1 numerical failure; 2 invalid input (file, line and item named);
-//! 3 `check --require-exact` on a model that is not exactly constrained.
+//! 3 `check --require-exact` on a model that is not exactly constrained; 4 a file or stream
+//! could not be read or written (docs/reliability.md).
 
 mod dynamics_cmd;
 mod hints;
 mod output_cmd;
+mod outputs;
 mod progress;
 mod view_cmd;
 
@@ -21,14 +23,56 @@ use std::process::ExitCode;
 #[command(
     name = "flexmbd",
     version,
-    about = "Exact-constraint design of compliant mechanisms (flexible multibody, SPACAR-style)"
+    about = "Exact-constraint design of compliant mechanisms (flexible multibody, SPACAR-style)",
+    after_help = AFTER_HELP
 )]
 struct Cli {
     /// No progress bars (they are drawn on stderr only when it is a terminal).
     #[arg(long, global = true)]
     quiet: bool,
+    /// Replace existing output files, and remove the files of an earlier run (flexmbd's own
+    /// file names only) from output folders. Without it, existing outputs are refused.
+    #[arg(long, global = true)]
+    force: bool,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The exit codes and output rules, printed by `flexmbd --help`.
+const AFTER_HELP: &str = "Exit codes: 0 success; 1 numerical failure (no convergence, singular matrices); \
+2 invalid input (the message names file, line and item); 3 `check --require-exact` on a model that \
+is not exactly constrained; 4 a file or stream could not be read or written.
+
+Outputs never replace an input file; an existing output file, or an output folder holding files of an \
+earlier run, is refused unless --force is given (docs/reliability.md).";
+
+/// Parse a number of load steps: 1 to the documented maximum.
+fn parse_steps(s: &str) -> Result<usize, String> {
+    let max = flexmbd_io::limits::MAX_STEPS;
+    let n: u128 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a whole number from 1 to {max}, found `{s}`"))?;
+    if n == 0 || n > max as u128 {
+        return Err(format!(
+            "the number of load steps must be from 1 to {max} (the limit, docs/reliability.md), found {s}"
+        ));
+    }
+    Ok(n as usize)
+}
+
+/// Parse a number of modes, frequencies or buckling multipliers: 0 to the documented maximum.
+fn parse_count(s: &str) -> Result<usize, String> {
+    let max = flexmbd_io::limits::MAX_MODES;
+    match s.trim().parse::<u128>() {
+        Ok(n) if n <= max as u128 => Ok(n as usize),
+        Ok(_) => Err(format!(
+            "the number must be from 0 to {max} (the limit, docs/reliability.md), found {s}"
+        )),
+        Err(_) => Err(format!(
+            "expected a whole number from 0 to {max}, found `{s}`"
+        )),
+    }
 }
 
 #[derive(Subcommand)]
@@ -58,14 +102,14 @@ enum Command {
         /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Number of load steps (overrides [static] steps; default 10).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = parse_steps)]
         steps: Option<usize>,
         /// Report the 6 × 6 compliance and support stiffness of this node at every step
         /// (repeatable; adds to [static] compliance).
         #[arg(long, value_name = "NODE")]
         compliance: Vec<String>,
         /// Report this many buckling load multipliers at every step (0: none).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = parse_count)]
         buckling: Option<usize>,
         /// Relative residual tolerance (default 1e-9).
         #[arg(long, value_name = "TOL")]
@@ -89,13 +133,13 @@ enum Command {
         /// Model file (.toml, or a SPACAR .dat file).
         model: PathBuf,
         /// Number of modes.
-        #[arg(long, default_value_t = 10, value_name = "N")]
+        #[arg(long, default_value_t = 10, value_name = "N", value_parser = parse_count)]
         count: usize,
         /// Linearise at this load step of the static solution (default: the last).
         #[arg(long, value_name = "K")]
         at_step: Option<usize>,
         /// Number of load steps of the static solution (overrides [static] steps).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = parse_steps)]
         steps: Option<usize>,
         /// Eigen solver: dense for small models, shift-invert Lanczos on the sparse matrices
         /// for large ones (auto), or either one.
@@ -161,7 +205,12 @@ fn extension(path: &Path) -> Option<String> {
 fn read_spacar(path: &Path) -> anyhow::Result<flexmbd_io::SpacarModel> {
     let m = flexmbd_io::read_dat(path).map_err(|e| BadInput(e.to_string()))?;
     for w in &m.warnings {
-        eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+        eprintln!(
+            "warning: {}:{}: {}",
+            m.file,
+            w.line,
+            flexmbd_io::error::printable(&w.message)
+        );
     }
     Ok(m)
 }
@@ -179,7 +228,12 @@ fn load_with_settings(path: &Path) -> anyhow::Result<(flexmbd_core::Model, flexm
             let m = read_spacar(path)?;
             let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
             for w in &warnings {
-                eprintln!("warning: {}:{}: {}", m.file, w.line, w.message);
+                eprintln!(
+                    "warning: {}:{}: {}",
+                    m.file,
+                    w.line,
+                    flexmbd_io::error::printable(&w.message)
+                );
             }
             Ok((file.model, file.settings))
         }
@@ -212,16 +266,25 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
         ))
         .into());
     }
+    outputs::check_file(output, "OUTPUT", &[input])?;
+    if extension(output).as_deref() != Some("toml") {
+        return Err(BadInput(format!(
+            "OUTPUT {}: convert writes a TOML model; give a file name ending in .toml",
+            output.display()
+        ))
+        .into());
+    }
     let m = read_spacar(input)?;
     // build the model first, so that a file flexmbd cannot use is reported, not written
     m.to_model().map_err(|e| BadInput(e.to_string()))?;
     let text = m.to_toml().map_err(|e| BadInput(e.to_string()))?;
-    std::fs::write(output, text).with_context(|| format!("cannot write {}", output.display()))?;
+    outputs::write_file(output, &text)?;
     Ok(ExitCode::SUCCESS)
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     progress::set_quiet(cli.quiet);
+    outputs::set_force(cli.force);
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
@@ -273,6 +336,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 return Err(BadInput(format!(
                     "--rank-tol must be a finite number >= 0, found {}",
                     opts.rank_tol
+                ))
+                .into());
+            }
+            if flexmbd_core::kinematics::rows(&m, &m.partition).is_empty() {
+                return Err(BadInput(format!(
+                    "{}: the model has no constraint rows (Dcc has 0 rows: no rigid or input deformation mode), so there is nothing to classify; keep a deformation mode of an element rigid (leave it out of `free`)",
+                    model.display()
                 ))
                 .into());
             }
@@ -377,6 +447,9 @@ fn run_static(
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::statics::linear::LinearRequest;
     use flexmbd_io::static_report::{static_json, static_text, write_csv};
+    if let Some(dir) = &csv {
+        outputs::check_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
+    }
     let (model, settings) = load_with_settings(path)?;
     let mut opts = dynamics_cmd::static_options(&settings, steps)?;
     for (name, v, target) in [
@@ -415,8 +488,13 @@ fn run_static(
     let (sol, extras) = (&analysis.solution, &analysis.linear);
     let fname = path.display().to_string();
     if let Some(dir) = &csv {
-        write_csv(dir, &model, sol, extras)
-            .with_context(|| format!("cannot write CSV files into {}", dir.display()))?;
+        outputs::prepare_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
+        write_csv(dir, &model, sol, extras).map_err(|e| {
+            outputs::IoFailure(format!(
+                "cannot write CSV files into {}: {e}",
+                dir.display()
+            ))
+        })?;
     }
     if json {
         emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, sol, extras))? + "\n"))?;
@@ -426,17 +504,32 @@ fn run_static(
     Ok(ExitCode::SUCCESS)
 }
 
+/// 2 for the user's input, 4 for a file or stream that cannot be read or written, 1 otherwise
+/// (a numerical failure).
+fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.downcast_ref::<BadInput>().is_some() {
+        2
+    } else if e
+        .chain()
+        .any(|c| c.is::<outputs::IoFailure>() || c.is::<std::io::Error>())
+    {
+        4
+    } else {
+        1
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            let bad_input = e.downcast_ref::<BadInput>().is_some();
-            eprintln!("error: {e:#}");
+            // control characters copied from an input are shown escaped, not sent to the terminal
+            eprintln!("error: {}", flexmbd_io::error::printable(&format!("{e:#}")));
             if let Some(hint) = hints::cli_hint(&e) {
                 eprintln!("hint: {hint}");
             }
-            ExitCode::from(if bad_input { 2 } else { 1 })
+            ExitCode::from(exit_code(&e))
         }
     }
 }

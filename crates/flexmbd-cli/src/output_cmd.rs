@@ -1,5 +1,6 @@
 //! `flexmbd export`: ParaView files (.vtu/.pvd) and PNG/SVG plots (docs/visualisation.md).
 
+use crate::outputs::{self, EXPORT_PLOTS, EXPORT_VTK};
 use crate::{emit, load_with_settings, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::modes;
@@ -40,10 +41,10 @@ pub struct ExportArgs {
     #[arg(long, value_name = "DIR")]
     plots: Option<PathBuf>,
     /// Number of modes (modes) or of frequencies per step in the frequency plot.
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", value_parser = crate::parse_count)]
     count: usize,
     /// Number of load steps (overrides [static] steps).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::parse_steps)]
     steps: Option<usize>,
     /// Plot size in pixels, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x500", value_name = "WxH")]
@@ -56,11 +57,24 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
         return Err(BadInput("export: give --vtk DIR and/or --plots DIR".into()).into());
     }
     let size = parse_size(&args.plot_size)?;
-    let (model, settings) = load_with_settings(&args.model)?;
-    for dir in [&args.vtk, &args.plots].into_iter().flatten() {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    let dirs = [
+        (&args.vtk, "--vtk", EXPORT_VTK),
+        (&args.plots, "--plots", EXPORT_PLOTS),
+    ];
+    for (dir, flag, patterns) in dirs {
+        if let Some(dir) = dir {
+            outputs::check_dir(dir, flag, patterns, &[&args.model])?;
+        }
     }
+    let (model, settings) = load_with_settings(&args.model)?;
+    let prepare = || -> anyhow::Result<()> {
+        for (dir, flag, patterns) in dirs {
+            if let Some(dir) = dir {
+                outputs::prepare_dir(dir, flag, patterns, &[&args.model])?;
+            }
+        }
+        Ok(())
+    };
     let mut written: Vec<PathBuf> = Vec::new();
     match args.analysis {
         Analysis::Check => {
@@ -69,17 +83,23 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
                 check(&model, &model.partition, &x, &CheckOptions::default())
             })
             .context("kinematic analysis failed")?;
+            prepare()?;
             if let Some(dir) = &args.vtk {
                 let p = dir.join("check.vtu");
                 write(&p, &check_grid(&model, &a).to_vtu())?;
                 written.push(p);
             }
             if let Some(dir) = &args.plots {
-                written.extend(singular_plot(&a).write(&dir.join("singular_values"), size)?);
+                written.extend(write_plot(
+                    &singular_plot(&a),
+                    &dir.join("singular_values"),
+                    size,
+                )?);
             }
         }
         Analysis::Static => {
             let sol = static_solution(&model, &settings, args.steps)?;
+            prepare()?;
             if let Some(dir) = &args.vtk {
                 let mut entries = Vec::new();
                 for (k, st) in sol.steps.iter().enumerate() {
@@ -105,6 +125,7 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
             let modal =
                 crate::progress::stage("modal analysis", || modes(&model, step, args.count))
                     .context("modal analysis failed")?;
+            prepare()?;
             if let Some(dir) = &args.vtk {
                 let mut entries = Vec::new();
                 for (k, mode) in modal.modes.iter().enumerate() {
@@ -124,7 +145,7 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
                     sweep(&model, &sol.steps, args.count, &[])
                 });
                 if let Some(p) = frequency_plot(&points, &stroke, &x_label) {
-                    written.extend(p.write(&dir.join("frequency_stroke"), size)?);
+                    written.extend(write_plot(&p, &dir.join("frequency_stroke"), size)?);
                 }
             }
         }
@@ -138,7 +159,13 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn write(path: &Path, text: &str) -> anyhow::Result<()> {
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    Ok(outputs::write_file(path, text)?)
+}
+
+/// Write a plot as PNG and SVG; a failure is an I/O failure (exit 4).
+fn write_plot(plot: &Plot, stem: &Path, size: (u32, u32)) -> anyhow::Result<Vec<PathBuf>> {
+    plot.write(stem, size)
+        .map_err(|e| outputs::IoFailure(e.to_string()).into())
 }
 
 fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
@@ -300,7 +327,7 @@ fn stroke_plots(
             hlines: vec![],
             markers: true,
         };
-        written.extend(plot.write(&dir.join("force_stroke"), size)?);
+        written.extend(write_plot(&plot, &dir.join("force_stroke"), size)?);
     }
     let node_ids = settings
         .compliance
@@ -348,11 +375,15 @@ fn stroke_plots(
             .iter()
             .any(|s| s.points.iter().any(|p| p.1.is_finite() && p.1 > 0.0))
         {
-            written.extend(plot.write(&dir.join(format!("stiffness_{name}")), size)?);
+            written.extend(write_plot(
+                &plot,
+                &dir.join(format!("stiffness_{name}")),
+                size,
+            )?);
         }
     }
     if let Some(p) = frequency_plot(&points, &stroke, &x_label) {
-        written.extend(p.write(&dir.join("frequency_stroke"), size)?);
+        written.extend(write_plot(&p, &dir.join("frequency_stroke"), size)?);
     }
     Ok(written)
 }

@@ -2,7 +2,7 @@
 //! an analysis (docs/visualisation.md).
 
 use crate::output_cmd::Analysis;
-use crate::{emit, load_with_settings, progress, BadInput};
+use crate::{emit, load_with_settings, outputs, progress, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::modes;
 use flexmbd_core::kinematics::advice::{advise, auto_generalised};
@@ -29,10 +29,10 @@ pub struct ViewArgs {
     #[arg(short = 'o', long = "output", value_name = "FILE.html")]
     output: PathBuf,
     /// Number of modes (modes).
-    #[arg(long, default_value_t = 6, value_name = "N")]
+    #[arg(long, default_value_t = 6, value_name = "N", value_parser = crate::parse_count)]
     count: usize,
     /// Number of load steps (static, modes; overrides [static] steps).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = crate::parse_steps)]
     steps: Option<usize>,
     /// Linearise at this load step of the static solution (modes; default: the last).
     #[arg(long, value_name = "K")]
@@ -91,6 +91,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     if matches!(args.analysis, Analysis::Modes) && args.count == 0 {
         return Err(BadInput("--count must be at least 1".into()).into());
     }
+    outputs::check_file(&args.output, "-o", &[&args.model])?;
     let (model, settings) = load_with_settings(&args.model)?;
     let file = args.model.display().to_string();
     let mut notes = Vec::new();
@@ -170,11 +171,11 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     data.notes.extend(notes);
     let html = view_html(&data).context("cannot write the HTML report")?;
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create directory {}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|e| {
+            outputs::IoFailure(format!("cannot create folder {}: {e}", dir.display()))
+        })?;
     }
-    std::fs::write(&args.output, &html)
-        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    outputs::write_file(&args.output, &html)?;
     emit(&format!(
         "wrote {} ({} bytes)\n",
         args.output.display(),

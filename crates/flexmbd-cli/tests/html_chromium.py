@@ -333,7 +333,8 @@ def flexmbd():
 
 def view(out, name, model, *args):
     path = os.path.join(out, name + ".html")
-    cmd = flexmbd() + ["view", os.path.join(ROOT, "examples", model + ".toml"), "-o", path, *args]
+    # --force: a folder given on the command line may hold the reports of an earlier run
+    cmd = flexmbd() + ["--force", "view", os.path.join(ROOT, "examples", model + ".toml"), "-o", path, *args]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=900)
     if r.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed: {r.stderr}")

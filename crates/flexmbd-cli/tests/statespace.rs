@@ -243,7 +243,14 @@ fn bode_table_and_matlab_file() {
     // the default band: 0.1 f1 .. 10 f_max
     let (out, _) = run(&[
         &base[..],
-        &["--bode", csv.to_str().unwrap(), "--bode-points", "3"],
+        // the same file again: replacing it needs --force
+        &[
+            "--force",
+            "--bode",
+            csv.to_str().unwrap(),
+            "--bode-points",
+            "3",
+        ],
     ]
     .concat());
     assert!(out.status.success());

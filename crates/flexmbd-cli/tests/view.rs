@@ -199,11 +199,11 @@ fn bad_input_is_named() {
     );
     // -o is required
     fails(&["view", "examples/twelve_truss.toml"], 2, &["--output"]);
-    // an output that cannot be written: a directory
+    // an output that cannot be written: a directory (an I/O failure, exit 4)
     let d = dir.to_str().unwrap();
     fails(
         &["view", "examples/twelve_truss.toml", "-o", d],
-        1,
+        4,
         &["cannot write", d],
     );
 }

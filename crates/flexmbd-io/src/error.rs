@@ -63,3 +63,39 @@ pub fn at_line(file: &str, line: usize, column: usize, message: impl Into<String
         message: message.into(),
     }
 }
+
+/// A model with no elements has nothing to analyse: an error naming the file.
+pub fn require_elements(model: &flexmbd_core::Model, file: &str) -> Result<(), InputError> {
+    if model.elements.is_empty() {
+        return Err(InputError::File {
+            file: file.to_string(),
+            message: format!(
+                "the model has no elements (trusses, beams, hinges or rigid bodies){}: there is nothing to analyse",
+                if model.nodes.is_empty() {
+                    " and no nodes"
+                } else {
+                    ""
+                }
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// `text` with its control characters other than tab and line feed written as `\u{..}`: safe on
+/// a terminal, and in a TOML comment once line feeds are replaced.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    let escaped = |c: char| c.is_control() && c != '\t' && c != '\n';
+    if !text.chars().any(escaped) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if escaped(c) {
+            out.push_str(&format!("\\u{{{:x}}}", c as u32));
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}

@@ -11,6 +11,7 @@
 
 pub mod error;
 pub mod html_view;
+pub mod limits;
 pub mod model_toml;
 pub mod modes_report;
 pub mod plots;

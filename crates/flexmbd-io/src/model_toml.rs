@@ -32,6 +32,7 @@
 //! and degenerate elements are errors naming file, line and item.
 
 use crate::error::{at, InputError};
+use crate::limits::{MAX_BUCKLING, MAX_ITERATIONS, MAX_SEGMENTS, MAX_STEPS};
 use flexmbd_core::model::{Dof, ElementSpec, Item};
 use flexmbd_core::section::{BeamProps, Material, Shape};
 use flexmbd_core::{Model, ModelBuilder};
@@ -307,12 +308,35 @@ type PendingElement = (
 
 /// Read and compile a TOML model file.
 pub fn read_model(path: &std::path::Path) -> Result<Model, InputError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
-        file: file.clone(),
+    read_model_file(path).map(|f| f.model)
+}
+
+/// Read a file as UTF-8 text; bytes that are not UTF-8 are an error at their line and column.
+fn read_text(path: &std::path::Path, file: &str) -> Result<String, InputError> {
+    let bytes = std::fs::read(path).map_err(|source| InputError::Read {
+        file: file.to_string(),
         source,
     })?;
-    parse_model(&text, &file)
+    String::from_utf8(bytes).map_err(|e| {
+        let bytes = e.as_bytes();
+        let start = e.utf8_error().valid_up_to();
+        let len = e.utf8_error().error_len().unwrap_or(bytes.len() - start);
+        let bad: Vec<String> = bytes[start..start + len]
+            .iter()
+            .map(|b| format!("0x{b:02X}"))
+            .collect();
+        // the valid text before the bad bytes gives the line and column
+        let before = String::from_utf8_lossy(&bytes[..start]);
+        at(
+            file,
+            &before,
+            before.len(),
+            format!(
+                "the file is not UTF-8: invalid byte {} at byte offset {start}; TOML files are UTF-8 (save the file as UTF-8)",
+                bad.join(" ")
+            ),
+        )
+    })
 }
 
 /// Parse and compile TOML model text; `file` names it in messages.
@@ -323,10 +347,7 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, InputError> {
 /// Read a TOML model file with its analysis settings.
 pub fn read_model_file(path: &std::path::Path) -> Result<ModelFile, InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
-        file: file.clone(),
-        source,
-    })?;
+    let text = read_text(path, &file)?;
     parse_model_file(&text, &file)
 }
 
@@ -395,10 +416,13 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
     for t in &spec.beam {
         let s = t.get_ref();
         let n = s.segments.unwrap_or(1);
-        if n == 0 {
+        if n == 0 || n > MAX_SEGMENTS {
             return Err(err(
-                &t.span(),
-                format!("element `{}`: `segments` must be at least 1", s.id),
+                &key_span(text, &t.span(), "segments"),
+                format!(
+                    "element `{}`: `segments` must be from 1 to {MAX_SEGMENTS} (the limit, docs/reliability.md), found {n}",
+                    s.id
+                ),
             ));
         }
         let e = ElementSpec::Beam {
@@ -555,9 +579,44 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         b.add_inertia(&s.node, s.i)
             .map_err(|e| err(&m.span(), e.to_string()))?;
     }
-    for p in &spec.prescribe {
+    // what each [[prescribe]] holds, with its line: a second value for one target is an error
+    let mut prescribed: HashMap<(String, String), usize> = HashMap::new();
+    for (k, p) in spec.prescribe.iter().enumerate() {
         let s = p.get_ref();
         let span = p.span();
+        let line = crate::error::line_col(text, span.start).0;
+        let target = match (&s.node, &s.dof, &s.element, s.mode) {
+            (Some(node), Some(dof), _, _) => {
+                // a node `at` another shares its host's translations
+                let parsed = Dof::parse(dof);
+                let owner = match parsed {
+                    Some(d) if !d.is_rotation() => position_owner(nodes, node),
+                    _ => node.clone(),
+                };
+                Some((
+                    format!("coordinate {dof} of node `{node}`"),
+                    format!("node {owner}"),
+                    parsed.map_or_else(|| dof.clone(), |d| d.name().to_string()),
+                ))
+            }
+            (None, None, Some(element), Some(mode)) => Some((
+                format!("deformation mode {mode} of element `{element}`"),
+                format!("element {element}"),
+                mode.to_string(),
+            )),
+            _ => None,
+        };
+        if let Some((what, a, b)) = target {
+            if let Some(first) = prescribed.insert((a, b), line) {
+                return Err(err(
+                    &span,
+                    format!(
+                        "[[prescribe]] {}: {what} is prescribed twice (lines {first} and {line}); give one value",
+                        k + 1
+                    ),
+                ));
+            }
+        }
         match (&s.node, &s.dof, &s.element, s.mode) {
             (Some(node), Some(dof), None, None) => {
                 let d = Dof::parse(dof).ok_or_else(|| {
@@ -607,10 +666,26 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
                 }
             }
         }
-        if st.steps == Some(0) {
+        for (what, v, max) in [
+            ("steps", st.steps, MAX_STEPS),
+            ("max_iterations", st.max_iterations, MAX_ITERATIONS),
+        ] {
+            if let Some(v) = v {
+                if v == 0 || v > max {
+                    return Err(err(
+                        &key_span(text, &sp.span(), what),
+                        format!("[static]: `{what}` must be from 1 to {max} (the limit, docs/reliability.md), found {v}"),
+                    ));
+                }
+            }
+        }
+        if st.buckling > MAX_BUCKLING {
             return Err(err(
-                &sp.span(),
-                "[static]: `steps` must be at least 1".into(),
+                &key_span(text, &sp.span(), "buckling"),
+                format!(
+                    "[static]: `buckling` must be from 0 to {MAX_BUCKLING} (the limit, docs/reliability.md), found {}",
+                    st.buckling
+                ),
             ));
         }
         for n in &st.compliance {
@@ -639,6 +714,7 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
             message: toml_message(&e),
         },
     })?;
+    crate::error::require_elements(&model, file)?;
     Ok(ModelFile { model, settings })
 }
 
@@ -745,7 +821,15 @@ fn read_sections(spec: &FileSpec, file: &str, text: &str) -> Result<Sections, In
                 iy: need("Iy", s.iy).map_err(fail)?,
                 iz: need("Iz", s.iz).map_err(fail)?,
                 j: need("J", s.j).map_err(fail)?,
-                k: s.k.unwrap_or(0.0),
+                k: match s.k {
+                    None => 0.0,
+                    Some(k) if k.is_finite() && k >= 0.0 => k,
+                    Some(k) => {
+                        return Err(fail(format!(
+                            "`k` (the shear factor) must be ≥ 0 (0: shear-rigid), found {k}"
+                        )))
+                    }
+                },
             },
             other => {
                 return Err(fail(format!(
@@ -775,6 +859,11 @@ fn beam_constants(
                         .into(),
                 );
             }
+            if s.rho_a.is_some() {
+                return Err(format!(
+                    "`rho_a` is the mass per length of constants given directly; with `section` and `material` the mass per length is the material's `rho` × the section's area: remove `rho_a`, or set `rho` of material `{mat}`"
+                ));
+            }
             let m = materials
                 .get(mat)
                 .ok_or_else(|| format!("material `{mat}` is not defined"))?;
@@ -801,6 +890,12 @@ fn beam_constants(
                 rho_a: get("rho_a", s.rho_a)?,
                 ..Default::default()
             }
+        }
+        (None, None) if s.rho_a.is_some() => {
+            return Err(
+                "`rho_a` (mass per length) belongs to constants given directly: give the beam's `EA`, `GJ`, `EIy`, `EIz` with it (a missing one is 0), or a `section` and a `material` with density `rho` instead"
+                    .into(),
+            )
         }
         (None, None) => return Ok(None),
     };
@@ -899,8 +994,9 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
         {
             return format!("`[{section}]` must be written `[[{section}]]` (one table per entry)");
         }
-        "truss" | "beam" | "hinge" | "rigid" => {
-            // the element's id: a `id = "..."` line in the table body below the header
+        "truss" | "beam" | "hinge" | "rigid" | "material" | "section" | "load" | "mass"
+        | "inertia" | "prescribe" => {
+            // a `key = "..."` line in the table's body (above and below the error line)
             let start = if is_header(here) {
                 line_end
             } else {
@@ -909,24 +1005,52 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
             let below = text[start.min(text.len())..]
                 .lines()
                 .take_while(|l| !is_header(l));
-            let id = body_above
+            let body: Vec<&str> = body_above
                 .iter()
                 .copied()
                 .chain(std::iter::once(here).filter(|l| !is_header(l)))
                 .chain(below)
-                .find_map(|l| {
+                .collect();
+            let value_of = |key: &str| {
+                body.iter().find_map(|l| {
                     let (k, v) = l.split_once('=')?;
-                    (k.trim() == "id").then(|| quoted(v.trim()))?
-                });
-            Some(match id {
-                Some(id) => format!("element `{id}`"),
-                None => format!("[[{section}]]"),
+                    (k.trim() == key).then(|| quoted(v.trim()))?
+                })
+            };
+            // the table's number among the tables of its kind (1-based)
+            let array_header = |l: &str| {
+                let l = l.trim();
+                l.strip_prefix("[[")
+                    .and_then(|r| r.split_once("]]"))
+                    .is_some_and(|(name, _)| name.trim() == section)
+            };
+            let index =
+                before.iter().filter(|l| array_header(l)).count() + usize::from(array_header(here));
+            let what = match section.as_str() {
+                "truss" | "beam" | "hinge" | "rigid" => "element",
+                other => other,
+            };
+            Some(match (value_of("id"), section.as_str()) {
+                (Some(id), _) => format!("{what} `{id}`"),
+                (None, "load" | "mass" | "inertia" | "prescribe") => {
+                    match value_of("node").or_else(|| value_of("element")) {
+                        Some(n) => format!("[[{section}]] {index} (on `{n}`)"),
+                        None => format!("[[{section}]] {index}"),
+                    }
+                }
+                (None, _) => format!("[[{section}]] {index}"),
             })
         }
+        "static" => Some("[static]".to_string()),
         // a top-level `section = value` before any header
-        "" => line_key(here)
-            .filter(|k| FileSpec::SECTIONS.contains(&k.as_str()))
-            .map(|k| format!("[{k}]")),
+        "" => match line_key(here) {
+            Some(k) if FileSpec::SECTIONS.contains(&k.as_str()) => Some(format!("[{k}]")),
+            // a key before the first table header
+            Some(k) if msg == "duplicate key" => {
+                return format!("`{k}` is given twice before the first [table]");
+            }
+            _ => None,
+        },
         _ => None,
     };
     match item {
@@ -942,6 +1066,25 @@ fn name_item(text: &str, offset: usize, msg: String) -> String {
             _ => msg,
         },
     }
+}
+
+/// The span of the `key = value` line in the body of a table (whose span starts at its header),
+/// or the table's span when the key is not found there.
+fn key_span(text: &str, table: &Range<usize>, key: &str) -> Range<usize> {
+    let start = table.start.min(text.len());
+    let mut offset = start;
+    for (k, line) in text[start..].split_inclusive('\n').enumerate() {
+        let trimmed = line.trim_start();
+        if k > 0 && trimmed.starts_with('[') {
+            break; // the next table
+        }
+        if line_key(line).as_deref() == Some(key) {
+            let lead = line.len() - trimmed.len();
+            return offset + lead..offset + line.len();
+        }
+        offset += line.len();
+    }
+    table.clone()
 }
 
 /// The key of a `key = value` line, if the line starts with one.
@@ -964,6 +1107,19 @@ fn quoted(v: &str) -> Option<String> {
     let q = v.chars().next().filter(|c| *c == '"' || *c == '\'')?;
     let rest = &v[1..];
     Some(rest[..rest.find(q)?].to_string())
+}
+
+/// The node whose position coordinates `name` uses: its host for a node `at` another (the
+/// chain followed), else itself.
+fn position_owner(nodes: &IndexMap<String, Spanned<toml::Value>>, name: &str) -> String {
+    let mut current = name.to_string();
+    for _ in 0..nodes.len() {
+        match nodes.get(&current).map(|v| node_value(v.get_ref())) {
+            Some(Ok(NodeDef::Hosted(host))) => current = host,
+            _ => break,
+        }
+    }
+    current
 }
 
 /// A node definition.

@@ -336,8 +336,9 @@ fn dof_list(v: &[Dof]) -> String {
 }
 
 /// One comment line (line breaks inside become blanks).
+/// Control characters (TOML forbids them in comments) are written as `\u{..}`.
 fn comment(out: &mut String, indent: &str, text: &str) {
-    let t = text.replace(['\n', '\r'], " ");
+    let t = crate::error::printable(&text.replace(['\n', '\r'], " ")).into_owned();
     if t.is_empty() {
         out.push_str(indent);
         out.push_str("#\n");
@@ -348,7 +349,11 @@ fn comment(out: &mut String, indent: &str, text: &str) {
 
 fn trailing(out: &mut String, c: &Option<String>) {
     if let Some(c) = c {
-        let _ = write!(out, "  # {}", c.replace(['\n', '\r'], " "));
+        let _ = write!(
+            out,
+            "  # {}",
+            crate::error::printable(&c.replace(['\n', '\r'], " "))
+        );
     }
     out.push('\n');
 }

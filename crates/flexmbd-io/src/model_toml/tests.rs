@@ -911,6 +911,9 @@ m = { x = [1.0, 0.0, 0.0] }
 a = { x = [2.0, 0.0, 0.0], rot = true }
 h = { at = "m" }
 hh = { at = "h", rot = true }
+[[truss]]
+id = "t"
+nodes = ["z", "m"]
 "#);
     assert_eq!(m.node_names(), ["z", "m", "a", "h", "hh"]);
     let n = |s: &str| &m.nodes[m.node_id(s).unwrap()];
@@ -926,7 +929,9 @@ hh = { at = "h", rot = true }
 
 #[test]
 fn integers_are_numbers() {
-    let m = ok("[nodes]\na = [0, 1, -2]\n");
+    let m = ok(
+        "[nodes]\na = [0, 1, -2]\nb = [1, 1, -2]\n[[truss]]\nid = \"t\"\nnodes = [\"a\", \"b\"]\n",
+    );
     assert_eq!(m.nodes[0].x0, [0.0, 1.0, -2.0]);
 }
 
@@ -1022,6 +1027,8 @@ fn example_twelve_truss() {
 
 #[test]
 fn spin_in_static_section() {
+    // a model needs an element
+    const AB: &str = "[nodes]\na = [0.0, 0.0, 0.0]\nb = [1.0, 0.0, 0.0]\n[[truss]]\nid = \"t\"\nnodes = [\"a\", \"b\"]\n";
     let m = ok(&format!(
         "{AB}[static]\nspin = [0.0, 0.0, 12.5]\nspin_point = [1.0, 2.0, 0.0]\n"
     ));
@@ -1047,5 +1054,76 @@ fn bad_spin() {
     check_ab(
         "\n[static]\nspin = [0.0, 1.0]  # <-\n",
         &["invalid length 2"],
+    );
+}
+
+// ---- reliability (issue 15) ----
+
+#[test]
+fn a_model_needs_an_element() {
+    let e = parse_model(AB, "m.toml").unwrap_err().to_string();
+    assert!(
+        e.starts_with("m.toml: ") && e.contains("no elements"),
+        "{e}"
+    );
+}
+
+#[test]
+fn errors_in_data_tables_name_the_item() {
+    check_ab(
+        "\n[[material]]  # <-\nid = \"steel\"\nnu = 0.3\n",
+        &["material `steel`", "missing field `E`"],
+    );
+    check_ab(
+        "\n[[section]]\nid = \"s\"\nshape = \"rectangle\"\nw = 0.02\nt = 0.001\nfoo = 1  # <-\n",
+        &["section `s`", "unknown field `foo`"],
+    );
+    check_ab(
+        "\n[[load]]\nnode = \"a\"\n[[load]]\nnode = \"b\"\nforce = [1.0, 2.0]  # <-\n",
+        &["[[load]] 2 (on `b`)", "invalid length 2"],
+    );
+    check_ab(
+        "\n[[mass]]\nnode = \"b\"\nm = \"x\"  # <-\n",
+        &["[[mass]] 1 (on `b`)", "invalid type"],
+    );
+    check_ab(
+        "\n[[inertia]]\nnode = \"b\"\nI = [1.0, 2.0]  # <-\n",
+        &["[[inertia]] 1 (on `b`)", "invalid length 2"],
+    );
+    check_ab(
+        "\n[[prescribe]]\nnode = \"b\"\ndof = \"x\"\nvalue = \"x\"  # <-\n",
+        &["[[prescribe]] 1 (on `b`)", "invalid type"],
+    );
+    check_ab(
+        "\n[static]\nsteps = -1  # <-\n",
+        &["[static]", "expected usize"],
+    );
+    check_ab(
+        "\n[static]\nmax_iterations = 0  # <-\n",
+        &["[static]", "`max_iterations` must be from 1 to 10000"],
+    );
+    check_ab(
+        "\n[[section]]  # <-\nid = \"g\"\nshape = \"general\"\nA = 1.0\nIy = 1.0\nIz = 1.0\nJ = 1.0\nk = -0.5\n",
+        &["section `g`", "`k` (the shear factor) must be ≥ 0", "-0.5"],
+    );
+}
+
+#[test]
+fn a_coordinate_is_prescribed_once() {
+    // directly, and through a node `at` another (they share the translations)
+    let body = "[nodes]\na = [0.0, 0.0, 0.0]\nb = { x = [1.0, 0.0, 0.0], rot = true }\nh = { at = \"b\" }\n[fix]\na = \"all\"\n[[beam]]\nid = \"w\"\nnodes = [\"a\", \"h\"]\norient = [0.0, 1.0, 0.0]\n";
+    check(
+        &format!("{body}[[prescribe]]\nnode = \"b\"\ndof = \"x\"\nvalue = 0.1\n[[prescribe]]  # <-\nnode = \"h\"\ndof = \"x\"\nvalue = 0.2\n"),
+        &["[[prescribe]] 2", "coordinate x of node `h`", "lines 11 and 15"],
+    );
+    // rotations of a node `at` another are its own
+    ok(&format!("{body}[[prescribe]]\nnode = \"b\"\ndof = \"rz\"\nvalue = 0.1\n[[prescribe]]\nnode = \"h\"\ndof = \"rz\"\nvalue = 0.2\n"));
+}
+
+#[test]
+fn a_duplicate_key_before_any_table_is_named() {
+    check(
+        "rho_a = 1.0\nrho_a = 1.0  # <-\n[nodes]\na = [0.0, 0.0, 0.0]\n",
+        &["`rho_a` is given twice before the first [table]"],
     );
 }

@@ -86,12 +86,31 @@ pub(crate) fn split_line(no: usize, raw: &str) -> Line<'_> {
     }
 }
 
-/// The lines of a file: `\n` or `\r\n` line ends, a leading byte-order mark ignored.
+/// The lines of a file: `\n`, `\r\n` or `\r` (old Mac) line ends, a leading byte-order mark
+/// ignored.
 pub(crate) fn lines(text: &str) -> impl Iterator<Item = Line<'_>> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    text.split('\n')
-        .enumerate()
-        .map(|(i, l)| split_line(i + 1, l.strip_suffix('\r').unwrap_or(l)))
+    let mut rest = Some(text);
+    std::iter::from_fn(move || {
+        let t = rest?;
+        match t.find(['\n', '\r']) {
+            Some(i) => {
+                let end = if t[i..].starts_with("\r\n") {
+                    i + 2
+                } else {
+                    i + 1
+                };
+                rest = Some(&t[end..]);
+                Some(&t[..i])
+            }
+            None => {
+                rest = None;
+                Some(t)
+            }
+        }
+    })
+    .enumerate()
+    .map(|(i, l)| split_line(i + 1, l))
 }
 
 /// Parse a floating-point field: any Rust float syntax plus a Fortran `d` exponent; finite only.
@@ -267,6 +286,24 @@ mod tests {
         assert!(l.tokens.is_empty() && l.comment.is_none());
         let l = split_line(1, "COLOR 1 2 3;x");
         assert_eq!(l.tokens.len(), 4);
+    }
+
+    #[test]
+    fn line_ends() {
+        // LF, CRLF and CR (old Mac) are all line ends; a CR-only file is not one comment
+        for text in [
+            "#t\nX 1 0 0 0\nEND",
+            "#t\r\nX 1 0 0 0\r\nEND",
+            "#t\rX 1 0 0 0\rEND",
+        ] {
+            let l: Vec<_> = lines(text).collect();
+            assert_eq!(l.len(), 3, "{text:?}");
+            assert_eq!(l[1].no, 2);
+            assert_eq!(l[1].tokens.len(), 5);
+            assert_eq!(l[2].tokens[0].text, "END");
+        }
+        assert_eq!(lines("a\r\rb").count(), 3);
+        assert_eq!(lines("a\n").count(), 2);
     }
 
     #[test]

@@ -520,7 +520,9 @@ impl SpacarModel {
     /// Build the core model for the kinematic check; errors name file and line.
     pub fn to_model(&self) -> Result<Model, InputError> {
         let spec = self.to_spec()?;
-        spec.build().map_err(|e| self.spec_error(e))
+        let model = spec.build().map_err(|e| self.spec_error(e))?;
+        self.require_elements(&model)?;
+        Ok(model)
     }
 
     /// The model and settings for `flexmbd static`, with the warnings of the mapping (each
@@ -530,6 +532,7 @@ impl SpacarModel {
     pub fn to_model_file(&self) -> Result<(ModelFile, Vec<Warning>), InputError> {
         let c = statics::convert(self)?;
         let file = c.spec.build_static().map_err(|e| self.spec_error(e))?;
+        self.require_elements(&file.model)?;
         Ok((file, c.warnings))
     }
 
@@ -545,7 +548,8 @@ impl SpacarModel {
     pub fn to_toml_with_warnings(&self) -> Result<(String, Vec<Warning>), InputError> {
         let c = statics::convert(self)?;
         // a file that does not read back is reported here, at its line
-        c.spec.build().map_err(|e| self.spec_error(e))?;
+        let model = c.spec.build().map_err(|e| self.spec_error(e))?;
+        self.require_elements(&model)?;
         let text = crate::toml_writer::write_toml(&c.spec).map_err(|m| InputError::File {
             file: self.file.clone(),
             message: m,
@@ -554,6 +558,23 @@ impl SpacarModel {
         w.extend(c.toml_warnings);
         w.sort_by_key(|w| w.line);
         Ok((text, w))
+    }
+
+    /// A model without elements is an error at the last node line (line 1 without one).
+    fn require_elements(&self, model: &Model) -> Result<(), InputError> {
+        crate::error::require_elements(model, &self.file).map_err(|e| {
+            let line = self.positions.last().map_or(1, |p| p.line);
+            let message = match e {
+                InputError::File { message, .. } => message,
+                other => other.to_string(),
+            };
+            crate::error::at_line(
+                &self.file,
+                line,
+                1,
+                format!("{message} (no element line such as BEAM, TRUSS or HINGE in the file)"),
+            )
+        })
     }
 
     fn spec_error(&self, e: SpecError) -> InputError {

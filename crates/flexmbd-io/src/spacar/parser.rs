@@ -73,6 +73,16 @@ pub(super) fn parse(text: &str, file: &str) -> Result<SpacarModel, InputError> {
     let mut last_line = 0;
     for line in lines(text) {
         last_line = line.no;
+        // control characters (other than tab) in a field or comment: written as `\u{..}`
+        // wherever the text is copied (converted TOML comments, messages)
+        let has_control = |t: &str| t.chars().any(|c| c.is_control() && c != '\t');
+        if line.tokens.iter().any(|t| has_control(t.text)) || line.comment.is_some_and(has_control)
+        {
+            p.warn(
+                line.no,
+                "the line holds control characters; where its text is copied (the comments of `flexmbd convert`, messages) they are written as \\u{..}",
+            );
+        }
         if line.tokens.is_empty() {
             if p.m.title.is_none() && p.m.elements.is_empty() && p.m.positions.is_empty() {
                 if let Some(c) = line.comment.filter(|c| !c.is_empty()) {

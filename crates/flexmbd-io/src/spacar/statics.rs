@@ -28,6 +28,7 @@
 use super::mapping::{fmt_num, fmt_values, header, NodeMap};
 use super::*;
 use crate::error::{at_line, InputError};
+use crate::limits::MAX_STEPS;
 use crate::toml_writer::{
     LoadEntry, MassEntry, ModelSpec, PrescribeEntry, PrescribeTarget, StaticSpec,
 };
@@ -95,9 +96,15 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
         let v = &it.values;
         let mut used = Vec::new();
         match v.get(1) {
-            Some(&n) if n >= 1.0 && n == n.trunc() && n < 1e9 => {
+            Some(&n) if n >= 1.0 && n == n.trunc() && n <= MAX_STEPS as f64 => {
                 statics.steps = Some(n as usize);
                 used.push(format!("steps = {n} (field 2, the number of load increments)"));
+            }
+            Some(&n) if n > MAX_STEPS as f64 => {
+                return Err(err(
+                    it.line,
+                    format!("ITERSTEP: field 2 (the number of load increments) must be from 1 to {MAX_STEPS} (the limit, docs/reliability.md), found {}", fmt_num(n)),
+                ))
             }
             Some(&n) => warn(
                 it.line,
