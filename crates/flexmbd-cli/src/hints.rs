@@ -3,6 +3,7 @@
 
 use flexmbd_core::dynamics::state_space::StateSpaceError;
 use flexmbd_core::dynamics::ModalError;
+use flexmbd_core::kinematics::classify::{ClassifyError, Stage};
 use flexmbd_core::statics::SolveError;
 
 /// The options that act on the failure of `e` (searched through its chain of causes), if flexmbd
@@ -26,6 +27,11 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
                 }
                 _ => None,
             };
+        }
+        if let Some(c) = cause.downcast_ref::<ClassifyError>() {
+            if c.stage == Stage::Check {
+                return Some("check the model for NaN coordinates, or try another --rank-tol");
+            }
         }
         if let Some(SolveError::NoConvergence { .. }) = cause.downcast_ref::<SolveError>() {
             return Some("more load steps: --steps N (or `steps` in the model's [static] table)");

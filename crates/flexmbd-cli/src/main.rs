@@ -13,8 +13,8 @@ mod view_cmd;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use flexmbd_core::kinematics::advice::{advise, auto_generalised};
-use flexmbd_core::kinematics::{check, CheckOptions};
+use flexmbd_core::kinematics::classify::ClassifyOptions;
+use flexmbd_core::kinematics::CheckOptions;
 use flexmbd_io::report::{check_json, check_text, generalised_names, CheckReport};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -339,34 +339,26 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 ))
                 .into());
             }
-            if flexmbd_core::kinematics::rows(&m, &m.partition).is_empty() {
-                return Err(BadInput(format!(
-                    "{}: the model has no constraint rows (Dcc has 0 rows: no rigid or input deformation mode), so there is nothing to classify; keep a deformation mode of an element rigid (leave it out of `free`)",
-                    model.display()
-                ))
-                .into());
-            }
-            let x = m.x0();
-            let before = progress::stage("kinematic analysis", || check(&m, &m.partition, &x, &opts)).context("kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)")?;
-            let (partition, analysis, chosen) = if auto {
-                let c = auto_generalised(&m, &m.partition, &x, &opts)
-                    .context("automatic choice of generalised coordinates failed")?;
-                (c.partition, c.analysis, Some(c.chosen))
-            } else {
-                (m.partition.clone(), before.clone(), None)
-            };
-            let advice = progress::stage("repair advice", || {
-                advise(&m, &partition, &x, &analysis, &opts, max_suggestions)
-            })
-            .context("repair advice failed")?;
+            let c = classify_cli(
+                &m,
+                &model,
+                &ClassifyOptions {
+                    check: opts,
+                    auto,
+                    max_suggestions,
+                },
+            )?;
+            let (partition, analysis, advice, before) =
+                (&c.partition, &c.analysis, &c.advice, &c.before);
+            let chosen = c.chosen.as_deref();
             let file = model.display().to_string();
             let report = CheckReport {
                 model: &m,
                 file: &file,
                 rank_tol: opts.rank_tol,
-                analysis: &analysis,
-                advice: &advice,
-                auto: chosen.as_deref().map(|c| (c, &before)),
+                analysis,
+                advice,
+                auto: chosen.map(|c| (c, before)),
             };
             let names = generalised_names(&m, &partition.x, &partition.e);
             if json {
@@ -376,14 +368,47 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             } else {
                 emit(&check_text(&report, &names))?;
             }
-            let exact = analysis.n_motions() == 0 && analysis.n_self_stresses() == 0;
-            Ok(if require_exact && !exact {
+            Ok(if require_exact && !c.is_exact() {
                 ExitCode::from(3)
             } else {
                 ExitCode::SUCCESS
             })
         }
     }
+}
+
+/// The kinematic check ([`kinematics::classify`]) with a spinner per stage; a model without
+/// constraint rows is invalid input (exit 2), the other failures say what to try.
+pub(crate) fn classify_cli(
+    model: &flexmbd_core::Model,
+    path: &Path,
+    opts: &ClassifyOptions,
+) -> anyhow::Result<flexmbd_core::kinematics::classify::Classification> {
+    use flexmbd_core::kinematics::classify::{classify_with, Stage};
+    use flexmbd_core::kinematics::KinematicsError;
+    let mut spinner: Option<indicatif::ProgressBar> = None;
+    let r = classify_with(model, opts, |stage| {
+        if let Some(s) = spinner.take() {
+            s.finish_and_clear();
+        }
+        spinner = Some(progress::spinner(match stage {
+            Stage::Check => "kinematic analysis",
+            Stage::Auto => "automatic generalised coordinates",
+            Stage::Advice => "repair advice",
+        }));
+    });
+    if let Some(s) = spinner {
+        s.finish_and_clear();
+    }
+    r.map_err(|e| match &e.source {
+        KinematicsError::NoConstraintRows => BadInput(format!(
+            "{}: {} (leave it out of `free`)",
+            path.display(),
+            e.source
+        ))
+        .into(),
+        _ => anyhow::Error::new(e),
+    })
 }
 
 /// `flexmbd modes`.

@@ -5,8 +5,7 @@ use crate::output_cmd::Analysis;
 use crate::{emit, load_with_settings, outputs, progress, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::modes;
-use flexmbd_core::kinematics::advice::{advise, auto_generalised};
-use flexmbd_core::kinematics::{check, columns, rows, CheckOptions};
+use flexmbd_core::kinematics::{columns, rows, CheckOptions};
 use flexmbd_core::Model;
 use flexmbd_io::html_view::{view_data, view_html, Classification, ViewResults};
 use flexmbd_io::report::generalised_names;
@@ -56,23 +55,16 @@ struct Classified {
 }
 
 fn classify(model: &Model, opts: &CheckOptions, args: &ViewArgs) -> anyhow::Result<Classified> {
-    let x = model.x0();
-    let (partition, analysis) = if args.auto {
-        let c = auto_generalised(model, &model.partition, &x, opts)
-            .context("automatic choice of generalised coordinates failed")?;
-        (c.partition, c.analysis)
-    } else {
-        let a = check(model, &model.partition, &x, opts).context(
-            "kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)",
-        )?;
-        (model.partition.clone(), a)
+    let opts = flexmbd_core::kinematics::classify::ClassifyOptions {
+        check: *opts,
+        auto: args.auto,
+        max_suggestions: args.max_suggestions,
     };
-    let advice = advise(model, &partition, &x, &analysis, opts, args.max_suggestions)
-        .context("repair advice failed")?;
+    let c = crate::classify_cli(model, &args.model, &opts)?;
     Ok(Classified {
-        generalised: generalised_names(model, &partition.x, &partition.e),
-        analysis,
-        advice,
+        generalised: generalised_names(model, &c.partition.x, &c.partition.e),
+        analysis: c.analysis,
+        advice: c.advice,
     })
 }
 
@@ -99,9 +91,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     // the classification: always for check; for static and modes when Dcc is of a size whose
     // dense SVD takes a moment
     let classified = match args.analysis {
-        Analysis::Check => Some(progress::stage("kinematic analysis", || {
-            classify(&model, &opts, &args)
-        })?),
+        Analysis::Check => Some(classify(&model, &opts, &args)?),
         Analysis::Static | Analysis::Modes => {
             let x = model.x0();
             let (m, n) = (
@@ -109,7 +99,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
                 columns(&model, &model.partition, &x).len(),
             );
             if m.saturating_mul(n) <= MAX_DCC_ENTRIES {
-                match progress::stage("kinematic analysis", || classify(&model, &opts, &args)) {
+                match classify(&model, &opts, &args) {
                     Ok(c) => Some(c),
                     Err(e) => {
                         notes.push(format!("classification not shown: {e:#}"));

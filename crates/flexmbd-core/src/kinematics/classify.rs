@@ -91,6 +91,9 @@ pub fn classify_with(
     let at = |stage| move |source| ClassifyError { stage, source };
     let x = model.x0();
     stage(Stage::Check);
+    if super::rows(model, &model.partition).is_empty() {
+        return Err(at(Stage::Check)(KinematicsError::NoConstraintRows));
+    }
     let before = check(model, &model.partition, &x, &opts.check).map_err(at(Stage::Check))?;
     let (partition, analysis, chosen) = if opts.auto {
         stage(Stage::Auto);

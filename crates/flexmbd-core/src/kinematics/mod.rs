@@ -227,6 +227,10 @@ pub enum KinematicsError {
     /// The rank tolerance is not a finite non-negative number.
     #[error("the rank tolerance must be a finite number ≥ 0, found {0}")]
     BadTolerance(f64),
+    /// The model has no constraint rows: no rigid or input deformation mode, so Dcc has no rows
+    /// and there is nothing to classify (such a model is not "exactly constrained").
+    #[error("the model has no constraint rows (Dcc has 0 rows: no rigid or input deformation mode), so there is nothing to classify; keep a deformation mode of an element rigid")]
+    NoConstraintRows,
     /// A repair action names an element, a mode, a node or a coordinate the model does not have
     /// (an action of another model).
     #[error("the action names {0}, which this model does not have")]

@@ -176,7 +176,25 @@ pub enum SolveError {
     /// The model has nothing to solve for.
     #[error("the model has no free coordinate: nothing to solve")]
     NothingToSolve,
+    /// The options are out of range.
+    #[error("{what} must be between {min} and {max}, found {found}")]
+    BadOption {
+        /// Which option (`steps`, `max_iterations`, …).
+        what: &'static str,
+        /// The smallest value allowed.
+        min: usize,
+        /// The largest value allowed.
+        max: usize,
+        /// The value given.
+        found: usize,
+    },
 }
+
+/// The most load steps [`solve`] takes (every step is kept in memory).
+pub const MAX_STEPS: usize = 1_000_000;
+
+/// The most Newton iterations per step [`solve`] takes.
+pub const MAX_ITERATIONS: usize = 1_000_000;
 
 /// Problem data derived once from the model.
 struct Setup {
@@ -1780,6 +1798,19 @@ pub fn solve(
     opts: &StaticOptions,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<StaticSolution, SolveError> {
+    for (what, found, min, max) in [
+        ("steps", opts.steps, 0, MAX_STEPS),
+        ("max_iterations", opts.max_iterations, 0, MAX_ITERATIONS),
+    ] {
+        if !(min..=max).contains(&found) {
+            return Err(SolveError::BadOption {
+                what,
+                min,
+                max,
+                found,
+            });
+        }
+    }
     let su = setup(model);
     if su.nf == 0 && su.nk == 0 {
         return Err(SolveError::NothingToSolve);

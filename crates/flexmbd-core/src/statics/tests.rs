@@ -611,3 +611,20 @@ fn cantilever_under_its_own_weight_has_the_exact_nodal_deflections() {
         );
     }
 }
+
+#[test]
+fn huge_step_counts_are_an_error_not_an_allocation_failure() {
+    // steps = usize::MAX used to overflow `steps + 1` / abort on the allocation of the results
+    let model = cantilever(2, 1.0, s02_props()).build().unwrap();
+    for (steps, max_iterations) in [(usize::MAX, 30), (MAX_STEPS + 1, 30), (10, usize::MAX)] {
+        let opts = StaticOptions {
+            steps,
+            max_iterations,
+            ..Default::default()
+        };
+        match solve(&model, &opts, |_, _| {}) {
+            Err(e @ SolveError::BadOption { .. }) => assert!(e.to_string().contains("between")),
+            other => panic!("{:?}", other.map(|s| s.steps.len())),
+        }
+    }
+}
