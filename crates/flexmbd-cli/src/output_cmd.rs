@@ -5,11 +5,11 @@ use crate::{emit, load_with_settings, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::modes;
 use flexmbd_core::dynamics::sweep::{sweep, SweepPoint};
+use flexmbd_core::elements::ElementKind;
 use flexmbd_core::kinematics::{check, CheckOptions, ConstraintAnalysis};
-use flexmbd_core::model::{Dof, Model, Target};
+use flexmbd_core::model::{Model, Target};
 use flexmbd_core::statics::StaticSolution;
 use flexmbd_io::plots::{Plot, Series};
-use flexmbd_io::static_report::node_results;
 use flexmbd_io::vtk::{check_grid, mode_grid, pvd, step_grid};
 use flexmbd_io::Settings;
 use std::path::{Path, PathBuf};
@@ -258,10 +258,12 @@ fn target_name(model: &Model, t: Target) -> (String, &'static str) {
         }
         Target::Deformation(k) => {
             let (el, m) = model.deformation_owner(k);
-            (
-                format!("{} mode {}", model.elements[el].name, m + 1),
-                "m or rad",
-            )
+            let unit = if model.elements[el].element.mode_is_angle(m) {
+                "rad"
+            } else {
+                "m"
+            };
+            (format!("{} mode {}", model.elements[el].name, m + 1), unit)
         }
     }
 }
@@ -272,28 +274,7 @@ fn reaction(
     step: &flexmbd_core::statics::StepResult,
     t: Target,
 ) -> (f64, &'static str) {
-    match t {
-        Target::Coordinate(i) => {
-            let nodes = node_results(model, step);
-            for (id, n) in model.nodes.iter().enumerate() {
-                for d in Dof::ALL {
-                    if (n.host.is_none() || d.is_rotation()) && n.x_index(d) == Some(i) {
-                        let r = &nodes[id];
-                        return if d.is_rotation() {
-                            (
-                                r.reaction_moment.map_or(f64::NAN, |m| m[d.index() - 3]),
-                                "N·m",
-                            )
-                        } else {
-                            (r.reaction_force.map_or(f64::NAN, |f| f[d.index()]), "N")
-                        };
-                    }
-                }
-            }
-            (step.reactions[i], "N")
-        }
-        Target::Deformation(k) => (step.sigma[k], "N or N·m"),
-    }
+    flexmbd_core::results::target_reaction(model, step, t)
 }
 
 /// (b) force–stroke, (c) support stiffness vs stroke, (d) frequency vs stroke.

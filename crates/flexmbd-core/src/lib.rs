@@ -23,6 +23,7 @@ pub mod kinematics;
 pub mod linalg;
 pub mod math;
 pub mod model;
+pub mod results;
 pub mod section;
 pub mod statics;
 

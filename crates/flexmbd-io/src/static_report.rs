@@ -3,11 +3,8 @@
 //! buckling multipliers. Text tables, JSON and CSV.
 
 use crate::report::{fmt_num, table};
-use flexmbd_core::elements::Element;
-use flexmbd_core::math::lambda_bar;
-use flexmbd_core::model::{CoordKind, Model};
-use flexmbd_core::statics::{StaticSolution, StepResult};
-use serde::Serialize;
+use flexmbd_core::model::Model;
+use flexmbd_core::statics::StaticSolution;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 
@@ -15,133 +12,9 @@ use std::fmt::Write as _;
 /// them ([`flexmbd_core::statics::linear::at_step`]).
 pub use flexmbd_core::statics::linear::StepLinear as StepExtras;
 
-/// Rotation vector (axis × angle, global axes) of Euler parameters.
-pub fn rotation_vector(l: &[f64]) -> [f64; 3] {
-    let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2] + l[3] * l[3]).sqrt();
-    let (l0, v) = (l[0] / n, [l[1] / n, l[2] / n, l[3] / n]);
-    let s = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    if s < 1e-300 {
-        return [0.0; 3];
-    }
-    // angle in (−π, π]: take the shorter rotation
-    let (s, l0, v) = if l0 < 0.0 {
-        (s, -l0, v.map(|a| -a))
-    } else {
-        (s, l0, v)
-    };
-    let angle = 2.0 * s.atan2(l0);
-    [v[0] / s * angle, v[1] / s * angle, v[2] / s * angle]
-}
-
-/// Per-node results of a step.
-#[derive(Clone, Debug, Serialize)]
-pub struct NodeResult {
-    /// Node name.
-    pub node: String,
-    /// Position [m].
-    pub position: [f64; 3],
-    /// Displacement from the reference [m].
-    pub displacement: [f64; 3],
-    /// Rotation vector [rad] (nodes with rotation).
-    pub rotation: Option<[f64; 3]>,
-    /// Reaction force [N] at fixed or input coordinates.
-    pub reaction_force: Option<[f64; 3]>,
-    /// Reaction moment [N·m] at fixed or input rotations.
-    pub reaction_moment: Option<[f64; 3]>,
-}
-
-/// Per-element results of a step.
-#[derive(Clone, Debug, Serialize)]
-pub struct ElementResult {
-    /// Element name.
-    pub element: String,
-    /// Deformations e.
-    pub e: Vec<f64>,
-    /// Stress resultants σ (beam: σ1 axial force [N], σ2 ≈ torque/l0, σ3..σ6 ≈ bending end
-    /// moments/l0 [N]).
-    pub sigma: Vec<f64>,
-    /// Largest normal stress in a beam with a section: |N|/A + |M_y| c_z/Iy + |M_z| c_y/Iz with
-    /// the end moments M ≈ σ l0 [Pa].
-    pub max_stress: Option<f64>,
-}
-
-/// Nodal results of a step.
-pub fn node_results(model: &Model, step: &StepResult) -> Vec<NodeResult> {
-    let x0 = model.x0();
-    model
-        .nodes
-        .iter()
-        .map(|n| {
-            let p = n.ix_pos;
-            let position = [step.x[p], step.x[p + 1], step.x[p + 2]];
-            let displacement = [
-                position[0] - x0[p],
-                position[1] - x0[p + 1],
-                position[2] - x0[p + 2],
-            ];
-            let supported = |i: usize| model.partition.x[i] != CoordKind::Free;
-            let reaction_force = (n.host.is_none() && (p..p + 3).any(supported)).then(|| {
-                [
-                    step.reactions[p],
-                    step.reactions[p + 1],
-                    step.reactions[p + 2],
-                ]
-            });
-            let (rotation, reaction_moment) = match n.ix_rot {
-                Some(r) => {
-                    let l = &step.x[r..r + 4];
-                    let moment = (r..r + 4).any(supported).then(|| {
-                        // M = ½ Λ̄ f_λ (theory.md §8 of spacar-format: SPACAR takes f(λ1..3)/2)
-                        let lb = lambda_bar(&[l[0], l[1], l[2], l[3]]);
-                        std::array::from_fn(|k| {
-                            0.5 * (0..4)
-                                .map(|c| lb[k][c] * step.reactions[r + c])
-                                .sum::<f64>()
-                        })
-                    });
-                    (Some(rotation_vector(l)), moment)
-                }
-                None => (None, None),
-            };
-            NodeResult {
-                node: n.name.clone(),
-                position,
-                displacement,
-                rotation,
-                reaction_force,
-                reaction_moment,
-            }
-        })
-        .collect()
-}
-
-/// Element results of a step.
-pub fn element_results(model: &Model, step: &StepResult) -> Vec<ElementResult> {
-    model
-        .elements
-        .iter()
-        .map(|entry| {
-            use flexmbd_core::elements::ElementKind;
-            let ne = entry.element.ne();
-            let e = step.e[entry.ie..entry.ie + ne].to_vec();
-            let sigma = step.sigma[entry.ie..entry.ie + ne].to_vec();
-            let max_stress = match &entry.element {
-                Element::Beam(b) => b.props.filter(|p| p.area > 0.0).map(|p| {
-                    let my = sigma[2].abs().max(sigma[3].abs()) * b.l0;
-                    let mz = sigma[4].abs().max(sigma[5].abs()) * b.l0;
-                    sigma[0].abs() / p.area + my * p.fibre[0] / p.i[0] + mz * p.fibre[1] / p.i[1]
-                }),
-                _ => None,
-            };
-            ElementResult {
-                element: entry.name.clone(),
-                e,
-                sigma,
-                max_stress,
-            }
-        })
-        .collect()
-}
+pub use flexmbd_core::results::{
+    element_results, node_results, rotation_vector, ElementResult, NodeResult,
+};
 
 /// JSON document of a static run.
 pub fn static_json(

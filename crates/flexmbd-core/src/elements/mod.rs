@@ -117,6 +117,12 @@ pub trait ElementKind {
     fn is_rigid_body(&self) -> bool {
         false
     }
+    /// The largest normal stress [Pa] in the element's section for the stress resultants
+    /// `sigma`, when the element has a section (`None`, the default, otherwise).
+    fn max_stress(&self, sigma: &[f64]) -> Option<f64> {
+        let _ = sigma;
+        None
+    }
     /// e_k = 𝒟_k(x_k)  (paper eq. (1)).
     fn deformations(&self, xk: &[f64]) -> Vec<f64>;
     /// D_k = ∂e_k/∂x_k  (ne_k × nx_k).
@@ -210,6 +216,9 @@ impl ElementKind for Element {
     }
     fn is_rigid_body(&self) -> bool {
         self.kind().is_rigid_body()
+    }
+    fn max_stress(&self, sigma: &[f64]) -> Option<f64> {
+        self.kind().max_stress(sigma)
     }
     fn deformations(&self, xk: &[f64]) -> Vec<f64> {
         self.kind().deformations(xk)

@@ -244,6 +244,13 @@ impl ElementKind for Beam {
     fn closed_form(&self) -> Option<&dyn super::ClosedForm14> {
         Some(self)
     }
+    /// |N|/A + |M_y| c_z/Iy + |M_z| c_y/Iz with the end moments M ≈ σ l0, the larger end.
+    fn max_stress(&self, sigma: &[f64]) -> Option<f64> {
+        let p = self.props.filter(|p| p.area > 0.0)?;
+        let my = sigma[2].abs().max(sigma[3].abs()) * self.l0;
+        let mz = sigma[4].abs().max(sigma[5].abs()) * self.l0;
+        Some(sigma[0].abs() / p.area + my * p.fibre[0] / p.i[0] + mz * p.fibre[1] / p.i[1])
+    }
 }
 
 #[cfg(test)]
