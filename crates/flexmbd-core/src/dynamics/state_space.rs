@@ -485,6 +485,9 @@ pub enum StateSpaceError {
     /// Damping ratio not finite or negative.
     #[error("the damping ratio must be a finite number >= 0, found {0}")]
     BadDamping(f64),
+    /// An input, motion or output names a node, element or mode the model does not have.
+    #[error("{0}: the model has no such node, element or mode")]
+    UnknownId(String),
     /// `modes = Some(0)`.
     #[error("at least one mode must be kept")]
     NoModes,
@@ -923,6 +926,7 @@ pub fn state_space_with_motions(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
+    check_ids(model, inputs, motions, outputs)?;
     let ndof = velocity_dof(model);
     if uses_sparse(model, opts) {
         check_options(inputs, motions, outputs, opts)?;
@@ -956,6 +960,46 @@ pub fn uses_sparse(model: &Model, opts: &StateSpaceOptions) -> bool {
 }
 
 /// Validate the options and the input/output counts.
+/// Every node, element and mode an input, motion or output names exists in `model` (the ids are
+/// plain indices: a wrong one must be an error, not a panic).
+fn check_ids(
+    model: &Model,
+    inputs: &[Input],
+    motions: &[Motion],
+    outputs: &[Output],
+) -> Result<(), StateSpaceError> {
+    let node = |n: usize, what: &str| {
+        (n < model.nodes.len())
+            .then_some(())
+            .ok_or_else(|| StateSpaceError::UnknownId(format!("{what} of node #{n}")))
+    };
+    let mode = |el: usize, m: usize, what: &str| match model.elements.get(el) {
+        Some(e) if m < e.element.ne() => Ok(()),
+        _ => Err(StateSpaceError::UnknownId(format!(
+            "{what} of mode {} of element #{el}",
+            m + 1
+        ))),
+    };
+    for i in inputs {
+        node(i.node, "input")?;
+    }
+    for m in motions {
+        match *m {
+            Motion::Node { node: n, .. } => node(n, "motion input")?,
+            Motion::Deformation { element, mode: k } => mode(element, k, "motion input")?,
+        }
+    }
+    for o in outputs {
+        match o.probe {
+            Probe::Node { node: n, .. } | Probe::Reaction { node: n, .. } => node(n, "output")?,
+            Probe::Deformation { element, mode: k } | Probe::Force { element, mode: k } => {
+                mode(element, k, "output")?
+            }
+        }
+    }
+    Ok(())
+}
+
 fn check_options(
     inputs: &[Input],
     motions: &[Motion],
@@ -1131,6 +1175,7 @@ pub fn state_space_from(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
+    check_ids(model, inputs, motions, outputs)?;
     build(model, step, red, inputs, motions, outputs, opts)
 }
 
@@ -2038,6 +2083,62 @@ mod tests {
         .unwrap();
         assert!(ss.warnings[0].contains("held"), "{:?}", ss.warnings);
         assert_eq!(ss.b.norm_max(), 0.0);
+    }
+
+    #[test]
+    fn ids_of_another_model_are_errors_not_panics() {
+        // node, element and mode ids are plain indices: one past the end of this model
+        let model = cantilever(2, true, 0.0);
+        let step = last_step(&model, 2);
+        let tip = model.node_id("n2").unwrap();
+        let (n, ne) = (model.nodes.len(), model.elements.len());
+        let good_in = Input {
+            node: tip,
+            dof: Dof::Z,
+        };
+        let good_out = Output::node(tip, Dof::Z, OutputKind::Disp);
+        let opts = StateSpaceOptions::default();
+        let bad_in = Input {
+            node: n,
+            dof: Dof::Z,
+        };
+        let err = state_space(&model, &step, &[bad_in], &[good_out], &opts).unwrap_err();
+        assert!(matches!(err, StateSpaceError::UnknownId(_)), "{err}");
+        for probe in [
+            Probe::Node {
+                node: n,
+                dof: Dof::Z,
+            },
+            Probe::Reaction {
+                node: n,
+                dof: Dof::Z,
+            },
+            Probe::Deformation {
+                element: ne,
+                mode: 0,
+            },
+            Probe::Force {
+                element: 0,
+                mode: 6,
+            },
+        ] {
+            let out = Output {
+                probe,
+                kind: OutputKind::Disp,
+            };
+            let err = state_space(&model, &step, &[good_in], &[out], &opts).unwrap_err();
+            assert!(
+                matches!(err, StateSpaceError::UnknownId(_)),
+                "{probe:?}: {err}"
+            );
+        }
+        let motion = Motion::Deformation {
+            element: ne,
+            mode: 0,
+        };
+        let err = state_space_with_motions(&model, &step, &[], &[motion], &[good_out], &opts)
+            .unwrap_err();
+        assert!(matches!(err, StateSpaceError::UnknownId(_)), "{err}");
     }
 
     #[test]
