@@ -363,9 +363,18 @@ impl Problem {
             let fill = |(el, out): (usize, &mut [f64])| {
                 let entry = &model.elements[el];
                 let n = entry.xmap.len();
-                let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-                let mut me = vec![0.0; n * n];
-                if entry.element.mass(&xk, None, true, &mut me) {
+                // a beam's 14 coordinates on the stack, larger elements on the heap
+                let (mut xk_s, mut me_s) = ([0.0; 14], [0.0; 14 * 14]);
+                let (mut xk_h, mut me_h) = (Vec::new(), Vec::new());
+                let (xk, me) = if n <= 14 {
+                    (&mut xk_s[..n], &mut me_s[..n * n])
+                } else {
+                    xk_h.resize(n, 0.0);
+                    me_h.resize(n * n, 0.0);
+                    (&mut xk_h[..], &mut me_h[..])
+                };
+                xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
+                if entry.element.mass(xk, None, true, me) {
                     lin.element_block(model, el, x, &|a, c| me[a * n + c], out);
                 }
             };
