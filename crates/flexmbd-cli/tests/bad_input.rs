@@ -2,7 +2,6 @@
 //! stderr, and never panics.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A fresh directory for this test process.
@@ -24,12 +23,8 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     p
 }
 
-fn run(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args(args)
-        .output()
-        .expect("run flexmbd")
-}
+mod common;
+use common::run;
 
 /// Run `flexmbd check <path> <extra>` and return stderr, asserting exit code 2 and no panic.
 #[track_caller]

@@ -13,14 +13,10 @@
 //!   negative.
 
 use serde_json::Value;
-use std::path::PathBuf;
 use std::process::Command;
 
-fn example(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+mod common;
+use common::example;
 
 /// Run the binary with `args`, require success and parse stdout as JSON.
 fn run_json(args: &[&str]) -> Value {

@@ -5,7 +5,6 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The folder of a finding's inputs.
 fn finding(name: &str) -> PathBuf {
@@ -14,59 +13,8 @@ fn finding(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
-
-/// A fresh folder for one test, removed by [`Temp::drop`].
-struct Temp(PathBuf);
-impl Temp {
-    fn new(test: &str) -> Self {
-        static N: AtomicUsize = AtomicUsize::new(0);
-        let d = std::env::temp_dir().join(format!(
-            "flexmbd-reliability-{}-{}-{test}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).expect("temp dir");
-        Temp(d)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-    /// Copy `src` into the folder as `name`.
-    fn copy(&self, src: &Path, name: &str) -> PathBuf {
-        let p = self.path(name);
-        std::fs::copy(src, &p).expect("copy input");
-        p
-    }
-    fn write(&self, name: &str, text: &[u8]) -> PathBuf {
-        let p = self.path(name);
-        std::fs::write(&p, text).expect("write input");
-        p
-    }
-}
-impl Drop for Temp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// Run flexmbd in `dir` (default: the crate folder).
-fn run_in(dir: Option<&Path>, args: &[&str]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_flexmbd"));
-    if let Some(d) = dir {
-        c.current_dir(d);
-    }
-    c.args(args).output().expect("run flexmbd")
-}
-
-fn run(args: &[&str]) -> Output {
-    run_in(None, args)
-}
+mod common;
+use common::{example, run, run_in, Temp};
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("UTF-8 path")

@@ -32,7 +32,6 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
 
 /// The SPACAR fixture (inside the repository: the io crate's test models).
 fn dat() -> PathBuf {
@@ -59,12 +58,8 @@ const LOADED: usize = 9;
 /// Index of the last state: `ITERSTEP 10 5` gives 5 increments after the unloaded state.
 const LAST: usize = 5;
 
-fn run(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args(args)
-        .output()
-        .expect("run flexmbd")
-}
+mod common;
+use common::run;
 
 /// `flexmbd static FILE --json --quiet`: the JSON document and stderr.
 fn static_json(file: &str) -> (Value, String) {

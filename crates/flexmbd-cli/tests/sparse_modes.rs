@@ -6,14 +6,10 @@ use flexmbd_core::assembly::mass::mass_times;
 use flexmbd_core::dynamics::{modes_with, EigenSolver, Modal, ModalError, ModalOptions};
 use flexmbd_core::statics::{solve, StaticOptions, StepResult};
 use flexmbd_core::Model;
-use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn example_path(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+mod common;
+use common::example as example_path;
 
 fn example(name: &str) -> (Model, Vec<StepResult>) {
     let f = flexmbd_io::read_model_file(&example_path(name)).expect("example reads");

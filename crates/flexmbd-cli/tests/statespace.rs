@@ -4,16 +4,9 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn run(args: &[&str]) -> (Output, Option<Value>) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args(args)
-        .output()
-        .expect("run flexmbd");
-    let json = serde_json::from_slice(&out.stdout).ok();
-    (out, json)
-}
+mod common;
+use common::run_json as run;
 
 fn ok(args: &[&str]) -> Value {
     let (out, json) = run(args);

@@ -5,7 +5,6 @@
 //! prescribed 0 → 5 mm in 20 steps.
 
 use serde_json::Value;
-use std::process::Command;
 
 const E: f64 = 210e9;
 const NU: f64 = 0.3;
@@ -13,14 +12,8 @@ const L: f64 = 0.05;
 const W: f64 = 0.02;
 const T: f64 = 0.0003;
 
-fn run(args: &[&str]) -> (std::process::Output, Option<Value>) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args(args)
-        .output()
-        .expect("run flexmbd");
-    let json = serde_json::from_slice(&out.stdout).ok();
-    (out, json)
-}
+mod common;
+use common::run_json as run;
 
 fn example() -> String {
     format!(

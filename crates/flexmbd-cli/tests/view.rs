@@ -3,7 +3,7 @@
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn root() -> PathBuf {
@@ -22,12 +22,10 @@ fn temp_dir() -> PathBuf {
     d
 }
 
+mod common;
+
 fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .current_dir(root())
-        .args(args)
-        .output()
-        .expect("run flexmbd")
+    common::run_in(Some(&root()), args)
 }
 
 /// `flexmbd view examples/MODEL.toml ARGS -o OUT`: the page and its data.
