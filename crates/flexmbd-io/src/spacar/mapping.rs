@@ -193,12 +193,14 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         name: m.name.clone(),
         ..Default::default()
     };
-    let first_use = |n: u32| {
-        m.elements
-            .iter()
-            .find(|e| e.kind.node_slots().iter().any(|s| s.0 == n))
-            .map(|e| e.line)
-    };
+    // the line of the first element that uses each node (one pass: linear in the model size)
+    let mut first_line: HashMap<u32, usize> = HashMap::new();
+    for e in &m.elements {
+        for (n, _) in e.kind.node_slots() {
+            first_line.entry(n).or_insert(e.line);
+        }
+    }
+    let first_use = |n: u32| first_line.get(&n).copied();
     let mut hosted: BTreeMap<Option<u32>, Vec<u32>> = BTreeMap::new();
     for (&r, &(t, _)) in &map.rot_host {
         hosted.entry(t).or_default().push(r);
@@ -266,17 +268,25 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
     }
 
     // --- elements ---
-    let last = |list: &[ElementValues], el: u32| -> Option<Vec<f64>> {
-        list.iter()
-            .rev()
-            .find(|v| v.element == el)
-            .map(|v| v.values.clone())
+    // per-element lookups, built once
+    let (estiff_of, em_of, esig_of) = (
+        last_per_element(&m.estiff),
+        last_per_element(&m.em),
+        last_per_element(&m.esig),
+    );
+    let (rlse_of, dyne_of, inpute_of) = (
+        lists_per_element(&m.rlse),
+        lists_per_element(&m.dyne),
+        lists_per_element(&m.inpute),
+    );
+    let last = |of: &HashMap<u32, &ElementValues>, el: u32| -> Option<Vec<f64>> {
+        of.get(&el).map(|v| v.values.clone())
     };
-    let modes = |lists: &[&[ModeList]], el: u32, max: u32| -> Vec<i64> {
+    type Lists<'a> = HashMap<u32, Vec<&'a ModeList>>;
+    let modes = |lists: &[&Lists], el: u32, max: u32| -> Vec<i64> {
         let set: BTreeSet<u32> = lists
             .iter()
-            .flat_map(|l| l.iter())
-            .filter(|l| l.element == el)
+            .flat_map(|of| of.get(&el).into_iter().flatten())
             .flat_map(|l| l.modes.iter().copied())
             .filter(|&k| k <= max)
             .collect();
@@ -284,15 +294,19 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
     };
     for e in &m.elements {
         let n = e.number;
-        let estiff = last(&m.estiff, n);
+        let estiff = last(&estiff_of, n);
         let mut comments = vec![format!(
             "SPACAR {} {} (line {})",
             e.kind.keyword(),
             n,
             e.line
         )];
-        for (kw, lists) in [("RLSE", &m.rlse), ("DYNE", &m.dyne), ("INPUTE", &m.inpute)] {
-            for l in lists.iter().filter(|l| l.element == n) {
+        for (kw, lists) in [
+            ("RLSE", &rlse_of),
+            ("DYNE", &dyne_of),
+            ("INPUTE", &inpute_of),
+        ] {
+            for l in lists.get(&n).into_iter().flatten() {
                 let to = match kw {
                     "RLSE" => "free",
                     "DYNE" => "input (dynamic DOFs: rows of Dcc, as in SPACAR)",
@@ -312,14 +326,14 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                 fmt_named(e.kind.stiffness_columns(), v)
             ));
         }
-        if let Some(v) = last(&m.em, n) {
+        if let Some(v) = last(&em_of, n) {
             comments.push(format!("EM: {}", fmt_named(e.kind.mass_columns(), &v)));
         }
-        if let Some(v) = last(&m.esig, n) {
+        if let Some(v) = last(&esig_of, n) {
             comments.push(format!("ESIG (pre-stress): {}", fmt_values(&v)));
         }
-        let free = modes(&[&m.rlse], n, 6);
-        let input = modes(&[&m.dyne, &m.inpute], n, 6);
+        let free = modes(&[&rlse_of], n, 6);
+        let input = modes(&[&dyne_of, &inpute_of], n, 6);
         let (nodes, spec_el) = match &e.kind {
             ElementKind::Beam { rp, rq, orient, .. } => (
                 vec![map.rot_name(*rp), map.rot_name(*rq)],

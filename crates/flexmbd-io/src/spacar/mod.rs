@@ -32,7 +32,7 @@ use crate::error::InputError;
 use crate::model_toml::ModelFile;
 use crate::toml_writer::{ModelSpec, SpecError};
 use flexmbd_core::Model;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 /// A non-fatal problem: the file is read, the kinematic result does not depend on it.
@@ -274,6 +274,25 @@ pub struct ElementValues {
     pub values: Vec<f64>,
     /// Line.
     pub line: usize,
+}
+
+/// The last entry of each element number in an element table (a later line overrides an
+/// earlier one): one pass over the table, so that reading a file stays linear in its size.
+pub(crate) fn last_per_element(list: &[ElementValues]) -> HashMap<u32, &ElementValues> {
+    let mut by = HashMap::with_capacity(list.len());
+    for v in list {
+        by.insert(v.element, v);
+    }
+    by
+}
+
+/// The mode lists (`RLSE`, `DYNE`, `INPUTE`) of each element number, in file order.
+pub(crate) fn lists_per_element(list: &[ModeList]) -> HashMap<u32, Vec<&ModeList>> {
+    let mut by: HashMap<u32, Vec<&ModeList>> = HashMap::new();
+    for l in list {
+        by.entry(l.element).or_default().push(l);
+    }
+    by
 }
 
 /// Values for one node (`XF`, `DELXF`, `XM`).

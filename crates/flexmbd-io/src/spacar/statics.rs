@@ -34,7 +34,7 @@ use crate::toml_writer::{
 };
 use flexmbd_core::model::{Dof, ElementSpec};
 use flexmbd_core::section::BeamProps;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// flexmbd's default number of load steps (`StaticOptions::default().steps`), for the
 /// load-path warnings of a file without `ITERSTEP`.
@@ -153,16 +153,24 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
     spec.statics = statics;
 
     // --- elements: constants and roles ---
-    let last = |list: &[ElementValues], el: u32| -> Option<(Vec<f64>, usize)> {
-        list.iter()
-            .rev()
-            .find(|v| v.element == el)
-            .map(|v| (v.values.clone(), v.line))
+    // per-element lookups, built once
+    let (estiff_of, em_of, esig_of) = (
+        last_per_element(&m.estiff),
+        last_per_element(&m.em),
+        last_per_element(&m.esig),
+    );
+    let (rlse_of, dyne_of, inpute_of) = (
+        lists_per_element(&m.rlse),
+        lists_per_element(&m.dyne),
+        lists_per_element(&m.inpute),
+    );
+    let last = |of: &HashMap<u32, &ElementValues>, el: u32| -> Option<(Vec<f64>, usize)> {
+        of.get(&el).map(|v| (v.values.clone(), v.line))
     };
-    let listed = |lists: &[ModeList], el: u32| -> BTreeSet<u32> {
-        lists
-            .iter()
-            .filter(|l| l.element == el)
+    let listed = |of: &HashMap<u32, Vec<&ModeList>>, el: u32| -> BTreeSet<u32> {
+        of.get(&el)
+            .into_iter()
+            .flatten()
             .flat_map(|l| l.modes.iter().copied())
             .collect()
     };
@@ -177,8 +185,8 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
     for (e, entry) in m.elements.iter().zip(spec.elements.iter_mut()) {
         let n = e.number;
         debug_assert_eq!(entry.name, n.to_string());
-        let estiff = last(&m.estiff, n);
-        let em = last(&m.em, n);
+        let estiff = last(&estiff_of, n);
+        let em = last(&em_of, n);
         let col = |v: &Option<(Vec<f64>, usize)>, k: usize| {
             v.as_ref()
                 .and_then(|(v, _)| v.get(k).copied())
@@ -252,7 +260,11 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
                 vec![col(&estiff, 0), 0.0, 0.0]
             }
         };
-        let (rlse, dyne, inpute) = (listed(&m.rlse, n), listed(&m.dyne, n), listed(&m.inpute, n));
+        let (rlse, dyne, inpute) = (
+            listed(&rlse_of, n),
+            listed(&dyne_of, n),
+            listed(&inpute_of, n),
+        );
         let mut flexible_dyne = Vec::new();
         let mut held_dyne = Vec::new();
         let mut kept_rigid = Vec::new();
@@ -320,7 +332,7 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
                 }
             }
         }
-        if let Some((v, line)) = last(&m.esig, n) {
+        if let Some((v, line)) = last(&esig_of, n) {
             if v.iter().any(|x| *x != 0.0) {
                 warn(line, format!("ESIG {n}: pre-stress (initial stress resultants {}) is not applied by flexmbd statics; ignored", fmt_values(&v)));
             }

@@ -112,7 +112,12 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     }
 
     // deformation partition
-    let element = |n: u32| m.elements.iter().find(|e| e.number == n);
+    // the first element of each number (a repeated number is reported above)
+    let mut by_number: HashMap<u32, &Element> = HashMap::with_capacity(m.elements.len());
+    for e in &m.elements {
+        by_number.entry(e.number).or_insert(e);
+    }
+    let element = |n: u32| by_number.get(&n).copied();
     let mut mode_kind: HashMap<(u32, u32), (&str, usize)> = HashMap::new();
     for (kw, lists) in [("RLSE", &m.rlse), ("DYNE", &m.dyne), ("INPUTE", &m.inpute)] {
         for l in lists {
