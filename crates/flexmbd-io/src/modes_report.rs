@@ -102,10 +102,21 @@ pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
             .iter()
             .map(|&n| model.nodes[n].name.as_str())
             .collect();
+        // a long list is shortened in the text (the JSON has all of them)
+        const SHOWN: usize = 20;
+        let list = if names.len() > SHOWN {
+            format!(
+                "{}, … and {} more ({} in all)",
+                names[..SHOWN].join(", "),
+                names.len() - SHOWN,
+                names.len()
+            )
+        } else {
+            names.join(", ")
+        };
         let _ = writeln!(
             s,
-            "\nnodes with coordinates without inertia (handled by static condensation): {}",
-            names.join(", ")
+            "\nnodes with coordinates without inertia (handled by static condensation): {list}"
         );
     }
     s
@@ -151,4 +162,45 @@ pub fn modes_json(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
         "held_inputs": held_inputs(model),
         "modes": modes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd_core::dynamics::EigenSolver;
+
+    #[test]
+    fn a_long_list_of_massless_nodes_is_shortened_in_the_text_only() {
+        // 30 nodes in a row, all listed as massless: the text names the first 20 and the count,
+        // the JSON every one
+        let mut b = flexmbd_core::ModelBuilder::new("row");
+        for i in 0..30 {
+            b.add_node(&format!("n{i}"), [i as f64, 0.0, 0.0], false)
+                .unwrap();
+        }
+        for i in 0..29 {
+            b.add_element(
+                &format!("t{i}"),
+                &[&format!("n{i}"), &format!("n{}", i + 1)],
+                flexmbd_core::model::ElementSpec::Truss { ea: 1.0 },
+                &[],
+                &[],
+            )
+            .unwrap();
+        }
+        let model = b.build().unwrap();
+        let modal = Modal {
+            modes: Vec::new(),
+            ndof: 0,
+            massless: 30,
+            massless_nodes: (0..30).collect(),
+            solver: EigenSolver::Dense,
+        };
+        let text = modes_text(&model, "row.toml", 1.0, &modal);
+        assert!(text.contains("n0, n1,"), "{text}");
+        assert!(text.contains("n19, … and 10 more (30 in all)"), "{text}");
+        assert!(!text.contains("n20"), "{text}");
+        let json = modes_json(&model, "row.toml", 1.0, &modal);
+        assert_eq!(json["massless_nodes"].as_array().unwrap().len(), 30);
+    }
 }
