@@ -268,17 +268,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
     }
 
     // --- elements ---
-    // per-element lookups, built once
-    let (estiff_of, em_of, esig_of) = (
-        last_per_element(&m.estiff),
-        last_per_element(&m.em),
-        last_per_element(&m.esig),
-    );
-    let (rlse_of, dyne_of, inpute_of) = (
-        lists_per_element(&m.rlse),
-        lists_per_element(&m.dyne),
-        lists_per_element(&m.inpute),
-    );
+    let by = ByElement::new(m);
     let last = |of: &HashMap<u32, &ElementValues>, el: u32| -> Option<Vec<f64>> {
         of.get(&el).map(|v| v.values.clone())
     };
@@ -294,7 +284,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
     };
     for e in &m.elements {
         let n = e.number;
-        let estiff = last(&estiff_of, n);
+        let estiff = last(&by.estiff, n);
         let mut comments = vec![format!(
             "SPACAR {} {} (line {})",
             e.kind.keyword(),
@@ -302,9 +292,9 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             e.line
         )];
         for (kw, lists) in [
-            ("RLSE", &rlse_of),
-            ("DYNE", &dyne_of),
-            ("INPUTE", &inpute_of),
+            ("RLSE", &by.rlse),
+            ("DYNE", &by.dyne),
+            ("INPUTE", &by.inpute),
         ] {
             for l in lists.get(&n).into_iter().flatten() {
                 let to = match kw {
@@ -326,14 +316,14 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                 fmt_named(e.kind.stiffness_columns(), v)
             ));
         }
-        if let Some(v) = last(&em_of, n) {
+        if let Some(v) = last(&by.em, n) {
             comments.push(format!("EM: {}", fmt_named(e.kind.mass_columns(), &v)));
         }
-        if let Some(v) = last(&esig_of, n) {
+        if let Some(v) = last(&by.esig, n) {
             comments.push(format!("ESIG (pre-stress): {}", fmt_values(&v)));
         }
-        let free = modes(&[&rlse_of], n, 6);
-        let input = modes(&[&dyne_of, &inpute_of], n, 6);
+        let free = modes(&[&by.rlse], n, 6);
+        let input = modes(&[&by.dyne, &by.inpute], n, 6);
         let (nodes, spec_el) = match &e.kind {
             ElementKind::Beam { rp, rq, orient, .. } => (
                 vec![map.rot_name(*rp), map.rot_name(*rq)],

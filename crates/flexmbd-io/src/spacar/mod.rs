@@ -278,7 +278,7 @@ pub struct ElementValues {
 
 /// The last entry of each element number in an element table (a later line overrides an
 /// earlier one): one pass over the table, so that reading a file stays linear in its size.
-pub(crate) fn last_per_element(list: &[ElementValues]) -> HashMap<u32, &ElementValues> {
+fn last_per_element(list: &[ElementValues]) -> HashMap<u32, &ElementValues> {
     let mut by = HashMap::with_capacity(list.len());
     for v in list {
         by.insert(v.element, v);
@@ -287,12 +287,43 @@ pub(crate) fn last_per_element(list: &[ElementValues]) -> HashMap<u32, &ElementV
 }
 
 /// The mode lists (`RLSE`, `DYNE`, `INPUTE`) of each element number, in file order.
-pub(crate) fn lists_per_element(list: &[ModeList]) -> HashMap<u32, Vec<&ModeList>> {
+fn lists_per_element(list: &[ModeList]) -> HashMap<u32, Vec<&ModeList>> {
     let mut by: HashMap<u32, Vec<&ModeList>> = HashMap::new();
     for l in list {
         by.entry(l.element).or_default().push(l);
     }
     by
+}
+
+/// Per-element lookups of a model's element tables, built once, so that reading a file stays
+/// linear in its size.
+pub(crate) struct ByElement<'a> {
+    /// The last `ESTIFF` of each element.
+    pub estiff: HashMap<u32, &'a ElementValues>,
+    /// The last `EM` of each element.
+    pub em: HashMap<u32, &'a ElementValues>,
+    /// The last `ESIG` of each element.
+    pub esig: HashMap<u32, &'a ElementValues>,
+    /// The `RLSE` lists of each element.
+    pub rlse: HashMap<u32, Vec<&'a ModeList>>,
+    /// The `DYNE` lists of each element.
+    pub dyne: HashMap<u32, Vec<&'a ModeList>>,
+    /// The `INPUTE` lists of each element.
+    pub inpute: HashMap<u32, Vec<&'a ModeList>>,
+}
+
+impl<'a> ByElement<'a> {
+    /// The lookups of `m`.
+    pub(crate) fn new(m: &'a SpacarModel) -> Self {
+        Self {
+            estiff: last_per_element(&m.estiff),
+            em: last_per_element(&m.em),
+            esig: last_per_element(&m.esig),
+            rlse: lists_per_element(&m.rlse),
+            dyne: lists_per_element(&m.dyne),
+            inpute: lists_per_element(&m.inpute),
+        }
+    }
 }
 
 /// Values for one node (`XF`, `DELXF`, `XM`).

@@ -153,17 +153,7 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
     spec.statics = statics;
 
     // --- elements: constants and roles ---
-    // per-element lookups, built once
-    let (estiff_of, em_of, esig_of) = (
-        last_per_element(&m.estiff),
-        last_per_element(&m.em),
-        last_per_element(&m.esig),
-    );
-    let (rlse_of, dyne_of, inpute_of) = (
-        lists_per_element(&m.rlse),
-        lists_per_element(&m.dyne),
-        lists_per_element(&m.inpute),
-    );
+    let by = ByElement::new(m);
     let last = |of: &HashMap<u32, &ElementValues>, el: u32| -> Option<(Vec<f64>, usize)> {
         of.get(&el).map(|v| (v.values.clone(), v.line))
     };
@@ -185,8 +175,8 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
     for (e, entry) in m.elements.iter().zip(spec.elements.iter_mut()) {
         let n = e.number;
         debug_assert_eq!(entry.name, n.to_string());
-        let estiff = last(&estiff_of, n);
-        let em = last(&em_of, n);
+        let estiff = last(&by.estiff, n);
+        let em = last(&by.em, n);
         let col = |v: &Option<(Vec<f64>, usize)>, k: usize| {
             v.as_ref()
                 .and_then(|(v, _)| v.get(k).copied())
@@ -261,9 +251,9 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
             }
         };
         let (rlse, dyne, inpute) = (
-            listed(&rlse_of, n),
-            listed(&dyne_of, n),
-            listed(&inpute_of, n),
+            listed(&by.rlse, n),
+            listed(&by.dyne, n),
+            listed(&by.inpute, n),
         );
         let mut flexible_dyne = Vec::new();
         let mut held_dyne = Vec::new();
@@ -332,7 +322,7 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
                 }
             }
         }
-        if let Some((v, line)) = last(&esig_of, n) {
+        if let Some((v, line)) = last(&by.esig, n) {
             if v.iter().any(|x| *x != 0.0) {
                 warn(line, format!("ESIG {n}: pre-stress (initial stress resultants {}) is not applied by flexmbd statics; ignored", fmt_values(&v)));
             }
