@@ -20,7 +20,8 @@
 
 use super::update::{Change, Prediction, Updater};
 use super::{
-    check, columns, rate_rows, CheckOptions, ConstraintAnalysis, KinematicsError, SparseRow,
+    check, columns, coordinate_constraint, rate_rows, CheckOptions, ConstraintAnalysis,
+    KinematicsError, SparseRow,
 };
 use crate::elements::ElementKind;
 use crate::linalg::{numerical_rank, pivot_columns};
@@ -200,18 +201,20 @@ pub fn advise(
 ) -> Result<Vec<StateAdvice>, KinematicsError> {
     let names = model.node_names();
     let before = (a.n_motions(), a.n_self_stresses());
-    let upd = Updater::new(a, opts.rank_tol);
     let mut out = Vec::new();
+    if max_per_state == 0 || before == (0, 0) {
+        let empty = |kind, state| StateAdvice {
+            kind,
+            state,
+            suggestions: Vec::new(),
+        };
+        out.extend((0..before.1).map(|s| empty("self_stress", s)));
+        out.extend((0..before.0).map(|k| empty("motion", k)));
+        return Ok(out);
+    }
+    let upd = Updater::new(a, opts.rank_tol)?;
     // self-stress states: release rows with large entries
     for s in 0..a.n_self_stresses() {
-        if max_per_state == 0 {
-            out.push(StateAdvice {
-                kind: "self_stress",
-                state: s,
-                suggestions: Vec::new(),
-            });
-            continue;
-        }
         let u: Vec<f64> = (0..a.m()).map(|i| a.null_u[(i, s)]).collect();
         let cands = ranked(&u).into_iter().map(|(i, w)| {
             let r = a.rows[i];
@@ -250,14 +253,6 @@ pub fn advise(
         max_per_state > 0 && a.n_motions() > 0,
     );
     for k in 0..a.n_motions() {
-        if max_per_state == 0 {
-            out.push(StateAdvice {
-                kind: "motion",
-                state: k,
-                suggestions: Vec::new(),
-            });
-            continue;
-        }
         let v: Vec<f64> = (0..a.n()).map(|j| a.null_v[(j, k)]).collect();
         // (column j, or free row f), weight
         let mut cands: Vec<(Result<usize, usize>, f64)> =
@@ -269,8 +264,14 @@ pub fn advise(
         let cands = cands.into_iter().map(|(c, w)| match c {
             Ok(j) => {
                 let col = &a.cols[j];
+                let row = coordinate_constraint(model, &a.cols, x, j);
+                let change = if row.len() == 1 && row[0].0 == j {
+                    Change::RemoveColumn(j)
+                } else {
+                    Change::AddRow(row)
+                };
                 (
-                    Change::RemoveColumn(j),
+                    change,
                     Action::FixOrInputCoordinate {
                         node: names[col.node].clone(),
                         dof: col.dof,
@@ -282,7 +283,7 @@ pub fn advise(
                 let (el, mode) = model.deformation_owner(free.defs[f]);
                 let entry = &model.elements[el];
                 (
-                    Change::AddRow(&free.rows[f]),
+                    Change::AddRow(free.rows[f].clone()),
                     Action::FixOrInputDeformation {
                         element: entry.name.clone(),
                         mode: mode + 1,
@@ -375,9 +376,9 @@ fn ranked(v: &[f64]) -> Vec<(usize, f64)> {
 
 /// The first `max` candidates, in order, whose predicted counts may be `want` and whose
 /// verified counts are `want`.
-fn verify<'c>(
+fn verify(
     upd: &Updater<'_>,
-    cands: impl Iterator<Item = (Change<'c>, Action, f64)>,
+    cands: impl Iterator<Item = (Change, Action, f64)>,
     want: (usize, usize),
     max: usize,
 ) -> Vec<Suggestion> {

@@ -196,9 +196,10 @@ pub struct ConstraintAnalysis {
     /// Null columns of U (rows × (m − r)), raw.
     pub null_u: Mat<f64>,
     /// All left singular vectors U (m × m), for the rank updates of the advice
-    /// ([`update`]).
+    /// ([`update`]); empty (0 × 0) when a square Dcc was found regular from its singular values
+    /// alone ([`ConstraintAnalysis::factors`]).
     pub svd_u: Mat<f64>,
-    /// All right singular vectors V (n × n).
+    /// All right singular vectors V (n × n); empty like `svd_u`.
     pub svd_v: Mat<f64>,
     /// Motions, presented.
     pub motions: Vec<Motion>,
@@ -228,6 +229,25 @@ impl ConstraintAnalysis {
     pub fn rank_gap(&self) -> Option<f64> {
         let s = &self.singular_values;
         (self.rank > 0 && self.rank < s.len()).then(|| s[self.rank - 1] / s[self.rank].max(1e-300))
+    }
+    /// U and V of Dcc (paper eq. 11): the stored factors, or a new full SVD of `Dcc` when
+    /// [`check`] left them out (a regular square Dcc).
+    #[allow(clippy::type_complexity)]
+    pub fn factors(
+        &self,
+    ) -> Result<
+        (
+            std::borrow::Cow<'_, Mat<f64>>,
+            std::borrow::Cow<'_, Mat<f64>>,
+        ),
+        LinalgError,
+    > {
+        use std::borrow::Cow;
+        if self.svd_u.nrows() == self.m() && self.svd_v.nrows() == self.n() {
+            return Ok((Cow::Borrowed(&self.svd_u), Cow::Borrowed(&self.svd_v)));
+        }
+        let f = svd(self.Dcc.as_ref(), "Dcc")?;
+        Ok((Cow::Owned(f.U), Cow::Owned(f.V)))
     }
     /// The singular values around the rank decision: s_(r−k+1) … s_r (kept) and s_(r+1) …
     /// s_(r+k) (counted as zero), as (1-based index, value), at most `k` on each side.
@@ -478,6 +498,40 @@ pub fn dense_from_rows(rows: &[SparseRow], ncols: usize) -> Mat<f64> {
     a
 }
 
+/// The constraint that fixing the coordinate of column j adds, as a row over the columns: for a
+/// translation the unit row e_j; for a rotation column the fixed Euler parameter λ_k
+/// (k = 1, 2, 3 for rx, ry, rz) holds ω along row k of Λ̄ᵀ(λ) (theory.md §2.2), so the row has
+/// the entries dir_c · (Λ̄ᵀ)_k on the node's rotation columns c. At λ = (1, 0, 0, 0), and
+/// whenever that direction is the column's own, it is again e_j: fixing the coordinate
+/// removes column j. Otherwise fixing it restricts the node's angular velocity to a plane that
+/// is not spanned by columns, and the counts are those of Dcc with this row appended.
+pub fn coordinate_constraint(model: &Model, cols: &[Column], x: &[f64], j: usize) -> SparseRow {
+    let c = &cols[j];
+    let node = &model.nodes[c.node];
+    let Some(ir) = node.ix_rot.filter(|_| c.dof.is_rotation()) else {
+        return vec![(j, 1.0)];
+    };
+    let l = &x[ir..ir + 4];
+    let ln = l.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let lu = [l[0] / ln, l[1] / ln, l[2] / ln, l[3] / ln];
+    let lb = lambda_bar(&lu);
+    let k = c.dof.index() - 2;
+    let row = [lb[0][k], lb[1][k], lb[2][k]];
+    // the node's columns are contiguous; its rotation columns are among the three before and
+    // after j
+    let lo = j.saturating_sub(3);
+    let hi = (j + 4).min(cols.len());
+    let entries: SparseRow = (lo..hi)
+        .filter(|&i| cols[i].node == c.node && cols[i].dof.is_rotation())
+        .map(|i| (i, dot(cols[i].dir, row)))
+        .filter(|e| e.1 != 0.0)
+        .collect();
+    if entries.len() == 1 && entries[0].0 == j {
+        return vec![(j, 1.0)];
+    }
+    entries
+}
+
 /// The global deformation index of each row of Dcc.
 fn row_defs(model: &Model, rows: &[Row]) -> Vec<usize> {
     rows.iter()
@@ -545,6 +599,33 @@ pub fn check(
     check_dense_size(m, n, opts.max_dense_bytes)?;
     let dcc = dense_from_rows(&rate_rows(model, x, &cols, &row_defs(model, &rows)), n);
     // SVD and numerical rank (paper eq. 11)
+    // A square Dcc (the hoped-for exact constraint) first gets its singular values alone, about
+    // a third of the work of the full factors: if it is regular there are no null vectors to
+    // find and the factors are left out (an [`update::Updater`] computes them if it is asked).
+    if m == n && m > 0 {
+        check_finite(dcc.as_ref())?;
+        let s = crate::linalg::singular_values(dcc.as_ref())?;
+        let tol = opts.rank_tol * s.first().copied().unwrap_or(0.0);
+        let rank = numerical_rank(&s, tol);
+        if rank == n {
+            return Ok(ConstraintAnalysis {
+                case: Table1::classify(m, n, rank),
+                euler_shape: euler_shape(model, partition),
+                rows,
+                cols,
+                Dcc: dcc,
+                singular_values: s,
+                tol,
+                rank,
+                null_v: Mat::zeros(n, 0),
+                null_u: Mat::zeros(m, 0),
+                svd_u: Mat::zeros(0, 0),
+                svd_v: Mat::zeros(0, 0),
+                motions: Vec::new(),
+                self_stresses: Vec::new(),
+            });
+        }
+    }
     let f = svd(dcc.as_ref(), "Dcc")?;
     let tol = opts.rank_tol * f.s.first().copied().unwrap_or(0.0);
     let rank = numerical_rank(&f.s, tol);
@@ -582,6 +663,22 @@ pub fn check(
         motions,
         self_stresses,
     })
+}
+
+/// The NaN/infinity test of [`svd`], for the path that takes singular values alone.
+fn check_finite(a: faer::MatRef<'_, f64>) -> Result<(), LinalgError> {
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            if !a[(i, j)].is_finite() {
+                return Err(LinalgError::NonFinite {
+                    what: "Dcc",
+                    row: i,
+                    col: j,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Entries below this fraction of a unit vector are shown as zero (rounding noise of the SVD).
@@ -666,5 +763,7 @@ pub fn present_self_stress(model: &Model, names: &[String], rows: &[Row], u: &[f
     }
 }
 
+#[cfg(test)]
+pub(crate) mod test_models;
 #[cfg(test)]
 mod tests;

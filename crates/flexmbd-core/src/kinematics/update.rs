@@ -38,17 +38,20 @@
 //! bracket (s₂ ≤ s₁' ≤ s₁ for a removal, s₁ ≤ s₁' ≤ (s₁² + ‖b‖²)^½ for an added row) changes
 //! the count.
 
-use super::{ConstraintAnalysis, SparseRow};
+use super::{ConstraintAnalysis, KinematicsError, SparseRow};
+use faer::Mat;
+use std::borrow::Cow;
 
 /// A change of Dcc by one row or one column.
-#[derive(Clone, Copy, Debug)]
-pub enum Change<'a> {
+#[derive(Clone, Debug)]
+pub enum Change {
     /// Delete row i (release a fixed deformation, or make an input deformation dependent).
     RemoveRow(usize),
     /// Delete column j (fix a coordinate, or take it as generalised).
     RemoveColumn(usize),
-    /// Append the row b (fix a free deformation, or take it as generalised).
-    AddRow(&'a SparseRow),
+    /// Append the row b (fix a free deformation, or take it as generalised; fix a rotation
+    /// coordinate whose direction is not a column's, [`super::coordinate_constraint`]).
+    AddRow(SparseRow),
 }
 
 /// The counts (motions n − r, self-stresses m − r) a change leads to, as predicted from the null
@@ -67,6 +70,9 @@ const MARGIN: f64 = 4.0;
 /// Predictions and exact rank updates of one analysis.
 pub struct Updater<'a> {
     a: &'a ConstraintAnalysis,
+    /// U and V of Dcc.
+    u: Cow<'a, Mat<f64>>,
+    v: Cow<'a, Mat<f64>>,
     rank_tol: f64,
     /// ‖U₀[i, :]‖ per row.
     row_null: Vec<f64>,
@@ -77,8 +83,9 @@ pub struct Updater<'a> {
 }
 
 impl<'a> Updater<'a> {
-    /// Prepare the predictions of `a` (O(m (m − r) + n (n − r))).
-    pub fn new(a: &'a ConstraintAnalysis, rank_tol: f64) -> Self {
+    /// Prepare the predictions of `a` (O(m (m − r) + n (n − r)); a full SVD if the analysis
+    /// left the factors out, [`ConstraintAnalysis::factors`]).
+    pub fn new(a: &'a ConstraintAnalysis, rank_tol: f64) -> Result<Self, KinematicsError> {
         let norm_rows = |m: &faer::Mat<f64>| -> Vec<f64> {
             (0..m.nrows())
                 .map(|i| {
@@ -90,13 +97,16 @@ impl<'a> Updater<'a> {
                 .collect()
         };
         let p = a.singular_values.iter().filter(|&&s| s > 0.0).count();
-        Self {
+        let (u, v) = a.factors()?;
+        Ok(Self {
             a,
+            u,
+            v,
             rank_tol,
             row_null: norm_rows(&a.null_u),
             col_null: norm_rows(&a.null_v),
             p,
-        }
+        })
     }
 
     fn before(&self) -> (usize, usize) {
@@ -109,21 +119,25 @@ impl<'a> Updater<'a> {
 
     /// The counts after `change`, predicted from the null bases (O(1) for removals, O(nnz(b)
     /// (n − r)) for an added row).
-    pub fn predict(&self, change: &Change<'_>) -> Prediction {
+    pub fn predict(&self, change: &Change) -> Prediction {
         let (mot, ss) = self.before();
         let r = self.a.rank;
         let tol = self.a.tol;
         // the small singular values must stay below any threshold the change can give
         let null_clear = |tol_low: f64| self.s(r) * MARGIN < tol_low || self.s(r) == 0.0;
-        match *change {
+        match change {
             Change::RemoveRow(_) | Change::RemoveColumn(_) => {
-                let (c, keep, drop) = match *change {
-                    Change::RemoveRow(i) => {
-                        (self.row_null[i], (mot, ss.saturating_sub(1)), (mot + 1, ss))
-                    }
-                    Change::RemoveColumn(j) => {
-                        (self.col_null[j], (mot.saturating_sub(1), ss), (mot, ss + 1))
-                    }
+                let (c, keep, drop) = match change {
+                    Change::RemoveRow(i) => (
+                        self.row_null[*i],
+                        (mot, ss.saturating_sub(1)),
+                        (mot + 1, ss),
+                    ),
+                    Change::RemoveColumn(j) => (
+                        self.col_null[*j],
+                        (mot.saturating_sub(1), ss),
+                        (mot, ss + 1),
+                    ),
                     Change::AddRow(_) => unreachable!("matched above"),
                 };
                 if r == 0 {
@@ -181,15 +195,15 @@ impl<'a> Updater<'a> {
 
     /// The exact counts (motions, self-stresses) after `change`: the singular values of the
     /// changed Dcc above rank_tol · s₁' counted by a rank-one update of the SVD (module docs).
-    pub fn counts_after(&self, change: &Change<'_>) -> (usize, usize) {
+    pub fn counts_after(&self, change: &Change) -> (usize, usize) {
         let (m, n) = (self.a.m(), self.a.n());
         let p = self.p;
         let s = &self.a.singular_values[..p];
-        match *change {
+        match change {
             Change::RemoveRow(_) | Change::RemoveColumn(_) => {
-                let (basis, idx, m2, n2) = match *change {
-                    Change::RemoveRow(i) => (&self.a.svd_u, i, m - 1, n),
-                    Change::RemoveColumn(j) => (&self.a.svd_v, j, m, n - 1),
+                let (basis, idx, m2, n2) = match change {
+                    Change::RemoveRow(i) => (&*self.u, *i, m - 1, n),
+                    Change::RemoveColumn(j) => (&*self.v, *j, m, n - 1),
                     Change::AddRow(_) => unreachable!("matched above"),
                 };
                 if m2 == 0 || n2 == 0 {
@@ -214,7 +228,7 @@ impl<'a> Updater<'a> {
                 (n2 - r2, m2 - r2)
             }
             Change::AddRow(b) => {
-                let v = &self.a.svd_v;
+                let v = &*self.v;
                 let mut w = vec![0.0; n];
                 for &(j, bj) in b {
                     for (k, wk) in w.iter_mut().enumerate() {
