@@ -12,7 +12,7 @@ mod view_cmd;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use flexmbd_core::kinematics::advice::{advise, auto_generalised};
-use flexmbd_core::kinematics::{check, CheckOptions};
+use flexmbd_core::kinematics::{check, CheckOptions, KinematicsError};
 use flexmbd_io::report::{check_json, check_text, generalised_names, CheckReport};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -278,7 +278,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 .into());
             }
             let x = m.x0();
-            let before = progress::stage("kinematic analysis", || check(&m, &m.partition, &x, &opts)).context("kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)")?;
+            let before = progress::stage("kinematic analysis", || check(&m, &m.partition, &x, &opts)).map_err(|e| match e {
+                // a size limit, not a numerical failure: its message says what the limit is
+                e @ KinematicsError::TooLarge { .. } => anyhow::Error::new(e),
+                e => anyhow::Error::new(e).context("kinematic analysis failed (check the model for NaN coordinates, or try another --rank-tol)"),
+            })?;
             let (partition, analysis, chosen) = if auto {
                 let c = auto_generalised(&m, &m.partition, &x, &opts)
                     .context("automatic choice of generalised coordinates failed")?;
