@@ -13,7 +13,9 @@
 #   --repeat R             run every case R times; the table shows medians (default 1)
 #   --threads T            RAYON_NUM_THREADS for flexmbd and OMP/OPENBLAS threads for the peers
 #                          (default: unset = flexmbd uses all cores, Exudyn is single-threaded)
-#   --skip-static | --skip-modes
+#   --skip-static | --skip-modes | --skip-lattice
+#   --only-lattice         only `flexmbd check` on the truss lattices (bench/lattice_check.sh;
+#                          no peer program, so no peer kit needed)
 #   --with-calculix        also run the peer kit's CalculiX strip-modes script (needs ccx:
 #                          bash PEERS/install.sh --with-calculix, as root)
 #   --out DIR              result directory (default bench/results); writes latest.jsonl (raw
@@ -39,6 +41,8 @@ REPEAT=1
 THREADS=""
 DO_STATIC=1
 DO_MODES=1
+DO_LATTICE=1
+ONLY_LATTICE=0
 WITH_CCX=0
 OUTDIR="$BENCH/results"
 
@@ -55,6 +59,8 @@ while [ $# -gt 0 ]; do
     --threads) THREADS="${2:?}"; shift 2 ;;
     --skip-static) DO_STATIC=0; shift ;;
     --skip-modes) DO_MODES=0; shift ;;
+    --skip-lattice) DO_LATTICE=0; shift ;;
+    --only-lattice) ONLY_LATTICE=1; shift ;;
     --with-calculix) WITH_CCX=1; shift ;;
     --out) OUTDIR="${2:?}"; shift 2 ;;
     --peers) PEERS="${2:?}"; shift 2 ;;
@@ -66,6 +72,13 @@ done
 [[ "$REPEAT" =~ ^[0-9]+$ ]] && [ "$REPEAT" -ge 1 ] || die "bad --repeat"
 [[ "$NMODES" =~ ^[0-9]+$ ]] && [ "$NMODES" -ge 1 ] || die "bad --modes"
 for n in $SIZES $MSIZES; do [[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -gt 0 ] || die "bad size '$n'"; done
+# the lattice case has no peer: it runs without the peer kit
+lattice_args=(--out "$OUTDIR")
+[ -n "$THREADS" ] && lattice_args+=(--threads "$THREADS")
+[ "$REPEAT" -gt 1 ] && lattice_args+=(--repeat "$REPEAT")
+if [ "$ONLY_LATTICE" -eq 1 ]; then
+  exec bash "$BENCH/lattice_check.sh" "${lattice_args[@]}"
+fi
 # the peer kit: given, present and complete, or a message that says what to get
 need_peers="install.sh peercommon.py"
 [ "$DO_MODES" -eq 1 ] && need_peers="$need_peers strip_modes_exudyn.py strip_modes_opensees.py"
@@ -250,3 +263,9 @@ EOF
 say "total $(( $(date +%s) - T_START )) s; raw records $JSONL, log $LOG"
 echo
 "$PY" -B "$BENCH/report.py" summarize "$JSONL" --json "$SUMMARY"
+
+# ---- 7. flexmbd check on truss lattices (no peer; its own records lattice.jsonl/.log) --------
+if [ "$DO_LATTICE" -eq 1 ]; then
+  echo
+  bash "$BENCH/lattice_check.sh" "${lattice_args[@]}"
+fi

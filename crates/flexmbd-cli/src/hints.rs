@@ -29,7 +29,9 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
             };
         }
         if let Some(c) = cause.downcast_ref::<ClassifyError>() {
-            if c.stage == Stage::Check {
+            if c.stage == Stage::Check
+                && !matches!(c.source, flexmbd_core::kinematics::KinematicsError::TooLarge { .. })
+            {
                 return Some("check the model for NaN coordinates, or try another --rank-tol");
             }
         }

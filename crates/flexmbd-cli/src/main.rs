@@ -331,6 +331,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let m = load(&model)?;
             let opts = CheckOptions {
                 rank_tol: rank_tol.unwrap_or(CheckOptions::default().rank_tol),
+                ..Default::default()
             };
             if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
                 return Err(BadInput(format!(

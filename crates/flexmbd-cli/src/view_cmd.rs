@@ -72,6 +72,7 @@ fn classify(model: &Model, opts: &CheckOptions, args: &ViewArgs) -> anyhow::Resu
 pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     let opts = CheckOptions {
         rank_tol: args.rank_tol.unwrap_or(CheckOptions::default().rank_tol),
+        ..Default::default()
     };
     if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
         return Err(BadInput(format!(

@@ -37,8 +37,34 @@ pub enum LinalgError {
     },
 }
 
-/// Full SVD with U (m × m) and V (n × n); empty dimensions give identity factors.
+/// The parallelism of the dense SVD: sequential, so that its results are bit-identical for
+/// any number of threads. (faer splits the reductions of its bidiagonalisation by the number of
+/// threads of the pool; `check --json` then differed at 1e-14 between one and two threads.)
+pub const SVD_PAR: faer::Par = faer::Par::Seq;
+
+/// Bytes of the faer workspace of a full SVD of an m × n matrix (U m × m and V n × n);
+/// `usize::MAX` if that overflows. Call it only for sizes whose factors fit in memory.
+pub fn svd_scratch_bytes(m: usize, n: usize) -> usize {
+    use faer::linalg::svd::{svd_scratch, ComputeSvdVectors};
+    if m == 0 || n == 0 {
+        return 0;
+    }
+    svd_scratch::<f64>(
+        m,
+        n,
+        ComputeSvdVectors::Full,
+        ComputeSvdVectors::Full,
+        SVD_PAR,
+        Default::default(),
+    )
+    .unaligned_bytes_required()
+}
+
+/// Full SVD with U (m × m) and V (n × n); empty dimensions give identity factors. Sequential
+/// ([`SVD_PAR`]): the same bits for any number of threads.
 pub fn svd(a: MatRef<'_, f64>, what: &'static str) -> Result<Svd, LinalgError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::svd::{svd as faer_svd, svd_scratch, ComputeSvdVectors};
     let (m, n) = (a.nrows(), a.ncols());
     for j in 0..n {
         for i in 0..m {
@@ -58,15 +84,68 @@ pub fn svd(a: MatRef<'_, f64>, what: &'static str) -> Result<Svd, LinalgError> {
             V: Mat::identity(n, n),
         });
     }
-    let f = a
-        .svd()
-        .map_err(|_| LinalgError::SvdNoConvergence { rows: m, cols: n })?;
-    let d = f.S().column_vector();
+    let no_conv = LinalgError::SvdNoConvergence { rows: m, cols: n };
+    let mut s = faer::diag::Diag::<f64>::zeros(m.min(n));
+    let mut u = Mat::<f64>::zeros(m, m);
+    let mut v = Mat::<f64>::zeros(n, n);
+    let mut mem = MemBuffer::try_new(svd_scratch::<f64>(
+        m,
+        n,
+        ComputeSvdVectors::Full,
+        ComputeSvdVectors::Full,
+        SVD_PAR,
+        Default::default(),
+    ))
+    .map_err(|_| no_conv.clone())?;
+    faer_svd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        Some(v.as_mut()),
+        SVD_PAR,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .map_err(|_| no_conv)?;
+    let d = s.column_vector();
     Ok(Svd {
         s: (0..m.min(n)).map(|i| d[i]).collect(),
-        U: f.U().to_owned(),
-        V: f.V().to_owned(),
+        U: u,
+        V: v,
     })
+}
+
+/// Singular values only (descending), sequential ([`SVD_PAR`]).
+pub fn singular_values(a: MatRef<'_, f64>) -> Result<Vec<f64>, LinalgError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::svd::{svd as faer_svd, svd_scratch, ComputeSvdVectors};
+    let (m, n) = (a.nrows(), a.ncols());
+    if m == 0 || n == 0 {
+        return Ok(Vec::new());
+    }
+    let no_conv = LinalgError::SvdNoConvergence { rows: m, cols: n };
+    let mut s = faer::diag::Diag::<f64>::zeros(m.min(n));
+    let mut mem = MemBuffer::try_new(svd_scratch::<f64>(
+        m,
+        n,
+        ComputeSvdVectors::No,
+        ComputeSvdVectors::No,
+        SVD_PAR,
+        Default::default(),
+    ))
+    .map_err(|_| no_conv.clone())?;
+    faer_svd(
+        a,
+        s.as_mut(),
+        None,
+        None,
+        SVD_PAR,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .map_err(|_| no_conv)?;
+    let d = s.column_vector();
+    Ok((0..m.min(n)).map(|i| d[i]).collect())
 }
 
 /// Number of singular values above `tol`.

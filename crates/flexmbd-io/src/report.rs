@@ -122,6 +122,96 @@ pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     out
 }
 
+/// Up to this many singular values the text report lists them all; above, the largest, those
+/// around the rank decision and the smallest (`--json` has them all).
+pub const TEXT_ALL_SINGULAR_VALUES: usize = 200;
+/// Motions and self-stress states with up to this many non-zero entries are listed in full in
+/// the text report; longer ones by their largest entries.
+pub const TEXT_ALL_ENTRIES: usize = 40;
+/// The entries shown of a long motion or self-stress state.
+pub const TEXT_TOP_ENTRIES: usize = 10;
+/// Singular values shown on each side of the rank decision, and at each end, of a long list.
+const TEXT_NEAR_RANK: usize = 5;
+
+/// The rows of a long vector shown in text: the `TEXT_TOP_ENTRIES` largest by magnitude,
+/// largest first, and a closing line for the rest.
+fn top_entries(values: &[f64]) -> (Vec<usize>, Option<String>) {
+    if values.len() <= TEXT_ALL_ENTRIES {
+        return ((0..values.len()).collect(), None);
+    }
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    // largest magnitude first; equal magnitudes in vector order (stable)
+    order.sort_by(|&a, &b| values[b].abs().total_cmp(&values[a].abs()));
+    let rest = values.len() - TEXT_TOP_ENTRIES;
+    let below = values[order[TEXT_TOP_ENTRIES]].abs();
+    let top = order[..TEXT_TOP_ENTRIES].to_vec();
+    (
+        top,
+        Some(format!(
+            "  ... and {rest} more entries of magnitude {} or less (all in --json)\n",
+            fmt_num(below)
+        )),
+    )
+}
+
+/// The singular-value table of the text report: all of them for small models; else the
+/// largest, those around the rank decision and the smallest, with "..." where some are left out.
+fn singular_value_text(a: &ConstraintAnalysis) -> String {
+    let sv = &a.singular_values;
+    let row = |i: usize| {
+        let v = sv[i];
+        let mark = if v <= a.tol { "zero" } else { "" };
+        vec![format!("{}", i + 1), fmt_num(v), mark.to_string()]
+    };
+    if sv.len() <= TEXT_ALL_SINGULAR_VALUES {
+        let rows: Vec<Vec<String>> = (0..sv.len()).map(row).collect();
+        return "\nSingular values of Dcc\n".to_string() + &table(&["#", "value", ""], &rows);
+    }
+    let k = TEXT_NEAR_RANK;
+    let mut shown: Vec<usize> = (0..3).collect();
+    shown.extend(a.rank.saturating_sub(k)..(a.rank + k).min(sv.len()));
+    shown.extend(sv.len().saturating_sub(k)..sv.len());
+    shown.sort_unstable();
+    shown.dedup();
+    let mut rows = Vec::new();
+    let mut next = 0;
+    for &i in &shown {
+        if i > next {
+            rows.push(vec!["...".to_string(), String::new(), String::new()]);
+        }
+        rows.push(row(i));
+        next = i + 1;
+    }
+    let mut s = format!(
+        "\nSingular values of Dcc: {} in all; the largest, the {k} on each side of the rank \
+         decision and the smallest (all in --json)\n",
+        sv.len()
+    );
+    if a.rank > 0 {
+        s += &format!(
+            "  rank decision: s{} = {} is {} x the threshold {}",
+            a.rank,
+            fmt_num(sv[a.rank - 1]),
+            fmt_num(sv[a.rank - 1] / a.tol.max(f64::MIN_POSITIVE)),
+            fmt_num(a.tol)
+        );
+        match sv.get(a.rank) {
+            Some(z) => {
+                s += &format!(
+                    "; s{} = {} is the largest counted as zero (gap s{}/s{} = {})\n",
+                    a.rank + 1,
+                    fmt_num(*z),
+                    a.rank,
+                    a.rank + 1,
+                    fmt_num(sv[a.rank - 1] / z.max(1e-300))
+                )
+            }
+            None => s += "; no singular value is counted as zero\n",
+        }
+    }
+    s + &table(&["#", "value", ""], &rows)
+}
+
 /// Human report of a check, as aligned tables.
 pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
     let a = r.analysis;
@@ -178,25 +268,22 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
     if a.n_motions() == 0 && a.n_self_stresses() == 0 {
         s += "  => exactly constrained\n";
     }
-    s += "\nSingular values of Dcc\n";
-    let rows: Vec<Vec<String>> = a
-        .singular_values
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            let mark = if *v <= a.tol { "zero" } else { "" };
-            vec![format!("{}", i + 1), fmt_num(*v), mark.to_string()]
-        })
-        .collect();
-    s += &table(&["#", "value", ""], &rows);
+    s += &singular_value_text(a);
     for (k, m) in a.motions.iter().enumerate() {
+        let values: Vec<f64> = m.coordinates.iter().map(|c| c.value).collect();
+        let (shown, rest) = top_entries(&values);
+        let what = if rest.is_some() {
+            format!(", the {TEXT_TOP_ENTRIES} largest of {}", values.len())
+        } else {
+            String::new()
+        };
         s += &format!(
-            "\nMotion {} (kinematically indeterminate; nodal velocities, unit length)\n",
+            "\nMotion {} (kinematically indeterminate; nodal velocities, unit length{what})\n",
             k + 1
         );
-        let rows: Vec<Vec<String>> = m
-            .coordinates
+        let rows: Vec<Vec<String>> = shown
             .iter()
+            .map(|&i| &m.coordinates[i])
             .map(|c| {
                 vec![
                     c.node.clone(),
@@ -206,15 +293,23 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
             })
             .collect();
         s += &table(&["node", "dof", "velocity"], &rows);
+        s += rest.as_deref().unwrap_or("");
     }
     for (k, st) in a.self_stresses.iter().enumerate() {
+        let values: Vec<f64> = st.deformations.iter().map(|d| d.value).collect();
+        let (shown, rest) = top_entries(&values);
+        let what = if rest.is_some() {
+            format!(", the {TEXT_TOP_ENTRIES} largest of {}", values.len())
+        } else {
+            String::new()
+        };
         s += &format!(
-            "\nSelf-stress state {} (statically indeterminate; stress resultants, unit length)\n",
+            "\nSelf-stress state {} (statically indeterminate; stress resultants, unit length{what})\n",
             k + 1
         );
-        let rows: Vec<Vec<String>> = st
-            .deformations
+        let rows: Vec<Vec<String>> = shown
             .iter()
+            .map(|&i| &st.deformations[i])
             .map(|d| {
                 vec![
                     d.element.clone(),
@@ -225,9 +320,10 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
             })
             .collect();
         s += &table(&["element", "mode", "name", "value"], &rows);
+        s += rest.as_deref().unwrap_or("");
     }
     if !r.advice.is_empty() {
-        s += "\nRepair advice (each verified by repeating the analysis)\n";
+        s += "\nRepair advice (each verified: the counts after the change recomputed from the SVD)\n";
         for st in r.advice {
             let what = if st.kind == "motion" {
                 "motion"

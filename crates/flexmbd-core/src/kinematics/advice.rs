@@ -10,11 +10,19 @@
 //!   A free deformation whose rate along v is non-zero, fixed or taken as generalised, adds an
 //!   independent row with the same effect.
 //!
-//! Every suggestion is verified by repeating the analysis with the changed partition before it
-//! is reported; unverified candidates are dropped.
+//! The candidates come from the null vectors, largest entry first; the counts each one leads to
+//! are predicted from the null bases alone ([`super::update`]: a released row keeps the rank iff
+//! a self-stress involves it, a fixed column iff a motion involves it), and candidates predicted
+//! not to remove the state are skipped. Every suggestion shown is then **verified**: the counts
+//! of the changed Dcc are recomputed exactly (the singular values above the changed matrix's own
+//! threshold, by a rank-one update of the SVD), and a candidate whose verified counts differ is
+//! dropped. [`counts`] is the full re-analysis of a changed partition.
 
-use super::{check, columns, deformation_rates, CheckOptions, ConstraintAnalysis, KinematicsError};
-use crate::assembly::evaluate;
+use super::update::{Change, Prediction, Updater};
+use super::{
+    check, columns, coordinate_constraint, rate_rows, CheckOptions, ConstraintAnalysis,
+    KinematicsError, SparseRow,
+};
 use crate::elements::ElementKind;
 use crate::linalg::{numerical_rank, pivot_columns};
 use crate::model::{CoordKind, DefKind, Dof, Model, Partition};
@@ -159,23 +167,19 @@ pub struct StateAdvice {
     pub suggestions: Vec<Suggestion>,
 }
 
-/// Counts (motions, self-stresses) of a partition: the verification of a suggestion.
+/// Counts (motions, self-stresses) of a partition by a full re-analysis (a new Dcc and its
+/// singular values); the advice itself verifies by rank updates ([`super::update`]).
 pub fn counts(
     model: &Model,
     partition: &Partition,
     x: &[f64],
     opts: &CheckOptions,
 ) -> Result<(usize, usize), KinematicsError> {
+    let cols = columns(model, partition, x);
+    let rows = super::rows(model, partition);
+    super::check_dense_size(rows.len(), cols.len(), opts.max_dense_bytes)?;
     let (rows, cols, dcc) = super::assemble_dcc(model, partition, x);
-    let s = if rows.is_empty() || cols.is_empty() {
-        Vec::new()
-    } else {
-        dcc.singular_values()
-            .map_err(|_| crate::linalg::LinalgError::SvdNoConvergence {
-                rows: rows.len(),
-                cols: cols.len(),
-            })?
-    };
+    let s = crate::linalg::singular_values(dcc.as_ref())?;
     let r = numerical_rank(&s, opts.rank_tol * s.first().copied().unwrap_or(0.0));
     Ok((cols.len() - r, rows.len() - r))
 }
@@ -184,7 +188,9 @@ pub fn counts(
 const CANDIDATE_FLOOR: f64 = 1e-6;
 
 /// Verified suggestions for every self-stress state and every motion, at most `max_per_state`
-/// each.
+/// each: candidates in the order of their entries, skipped when the prediction from the null
+/// bases says they do not remove the state, verified by an exact rank update before they are
+/// kept (module docs).
 pub fn advise(
     model: &Model,
     partition: &Partition,
@@ -196,6 +202,17 @@ pub fn advise(
     let names = model.node_names();
     let before = (a.n_motions(), a.n_self_stresses());
     let mut out = Vec::new();
+    if max_per_state == 0 || before == (0, 0) {
+        let empty = |kind, state| StateAdvice {
+            kind,
+            state,
+            suggestions: Vec::new(),
+        };
+        out.extend((0..before.1).map(|s| empty("self_stress", s)));
+        out.extend((0..before.0).map(|k| empty("motion", k)));
+        return Ok(out);
+    }
+    let upd = Updater::new(a, opts.rank_tol)?;
     // self-stress states: release rows with large entries
     for s in 0..a.n_self_stresses() {
         let u: Vec<f64> = (0..a.m()).map(|i| a.null_u[(i, s)]).collect();
@@ -217,10 +234,10 @@ pub fn advise(
                     mode_name,
                 }
             };
-            (action, w)
+            (Change::RemoveRow(i), action, w)
         });
         let want = (before.0, before.1 - 1);
-        let suggestions = verify(model, partition, x, opts, cands, want, max_per_state)?;
+        let suggestions = verify(&upd, cands, want, max_per_state);
         out.push(StateAdvice {
             kind: "self_stress",
             state: s,
@@ -228,38 +245,55 @@ pub fn advise(
         });
     }
     // motions: coordinates and free deformations that move
-    let ev = evaluate(model, x);
-    let rates = deformation_rates(model, &ev.D, &a.cols);
+    let free = FreeRows::new(
+        model,
+        partition,
+        x,
+        a,
+        max_per_state > 0 && a.n_motions() > 0,
+    );
     for k in 0..a.n_motions() {
         let v: Vec<f64> = (0..a.n()).map(|j| a.null_v[(j, k)]).collect();
-        let mut cands: Vec<(Action, f64)> = ranked(&v)
-            .into_iter()
-            .map(|(j, w)| {
-                let c = &a.cols[j];
-                (
-                    Action::FixOrInputCoordinate {
-                        node: names[c.node].clone(),
-                        dof: c.dof,
-                    },
-                    w,
-                )
-            })
-            .collect();
-        cands.extend(free_deformation_candidates(
-            model, partition, &rates, &v, &names,
-        ));
+        // (column j, or free row f), weight
+        let mut cands: Vec<(Result<usize, usize>, f64)> =
+            ranked(&v).into_iter().map(|(j, w)| (Ok(j), w)).collect();
+        cands.extend(free.candidates(&v).into_iter().map(|(f, w)| (Err(f), w)));
         // largest first (to 1e-6); stable: coordinates before deformations at equal weight
         cands.sort_by_key(|c| std::cmp::Reverse((c.1 * 1e6).round() as u64));
         let want = (before.0 - 1, before.1);
-        let suggestions = verify(
-            model,
-            partition,
-            x,
-            opts,
-            cands.into_iter(),
-            want,
-            max_per_state,
-        )?;
+        let cands = cands.into_iter().map(|(c, w)| match c {
+            Ok(j) => {
+                let col = &a.cols[j];
+                let row = coordinate_constraint(model, &a.cols, x, j);
+                let change = if row.len() == 1 && row[0].0 == j {
+                    Change::RemoveColumn(j)
+                } else {
+                    Change::AddRow(row)
+                };
+                (
+                    change,
+                    Action::FixOrInputCoordinate {
+                        node: names[col.node].clone(),
+                        dof: col.dof,
+                    },
+                    w,
+                )
+            }
+            Err(f) => {
+                let (el, mode) = model.deformation_owner(free.defs[f]);
+                let entry = &model.elements[el];
+                (
+                    Change::AddRow(free.rows[f].clone()),
+                    Action::FixOrInputDeformation {
+                        element: entry.name.clone(),
+                        mode: mode + 1,
+                        mode_name: entry.element.mode_name(mode, &names),
+                    },
+                    w,
+                )
+            }
+        });
+        let suggestions = verify(&upd, cands, want, max_per_state);
         out.push(StateAdvice {
             kind: "motion",
             state: k,
@@ -269,40 +303,61 @@ pub fn advise(
     Ok(out)
 }
 
-/// Free deformations whose rate along v is significant, weighted by the cosine between their
-/// row and v.
-fn free_deformation_candidates(
-    model: &Model,
-    partition: &Partition,
-    rates: &Mat<f64>,
-    v: &[f64],
-    names: &[String],
-) -> Vec<(Action, f64)> {
-    let mut out = Vec::new();
-    for entry in &model.elements {
-        for mode in 0..entry.element.ne() {
-            let i = entry.ie + mode;
-            if partition.e[i] != DefKind::Free {
-                continue;
-            }
-            let row: Vec<f64> = (0..v.len()).map(|j| rates[(i, j)]).collect();
-            let norm = row.iter().map(|a| a * a).sum::<f64>().sqrt();
+/// The free deformations of a partition with their rates along the columns of an analysis
+/// (sparse rows): the candidates that add a row to Dcc.
+struct FreeRows {
+    /// Global deformation indices.
+    defs: Vec<usize>,
+    /// Their rate rows over the columns.
+    rows: Vec<SparseRow>,
+    /// Their norms.
+    norms: Vec<f64>,
+}
+
+impl FreeRows {
+    fn new(
+        model: &Model,
+        partition: &Partition,
+        x: &[f64],
+        a: &ConstraintAnalysis,
+        wanted: bool,
+    ) -> Self {
+        let defs: Vec<usize> = if wanted {
+            (0..model.ne)
+                .filter(|&i| partition.e[i] == DefKind::Free)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let rows = rate_rows(model, x, &a.cols, &defs);
+        let norms = rows
+            .iter()
+            .map(|r| r.iter().map(|e| e.1 * e.1).sum::<f64>().sqrt())
+            .collect();
+        Self { defs, rows, norms }
+    }
+
+    /// Free deformations whose rate along v is significant, weighted by the cosine between
+    /// their row and v, in model order.
+    fn candidates(&self, v: &[f64]) -> Vec<(usize, f64)> {
+        let mut out = Vec::new();
+        for (f, row) in self.rows.iter().enumerate() {
+            let norm = self.norms[f];
             if norm == 0.0 {
                 continue;
             }
-            let w = row.iter().zip(v).map(|(a, b)| a * b).sum::<f64>().abs() / norm;
+            // the dot product over all columns in order, as the dense row gave it
+            let mut dot = 0.0;
+            for &(j, r) in row {
+                dot += r * v[j];
+            }
+            let w = dot.abs() / norm;
             if w > CANDIDATE_FLOOR {
-                let mode_name = entry.element.mode_name(mode, names);
-                let action = Action::FixOrInputDeformation {
-                    element: entry.name.clone(),
-                    mode: mode + 1,
-                    mode_name,
-                };
-                out.push((action, w));
+                out.push((f, w));
             }
         }
+        out
     }
-    out
 }
 
 /// Indices of significant entries with their magnitudes, largest first.
@@ -319,22 +374,23 @@ fn ranked(v: &[f64]) -> Vec<(usize, f64)> {
     idx
 }
 
+/// The first `max` candidates, in order, whose predicted counts may be `want` and whose
+/// verified counts are `want`.
 fn verify(
-    model: &Model,
-    partition: &Partition,
-    x: &[f64],
-    opts: &CheckOptions,
-    cands: impl Iterator<Item = (Action, f64)>,
+    upd: &Updater<'_>,
+    cands: impl Iterator<Item = (Change, Action, f64)>,
     want: (usize, usize),
     max: usize,
-) -> Result<Vec<Suggestion>, KinematicsError> {
+) -> Vec<Suggestion> {
     let mut out = Vec::new();
-    for (action, weight) in cands {
+    for (change, action, weight) in cands {
         if out.len() >= max {
             break;
         }
-        let p = action.apply(model, partition)?;
-        let (motions_after, self_stresses_after) = counts(model, &p, x, opts)?;
+        if matches!(upd.predict(&change), Prediction::Certain(c) if c != want) {
+            continue;
+        }
+        let (motions_after, self_stresses_after) = upd.counts_after(&change);
         if (motions_after, self_stresses_after) == want {
             out.push(Suggestion {
                 action,
@@ -344,7 +400,7 @@ fn verify(
             });
         }
     }
-    Ok(out)
+    out
 }
 
 /// The result of an automatic choice of generalised coordinates.
@@ -391,14 +447,14 @@ pub fn auto_generalised(
     // coordinates could not remove every motion: add free deformations
     let mut analysis = check(model, &p, x, opts)?;
     if analysis.n_motions() > 0 {
-        let ev = evaluate(model, x);
         let cols = columns(model, &p, x);
-        let rates = deformation_rates(model, &ev.D, &cols);
         let free: Vec<usize> = (0..model.ne).filter(|&i| p.e[i] == DefKind::Free).collect();
+        let rates = rate_rows(model, x, &cols, &free);
         let kk = analysis.n_motions();
         let cand = Mat::from_fn(kk, free.len(), |r, c| {
-            (0..cols.len())
-                .map(|j| rates[(free[c], j)] * analysis.null_v[(j, r)])
+            rates[c]
+                .iter()
+                .map(|&(j, d)| d * analysis.null_v[(j, r)])
                 .sum()
         });
         for c in pivot_columns(cand.as_ref(), kk, 1e-8) {

@@ -16,10 +16,11 @@
 
 pub mod advice;
 pub mod classify;
+pub mod update;
 
-use crate::assembly::evaluate;
+use crate::assembly::gather;
 use crate::elements::{ElementKind, NodeId};
-use crate::linalg::{numerical_rank, svd, LinalgError};
+use crate::linalg::{numerical_rank, svd, svd_scratch_bytes, LinalgError};
 use crate::math::{dot, lambda_bar};
 use crate::model::{CoordKind, DefKind, Dof, Model, Partition};
 use faer::Mat;
@@ -31,12 +32,20 @@ pub struct CheckOptions {
     /// Relative rank tolerance: sᵢ counts as zero when sᵢ ≤ rank_tol · s₁. Default √ε, the test
     /// SPACAR Light uses (theory.md §6.2).
     pub rank_tol: f64,
+    /// Memory limit of the dense analysis in bytes: Dcc, its full SVD factors U and V, the null
+    /// bases and the SVD's workspace ([`dense_bytes`]). A larger model stops with
+    /// [`KinematicsError::TooLarge`] before anything is allocated. Default 4 GiB.
+    pub max_dense_bytes: u64,
 }
+
+/// The default of [`CheckOptions::max_dense_bytes`]: 4 GiB.
+pub const DEFAULT_MAX_DENSE_BYTES: u64 = 4 << 30;
 
 impl Default for CheckOptions {
     fn default() -> Self {
         Self {
             rank_tol: f64::EPSILON.sqrt(),
+            max_dense_bytes: DEFAULT_MAX_DENSE_BYTES,
         }
     }
 }
@@ -187,6 +196,12 @@ pub struct ConstraintAnalysis {
     pub null_v: Mat<f64>,
     /// Null columns of U (rows × (m − r)), raw.
     pub null_u: Mat<f64>,
+    /// All left singular vectors U (m × m), for the rank updates of the advice
+    /// ([`update`]); empty (0 × 0) when a square Dcc was found regular from its singular values
+    /// alone ([`ConstraintAnalysis::factors`]).
+    pub svd_u: Mat<f64>,
+    /// All right singular vectors V (n × n); empty like `svd_u`.
+    pub svd_v: Mat<f64>,
     /// Motions, presented.
     pub motions: Vec<Motion>,
     /// Self-stress states, presented.
@@ -216,6 +231,33 @@ impl ConstraintAnalysis {
         let s = &self.singular_values;
         (self.rank > 0 && self.rank < s.len()).then(|| s[self.rank - 1] / s[self.rank].max(1e-300))
     }
+    /// U and V of Dcc (paper eq. 11): the stored factors, or a new full SVD of `Dcc` when
+    /// [`check`] left them out (a regular square Dcc).
+    #[allow(clippy::type_complexity)]
+    pub fn factors(
+        &self,
+    ) -> Result<
+        (
+            std::borrow::Cow<'_, Mat<f64>>,
+            std::borrow::Cow<'_, Mat<f64>>,
+        ),
+        LinalgError,
+    > {
+        use std::borrow::Cow;
+        if self.svd_u.nrows() == self.m() && self.svd_v.nrows() == self.n() {
+            return Ok((Cow::Borrowed(&self.svd_u), Cow::Borrowed(&self.svd_v)));
+        }
+        let f = svd(self.Dcc.as_ref(), "Dcc")?;
+        Ok((Cow::Owned(f.U), Cow::Owned(f.V)))
+    }
+    /// The singular values around the rank decision: s_(r−k+1) … s_r (kept) and s_(r+1) …
+    /// s_(r+k) (counted as zero), as (1-based index, value), at most `k` on each side.
+    pub fn singular_values_near_rank(&self, k: usize) -> Vec<(usize, f64)> {
+        let s = &self.singular_values;
+        let lo = self.rank.saturating_sub(k);
+        let hi = (self.rank + k).min(s.len());
+        (lo..hi).map(|i| (i + 1, s[i])).collect()
+    }
 }
 
 /// Why the kinematic analysis failed.
@@ -235,6 +277,56 @@ pub enum KinematicsError {
     /// (an action of another model).
     #[error("the action names {0}, which this model does not have")]
     UnknownInAction(String),
+    /// The dense analysis of this Dcc would need more memory than the limit allows (checked
+    /// before anything is allocated).
+    #[error(
+        "the dense kinematic analysis of the {rows} x {cols} Dcc needs {:.1} GiB (Dcc, its full \
+         SVD factors U and V and the SVD's workspace), above the limit of {:.1} GiB; the check \
+         is dense (memory grows with (rows + cols)^2, time with (rows + cols)^3), and a sparse \
+         rank-revealing path for large models is planned",
+        *bytes as f64 / GIB,
+        *limit as f64 / GIB
+    )]
+    TooLarge {
+        /// Rows of Dcc.
+        rows: usize,
+        /// Columns of Dcc.
+        cols: usize,
+        /// Bytes the dense analysis needs (saturated at u64::MAX).
+        bytes: u64,
+        /// The limit ([`CheckOptions::max_dense_bytes`]).
+        limit: u64,
+    },
+}
+
+const GIB: f64 = (1u64 << 30) as f64;
+
+/// Bytes the dense analysis of an m × n Dcc needs: Dcc (m n), U (m²) and V (n²), the null bases
+/// (at most m² and n² more) and the SVD's workspace, saturated at `u64::MAX`. The workspace is
+/// asked of faer only when the factors alone fit in `limit`.
+pub fn dense_bytes(m: usize, n: usize, limit: u64) -> u64 {
+    let (mm, nn) = (m as u128, n as u128);
+    let factors = 8 * (mm * nn + 2 * mm * mm + 2 * nn * nn);
+    if factors > limit as u128 {
+        return u64::try_from(factors).unwrap_or(u64::MAX);
+    }
+    let total = factors + svd_scratch_bytes(m, n) as u128;
+    u64::try_from(total).unwrap_or(u64::MAX)
+}
+
+/// The size guard of the dense path: an error naming the need and the limit if the m × n
+/// analysis does not fit.
+pub fn check_dense_size(m: usize, n: usize, limit: u64) -> Result<(), KinematicsError> {
+    let bytes = dense_bytes(m, n, limit);
+    if bytes > limit {
+        return Err(KinematicsError::TooLarge {
+            rows: m,
+            cols: n,
+            bytes,
+            limit,
+        });
+    }
+    Ok(())
 }
 
 /// The velocity-form columns for a partition at configuration x.
@@ -324,16 +416,136 @@ pub fn rows(model: &Model, partition: &Partition) -> Vec<Row> {
 fn column_in_x(model: &Model, col: &Column) -> Vec<(usize, f64)> {
     let n = &model.nodes[col.node];
     if col.dof.is_rotation() {
-        let ir = n
-            .ix_rot
-            .expect("rotation columns belong to rotational nodes");
+        // rotation columns belong to rotational nodes ([`columns`])
+        let Some(ir) = n.ix_rot else {
+            return Vec::new();
+        };
         (0..4).map(|c| (ir + c, col.lambda_rate[c])).collect()
     } else {
         vec![(n.ix_pos + col.dof.index(), 1.0)]
     }
 }
 
-/// D (ne × nx) times the column map: ∂e/∂(velocity coordinates) for all ne deformations.
+/// A sparse row over the columns of Dcc: (column, value), columns ascending.
+pub type SparseRow = Vec<(usize, f64)>;
+
+/// The rates ∂e_i/∂(velocity columns) of the deformations `defs` (global indices e_i, any
+/// order), as sparse rows in the order of `defs`: row i of D times the column map (paper eq. 9),
+/// element by element from each element's own Jacobian D_k. The ne × nx matrix D is never
+/// formed; each element with a requested deformation is evaluated once. The sums are taken in
+/// the order of the dense product D · (column map), so the values are the same bits.
+pub fn rate_rows(model: &Model, x: &[f64], cols: &[Column], defs: &[usize]) -> Vec<SparseRow> {
+    assert_eq!(x.len(), model.nx, "x has the wrong length");
+    // x index -> (column, ∂x_i per unit column velocity)
+    let mut by_x: Vec<Vec<(usize, f64)>> = vec![Vec::new(); model.nx];
+    for (j, c) in cols.iter().enumerate() {
+        for (i, v) in column_in_x(model, c) {
+            by_x[i].push((j, v));
+        }
+    }
+    // deformation -> the positions in `defs` that ask for it
+    let mut wanted: Vec<Vec<usize>> = vec![Vec::new(); model.ne];
+    for (pos, &i) in defs.iter().enumerate() {
+        wanted[i].push(pos);
+    }
+    let mut out: Vec<SparseRow> = vec![Vec::new(); defs.len()];
+    for entry in &model.elements {
+        let ne = entry.element.ne();
+        if (0..ne).all(|k| wanted[entry.ie + k].is_empty()) {
+            continue;
+        }
+        let dk = entry.element.jacobian(&gather(entry, x));
+        for mode in 0..ne {
+            let asked = &wanted[entry.ie + mode];
+            if asked.is_empty() {
+                continue;
+            }
+            // the row of D over x, duplicates of an x index summed in local order
+            let mut dx: Vec<(usize, f64)> = Vec::with_capacity(entry.xmap.len());
+            for (c, &xi) in entry.xmap.iter().enumerate() {
+                let d = dk[(mode, c)];
+                match dx.iter_mut().find(|e| e.0 == xi) {
+                    Some(e) => e.1 += d,
+                    None => dx.push((xi, 0.0 + d)),
+                }
+            }
+            // times the column map: per column, x indices ascending (the dense product's order)
+            let mut terms: Vec<(usize, usize, f64)> = Vec::new();
+            for &(xi, d) in &dx {
+                for &(j, v) in &by_x[xi] {
+                    terms.push((j, xi, d * v));
+                }
+            }
+            terms.sort_by_key(|t| (t.0, t.1));
+            let mut row: SparseRow = Vec::new();
+            for (j, _, t) in terms {
+                match row.last_mut() {
+                    Some(last) if last.0 == j => last.1 += t,
+                    _ => row.push((j, 0.0 + t)),
+                }
+            }
+            for &pos in asked {
+                out[pos] = row.clone();
+            }
+        }
+    }
+    out
+}
+
+/// The dense matrix of sparse rows (rows × ncols).
+pub fn dense_from_rows(rows: &[SparseRow], ncols: usize) -> Mat<f64> {
+    let mut a = Mat::zeros(rows.len(), ncols);
+    for (i, r) in rows.iter().enumerate() {
+        for &(j, v) in r {
+            a[(i, j)] = v;
+        }
+    }
+    a
+}
+
+/// The constraint that fixing the coordinate of column j adds, as a row over the columns: for a
+/// translation the unit row e_j; for a rotation column the fixed Euler parameter λ_k
+/// (k = 1, 2, 3 for rx, ry, rz) holds ω along row k of Λ̄ᵀ(λ) (theory.md §2.2), so the row has
+/// the entries dir_c · (Λ̄ᵀ)_k on the node's rotation columns c. At λ = (1, 0, 0, 0), and
+/// whenever that direction is the column's own, it is again e_j: fixing the coordinate
+/// removes column j. Otherwise fixing it restricts the node's angular velocity to a plane that
+/// is not spanned by columns, and the counts are those of Dcc with this row appended.
+pub fn coordinate_constraint(model: &Model, cols: &[Column], x: &[f64], j: usize) -> SparseRow {
+    let c = &cols[j];
+    let node = &model.nodes[c.node];
+    let Some(ir) = node.ix_rot.filter(|_| c.dof.is_rotation()) else {
+        return vec![(j, 1.0)];
+    };
+    let l = &x[ir..ir + 4];
+    let ln = l.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let lu = [l[0] / ln, l[1] / ln, l[2] / ln, l[3] / ln];
+    let lb = lambda_bar(&lu);
+    let k = c.dof.index() - 2;
+    let row = [lb[0][k], lb[1][k], lb[2][k]];
+    // the node's columns are contiguous; its rotation columns are among the three before and
+    // after j
+    let lo = j.saturating_sub(3);
+    let hi = (j + 4).min(cols.len());
+    let entries: SparseRow = (lo..hi)
+        .filter(|&i| cols[i].node == c.node && cols[i].dof.is_rotation())
+        .map(|i| (i, dot(cols[i].dir, row)))
+        .filter(|e| e.1 != 0.0)
+        .collect();
+    if entries.len() == 1 && entries[0].0 == j {
+        return vec![(j, 1.0)];
+    }
+    entries
+}
+
+/// The global deformation index of each row of Dcc.
+fn row_defs(model: &Model, rows: &[Row]) -> Vec<usize> {
+    rows.iter()
+        .map(|r| model.elements[r.element].ie + r.mode)
+        .collect()
+}
+
+/// D (ne × nx) times the column map: ∂e/∂(velocity coordinates) for all ne deformations (dense;
+/// the analyses use the sparse [`rate_rows`]).
 pub fn deformation_rates(model: &Model, D: &Mat<f64>, cols: &[Column]) -> Mat<f64> {
     let mut out = Mat::zeros(model.ne, cols.len());
     for (j, c) in cols.iter().enumerate() {
@@ -346,19 +558,16 @@ pub fn deformation_rates(model: &Model, D: &Mat<f64>, cols: &[Column]) -> Mat<f6
     out
 }
 
-/// Assemble Dcc (velocity form) for a partition at x.
+/// Assemble Dcc (velocity form) for a partition at x, dense (no size guard: see [`check`]).
 pub fn assemble_dcc(
     model: &Model,
     partition: &Partition,
     x: &[f64],
 ) -> (Vec<Row>, Vec<Column>, Mat<f64>) {
-    let ev = evaluate(model, x);
     let cols = columns(model, partition, x);
     let rows = rows(model, partition);
-    let full = deformation_rates(model, &ev.D, &cols);
-    let dcc = Mat::from_fn(rows.len(), cols.len(), |i, j| {
-        full[(model.elements[rows[i].element].ie + rows[i].mode, j)]
-    });
+    let sparse = rate_rows(model, x, &cols, &row_defs(model, &rows));
+    let dcc = dense_from_rows(&sparse, cols.len());
     (rows, cols, dcc)
 }
 
@@ -376,6 +585,10 @@ pub fn euler_shape(model: &Model, partition: &Partition) -> (usize, usize) {
 }
 
 /// The kinematic analysis at configuration x (paper §3).
+///
+/// Dense: a model whose Dcc, SVD factors and workspace exceed
+/// [`CheckOptions::max_dense_bytes`] stops with [`KinematicsError::TooLarge`] before anything
+/// large is allocated.
 pub fn check(
     model: &Model,
     partition: &Partition,
@@ -385,9 +598,39 @@ pub fn check(
     if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
         return Err(KinematicsError::BadTolerance(opts.rank_tol));
     }
-    let (rows, cols, dcc) = assemble_dcc(model, partition, x);
+    let cols = columns(model, partition, x);
+    let rows = rows(model, partition);
     let (m, n) = (rows.len(), cols.len());
-    // SVD and numerical rank
+    check_dense_size(m, n, opts.max_dense_bytes)?;
+    let dcc = dense_from_rows(&rate_rows(model, x, &cols, &row_defs(model, &rows)), n);
+    // SVD and numerical rank (paper eq. 11)
+    // A square Dcc (the hoped-for exact constraint) first gets its singular values alone, about
+    // a third of the work of the full factors: if it is regular there are no null vectors to
+    // find and the factors are left out (an [`update::Updater`] computes them if it is asked).
+    if m == n && m > 0 {
+        check_finite(dcc.as_ref())?;
+        let s = crate::linalg::singular_values(dcc.as_ref())?;
+        let tol = opts.rank_tol * s.first().copied().unwrap_or(0.0);
+        let rank = numerical_rank(&s, tol);
+        if rank == n {
+            return Ok(ConstraintAnalysis {
+                case: Table1::classify(m, n, rank),
+                euler_shape: euler_shape(model, partition),
+                rows,
+                cols,
+                Dcc: dcc,
+                singular_values: s,
+                tol,
+                rank,
+                null_v: Mat::zeros(n, 0),
+                null_u: Mat::zeros(m, 0),
+                svd_u: Mat::zeros(0, 0),
+                svd_v: Mat::zeros(0, 0),
+                motions: Vec::new(),
+                self_stresses: Vec::new(),
+            });
+        }
+    }
     let f = svd(dcc.as_ref(), "Dcc")?;
     let tol = opts.rank_tol * f.s.first().copied().unwrap_or(0.0);
     let rank = numerical_rank(&f.s, tol);
@@ -420,9 +663,27 @@ pub fn check(
         rank,
         null_v,
         null_u,
+        svd_u: f.U,
+        svd_v: f.V,
         motions,
         self_stresses,
     })
+}
+
+/// The NaN/infinity test of [`svd`], for the path that takes singular values alone.
+fn check_finite(a: faer::MatRef<'_, f64>) -> Result<(), LinalgError> {
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            if !a[(i, j)].is_finite() {
+                return Err(LinalgError::NonFinite {
+                    what: "Dcc",
+                    row: i,
+                    col: j,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Entries below this fraction of a unit vector are shown as zero (rounding noise of the SVD).
@@ -452,14 +713,12 @@ pub fn normalize_signed(v: &mut [f64]) {
 
 /// A velocity vector over the columns as nodal velocities (translations, global ω).
 pub fn present_motion(model: &Model, cols: &[Column], v: &[f64]) -> Motion {
-    // accumulate per (node, component): rotations as ω = Σ v_c dir_c
-    let mut entries: Vec<(NodeId, Dof, f64)> = Vec::new();
-    let mut add = |node: NodeId, dof: Dof, val: f64| match entries
-        .iter_mut()
-        .find(|e| e.0 == node && e.1 == dof)
-    {
-        Some(e) => e.2 += val,
-        None => entries.push((node, dof, val)),
+    // accumulate per (node, component): rotations as ω = Σ v_c dir_c (in column order)
+    let mut acc: std::collections::BTreeMap<(NodeId, Dof), f64> = Default::default();
+    let mut add = |node: NodeId, dof: Dof, val: f64| {
+        acc.entry((node, dof))
+            .and_modify(|e| *e += val)
+            .or_insert(val);
     };
     for (c, &val) in cols.iter().zip(v) {
         if c.dof.is_rotation() {
@@ -470,7 +729,7 @@ pub fn present_motion(model: &Model, cols: &[Column], v: &[f64]) -> Motion {
             add(c.node, c.dof, val);
         }
     }
-    entries.sort_by_key(|e| (e.0, e.1));
+    let entries: Vec<(NodeId, Dof, f64)> = acc.into_iter().map(|((n, d), v)| (n, d, v)).collect();
     let mut vals: Vec<f64> = entries.iter().map(|e| e.2).collect();
     normalize_signed(&mut vals);
     Motion {
@@ -509,5 +768,7 @@ pub fn present_self_stress(model: &Model, names: &[String], rows: &[Row], u: &[f
     }
 }
 
+#[cfg(test)]
+pub(crate) mod test_models;
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,103 @@
+//! Model generators of the kinematics tests, also compiled into the lattice bench
+//! (`benches/lattice_check.rs` includes this file; it names only `crate::model`, which the bench
+//! re-exports): a 3D lattice of rigid pin-jointed trusses and a strip of beams.
+
+use crate::model::{Dof, ElementSpec, Model, ModelBuilder};
+
+/// The grid node (i, j, l) of a lattice.
+pub fn lattice_node(i: usize, j: usize, l: usize) -> String {
+    format!("n{i}_{j}_{l}")
+}
+
+/// A lattice of k × k × k cube cells with unit edges: nodes on the (k + 1)³ grid, a rigid
+/// truss on every cube edge and one diagonal per face (from the face's lowest corner to its
+/// highest), the bottom layer (z = 0) supported. Bars between two supported nodes are left out
+/// (they would be rows of zeros). The same model as `bench/lattice_model.py` writes as TOML.
+/// Dcc has 3 k (k + 1)² free coordinates as columns and 3 k (k + 1)² + 3 k² (k + 1) − 2 k (k + 1)
+/// − k² bars as rows (k = 4: 484 × 300).
+pub fn lattice(k: usize) -> Model {
+    let mut b = ModelBuilder::new(&format!("lattice k = {k}"));
+    let mut bars: Vec<([usize; 3], [usize; 3])> = Vec::new();
+    for l in 0..=k {
+        for j in 0..=k {
+            for i in 0..=k {
+                let name = lattice_node(i, j, l);
+                b.add_node(&name, [i as f64, j as f64, l as f64], false)
+                    .expect("new node");
+                if l == 0 {
+                    b.fix(&name, None).expect("known node");
+                }
+                let p = [i, j, l];
+                let mut bar = |q: [usize; 3]| {
+                    if !(p[2] == 0 && q[2] == 0) {
+                        bars.push((p, q));
+                    }
+                };
+                if i < k {
+                    bar([i + 1, j, l]);
+                }
+                if j < k {
+                    bar([i, j + 1, l]);
+                }
+                if l < k {
+                    bar([i, j, l + 1]);
+                }
+                if i < k && j < k {
+                    bar([i + 1, j + 1, l]);
+                }
+                if i < k && l < k {
+                    bar([i + 1, j, l + 1]);
+                }
+                if j < k && l < k {
+                    bar([i, j + 1, l + 1]);
+                }
+            }
+        }
+    }
+    for (t, (p, q)) in bars.iter().enumerate() {
+        let (p, q) = (
+            lattice_node(p[0], p[1], p[2]),
+            lattice_node(q[0], q[1], q[2]),
+        );
+        b.add_element(
+            &format!("b{}", t + 1),
+            &[&p, &q],
+            ElementSpec::Truss { ea: 0.0 },
+            &[],
+            &[],
+        )
+        .expect("valid truss");
+    }
+    b.build().expect("valid lattice")
+}
+
+/// A straight strip of `n` beams along x (unit total length), clamped at x = 0, each beam with
+/// the deformation modes `free` free (1-based as in model files; `&[]`: rigid beams), and the
+/// listed dofs of the tip taken as generalised coordinates. Rigid beams give a square, regular
+/// Dcc of 6 n × 6 n.
+pub fn strip(n: usize, free: &[i64], tip_inputs: &[Dof]) -> Model {
+    let mut b = ModelBuilder::new(&format!("strip of {n} beams"));
+    for i in 0..=n {
+        b.add_node(&format!("s{i}"), [i as f64 / n as f64, 0.0, 0.0], true)
+            .expect("new node");
+    }
+    for i in 0..n {
+        b.add_element(
+            &format!("beam{i}"),
+            &[&format!("s{i}"), &format!("s{}", i + 1)],
+            ElementSpec::Beam {
+                orient: Some([0.0, 1.0, 0.0]),
+                ct: 0.0,
+            },
+            free,
+            &[],
+        )
+        .expect("valid beam");
+    }
+    b.fix("s0", None).expect("known node");
+    if !tip_inputs.is_empty() {
+        b.input(&format!("s{n}"), Some(tip_inputs))
+            .expect("known node");
+    }
+    b.build().expect("valid strip")
+}
