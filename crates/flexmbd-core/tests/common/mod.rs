@@ -1,0 +1,50 @@
+//! Model builders and helpers shared by the core's validation tests (each test file is its own
+//! crate and includes this module).
+
+#![allow(dead_code)]
+
+use flexmbd_core::model::{ModelBuilder, Spin};
+use flexmbd_core::section::{BeamProps, Material, Shape};
+use flexmbd_core::statics::{solve, StaticOptions, StepResult};
+use flexmbd_core::Model;
+
+/// Structural steel: E = 210 GPa, G = E/2.6, ρ = 7800 kg/m³.
+pub const STEEL: Material = Material {
+    e: 210e9,
+    g: 210e9 / 2.6,
+    rho: 7800.0,
+};
+
+/// The last step of a static solution over `steps` load steps (the test fails if it does not
+/// converge).
+pub fn last_step(model: &Model, steps: usize) -> StepResult {
+    let opts = StaticOptions {
+        steps,
+        ..Default::default()
+    };
+    let mut sol = solve(model, &opts, |_, _| {}).expect("the static solution converges");
+    sol.steps.pop().expect("at least one step")
+}
+
+/// `n` beams along x from the origin, length `l`, width 20 mm along global y and thickness
+/// 0.2 mm along global z (a steel strip); clamped at the root; an optional tip mass; turning
+/// with `spin`.
+pub fn radial_strip(n: usize, l: f64, tip: f64, spin: Spin) -> Model {
+    let mut b = ModelBuilder::new("blade");
+    let props = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.02, t: 0.2e-3 }, true);
+    b.add_beam_chain(
+        "",
+        [0.0; 3],
+        [l, 0.0, 0.0],
+        n,
+        Some([0.0, 1.0, 0.0]),
+        Some(props),
+    )
+    .unwrap();
+    if tip > 0.0 {
+        b.add_point_mass(&format!("n{n}"), tip).unwrap();
+    }
+    b.fix("n0", None).unwrap();
+    b.set_spin(spin.omega, spin.point).unwrap();
+    b.build().unwrap()
+}
