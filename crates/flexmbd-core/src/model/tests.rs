@@ -1,0 +1,113 @@
+use super::*;
+
+#[test]
+fn builder_reports_items() {
+    let mut b = ModelBuilder::new("t");
+    b.add_node("a", [0.0; 3], false).unwrap();
+    assert_eq!(
+        b.add_node("a", [1.0; 3], false).unwrap_err(),
+        ModelError::DuplicateNode { node: "a".into() }
+    );
+    b.add_node("b", [0.0; 3], false).unwrap();
+    let e = b.add_element("t1", &["a", "b"], ElementSpec::Truss { ea: 0.0 }, &[], &[]);
+    assert!(matches!(e, Err(ModelError::ZeroLength { .. })));
+    let e = b.add_element("t1", &["a", "c"], ElementSpec::Truss { ea: 0.0 }, &[], &[]);
+    assert!(matches!(e, Err(ModelError::UnknownNode { .. })));
+    b.fix("a", Some(&[Dof::Rx])).unwrap();
+    assert!(matches!(b.build(), Err(ModelError::NoRotation { .. })));
+}
+
+#[test]
+fn beam_chain_names_positions_and_section() {
+    let props = crate::section::BeamProps {
+        ea: 2.0,
+        gj: 3.0,
+        eiy: 4.0,
+        eiz: 5.0,
+        rho_a: 0.5,
+        ..Default::default()
+    };
+    let mut b = ModelBuilder::new("chain");
+    let ids = b
+        .add_beam_chain(
+            "s:",
+            [1.0, 0.0, 0.0],
+            [1.0, 3.0, 0.0],
+            3,
+            Some([0.0, 0.0, 1.0]),
+            Some(props),
+        )
+        .unwrap();
+    assert_eq!(ids, vec![0, 1, 2, 3]);
+    // names must stay unique
+    let e = b.add_beam_chain("s:", [0.0; 3], [1.0; 3], 2, None, None);
+    assert!(matches!(e, Err(ModelError::DuplicateNode { .. })), "{e:?}");
+    assert!(matches!(
+        b.add_beam_chain("t", [0.0; 3], [1.0; 3], 0, None, None),
+        Err(ModelError::BadValue { .. })
+    ));
+    b.fix("s:n0", None).unwrap();
+    let m = b.build().unwrap();
+    assert_eq!(m.node_id("s:n2"), Some(2));
+    assert_eq!(m.nodes[2].x0, [1.0, 2.0, 0.0]);
+    assert_eq!(m.elements.len(), 3);
+    assert_eq!(m.elements[1].name, "s:b1");
+    let Element::Beam(beam) = &m.elements[1].element else {
+        panic!("a beam");
+    };
+    assert_eq!(beam.nodes, [1, 2]);
+    assert!((beam.l0 - 1.0).abs() < 1e-15);
+    assert_eq!(beam.stiffness, [2.0, 3.0, 4.0, 5.0]);
+    assert_eq!(beam.frame[2], [1.0, 0.0, 0.0]);
+    assert_eq!(m.elements[2].element.ne(), 6);
+}
+
+#[test]
+fn element_data_by_name_after_many_elements() {
+    // lookups by name (section data, rigid modes, prescribed deformations) on a long chain
+    let mut b = ModelBuilder::new("long");
+    b.add_beam_chain("", [0.0; 3], [1.0, 0.0, 0.0], 2000, None, None)
+        .unwrap();
+    b.set_rigid_modes("b1999", &[1]).unwrap();
+    b.prescribe_deformation("b1000", 3, 1e-3).unwrap();
+    assert!(matches!(
+        b.set_beam_props("n5", Default::default()),
+        Err(ModelError::NotA { .. })
+    ));
+    b.fix("n0", None).unwrap();
+    let m = b.build().unwrap();
+    assert!(m.explicit_rigid[m.elements[1999].ie]);
+    assert_eq!(m.partition.e[m.elements[1000].ie + 2], DefKind::Input);
+    assert_eq!(
+        m.loads.prescribed[0].target,
+        Target::Deformation(m.elements[1000].ie + 2)
+    );
+}
+
+#[test]
+fn rotations_only_where_used() {
+    let mut b = ModelBuilder::new("t");
+    b.add_node("a", [0.0; 3], false).unwrap();
+    b.add_node("b", [1.0, 0.0, 0.0], false).unwrap();
+    b.add_node("c", [2.0, 0.0, 0.0], false).unwrap();
+    b.add_element("t", &["a", "b"], ElementSpec::Truss { ea: 0.0 }, &[], &[])
+        .unwrap();
+    b.add_element(
+        "w",
+        &["b", "c"],
+        ElementSpec::Beam {
+            orient: None,
+            ct: 0.0,
+        },
+        &[2],
+        &[],
+    )
+    .unwrap();
+    b.fix("a", None).unwrap();
+    let m = b.build().unwrap();
+    assert_eq!(m.nx, 3 + 7 + 7);
+    assert_eq!(m.ne, 7);
+    assert_eq!(&m.partition.x[0..3], &[CoordKind::Fixed; 3]);
+    assert_eq!(m.partition.e[2], DefKind::Free);
+    assert_eq!(m.deformation_owner(6), (1, 5));
+}
