@@ -35,7 +35,9 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
                 return Some("check the model for NaN coordinates, or try another --rank-tol");
             }
         }
-        if let Some(SolveError::NoConvergence { .. }) = cause.downcast_ref::<SolveError>() {
+        if let Some(SolveError::NoConvergence { .. } | SolveError::Inverted { .. }) =
+            cause.downcast_ref::<SolveError>()
+        {
             return Some("more load steps: --steps N (or `steps` in the model's [static] table)");
         }
         None

@@ -279,3 +279,8 @@ pub fn sym_eigen_seq(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), EigenEr
     let d = s.column_vector();
     Ok(((0..n).map(|i| d[i]).collect(), u))
 }
+
+/// True when every entry of `m` is finite (faer's `norm_max` skips NaN, so it cannot tell).
+pub fn all_finite(m: &Mat<f64>) -> bool {
+    (0..m.ncols()).all(|j| (0..m.nrows()).all(|i| m[(i, j)].is_finite()))
+}

@@ -68,7 +68,9 @@ pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
         .iter()
         .enumerate()
         .map(|(k, m)| {
-            let f = if m.frequency.is_nan() {
+            let f = if m.rigid_body {
+                "0 (rigid-body mode)".to_string()
+            } else if m.frequency.is_nan() {
                 format!("complex (ω² = {})", fmt_num(m.eigenvalue))
             } else {
                 fmt_num(m.frequency)
@@ -85,7 +87,11 @@ pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
         &["mode", "f [Hz]", "strain energy in", "kinetic energy in"],
         &rows,
     );
-    if modal.modes.iter().any(|m| m.eigenvalue < 0.0) {
+    if modal
+        .modes
+        .iter()
+        .any(|m| m.eigenvalue < 0.0 && !m.rigid_body)
+    {
         s += "\nwarning: negative eigenvalues: the equilibrium is unstable (the structure may have buckled)\n";
     }
     let held = held_inputs(model);
@@ -137,6 +143,7 @@ pub fn modes_json(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
             json!({
                 "frequency_hz": if m.frequency.is_nan() { Value::Null } else { json!(m.frequency) },
                 "eigenvalue": m.eigenvalue,
+                "rigid_body": m.rigid_body,
                 "strain_energy": m.strain.iter().map(|(el, mode, f)| json!({
                     "element": model.elements[*el].name,
                     "mode": mode + 1,

@@ -49,7 +49,39 @@ pub struct Mode {
     pub strain: Vec<(usize, usize, f64)>,
     /// Kinetic energy fractions per node (translation, rotation), largest first (≥ 1e-4).
     pub kinetic: Vec<(usize, f64, f64)>,
+    /// A rigid-body mode (see [`rigid_body_count`]): its eigenvalue is round-off of zero, its
+    /// frequency is reported as 0 and it is no sign of instability.
+    pub rigid_body: bool,
 }
+
+/// Ratio of ω² below which the lowest modes count as rigid-body modes: the lowest `k` modes
+/// are rigid-body modes when every |ω²| among them is at most this fraction of the next
+/// (positive) eigenvalue, the first elastic one. Rigid-body eigenvalues are round-off of zero
+/// (of either sign), about ε times the stiffness scale divided by the mass scale; a gap of nine
+/// decades in ω² (4.5 in frequency) right above them separates that round-off from any
+/// resolved elastic mode (the validation case F01 free–free has its six rigid-body modes below
+/// 1e-9 of the first bending mode).
+pub const RIGID_BODY_GAP: f64 = 1e-9;
+
+/// The number of rigid-body modes at the start of `eigenvalues` (ascending ω²): the smallest
+/// k ≥ 1 such that eigenvalue k is positive and every |ω²| below it is at most
+/// [`RIGID_BODY_GAP`] times it; 0 when there is no such gap (e.g. a truly negative ω² of a
+/// buckled state, or only rigid-body modes in the list).
+pub fn rigid_body_count(eigenvalues: &[f64]) -> usize {
+    let mut below = 0.0f64;
+    for (k, &l) in eigenvalues.iter().enumerate() {
+        if !l.is_finite() {
+            return 0;
+        }
+        if k > 0 && l > 0.0 && below <= RIGID_BODY_GAP * l {
+            return k;
+        }
+        below = below.max(l.abs());
+    }
+    0
+}
+
+use crate::linalg::all_finite;
 
 /// Result of a modal analysis.
 #[derive(Clone, Debug)]
@@ -172,6 +204,13 @@ pub enum ModalError {
     MasslessMechanism {
         /// Node names.
         nodes: String,
+    },
+    /// A result of the analysis (eigenvalue, mode shape, matrix) is not finite: never returned
+    /// as a result.
+    #[error("the modal analysis produced numbers that are not finite ({what}): the linearised model is singular or overflows double precision at this state")]
+    NonFiniteResult {
+        /// What is not finite.
+        what: &'static str,
     },
     /// Nothing can move.
     #[error("the model has no degree of freedom: every coordinate is fixed or prescribed")]
@@ -327,7 +366,17 @@ pub fn reduced_matrices_with(
         let lu = k00.partial_piv_lu();
         let sol = faer::prelude::Solve::solve(&lu, &k0m);
         let res = &k00 * &sol - &k0m;
-        if !sol.norm_max().is_finite()
+        // a singular K₀₀ (a massless direction without stiffness) gives inf/NaN in the solve
+        // (norm_max does not see NaN, so every entry is checked), or a solve that does not
+        // satisfy its equations, or eigenvalues of K₀₀ at the round-off of K0
+        let k00_eig_min = k00
+            .self_adjoint_eigenvalues(faer::Side::Lower)
+            .map(|v| v.iter().fold(f64::INFINITY, |m, l| m.min(l.abs())))
+            .unwrap_or(0.0);
+        let k_scale = k0.norm_max();
+        if !all_finite(&sol)
+            || !all_finite(&res)
+            || !(k00_eig_min > 1e2 * f64::EPSILON * k_scale)
             || res.norm_max() > 1e-8 * (k00.norm_max() * sol.norm_max() + k0m.norm_max())
         {
             let names: Vec<&str> = massless_nodes
@@ -402,6 +451,16 @@ impl Reduced {
             let y0 = -(sol * &v);
             phi += &self.q0 * &y0;
         }
+        if lam.iter().any(|l| !l.is_finite()) {
+            return Err(ModalError::NonFiniteResult {
+                what: "eigenvalues",
+            });
+        }
+        if !all_finite(&phi) {
+            return Err(ModalError::NonFiniteResult {
+                what: "mode shapes",
+            });
+        }
         Ok((lam, phi))
     }
 
@@ -463,7 +522,7 @@ fn diagonal_mass_eigen(k: &Mat<f64>, mm: &[f64]) -> Result<(Vec<f64>, Mat<f64>),
         }
         let c = Mat::from_fn(n, n, |i, j| 0.5 * (sq[i] * x[(i, j)] + sq[j] * x[(j, i)]));
         let evd = match c.self_adjoint_eigen(faer::Side::Lower) {
-            Ok(e) if x.norm_max().is_finite() => e,
+            Ok(e) if all_finite(&x) => e,
             _ => {
                 s *= 1.7;
                 continue;
@@ -526,8 +585,25 @@ pub fn modes_with(
     opts: &ModalOptions,
 ) -> Result<Modal, ModalError> {
     let l = lowest(model, step, count, opts)?;
+    let mut modes = describe_all(model, step, &l.eigenvalues, l.shapes, l.kinetic);
+    for m in modes.iter_mut().take(l.rigid) {
+        m.rigid_body = true;
+        m.frequency = 0.0;
+    }
+    let finite = |m: &Mode| {
+        m.nodal
+            .iter()
+            .all(|(u, w)| u.iter().chain(w).all(|v| v.is_finite()))
+            && m.strain.iter().all(|s| s.2.is_finite())
+            && m.kinetic.iter().all(|k| k.1.is_finite() && k.2.is_finite())
+    };
+    if !modes.iter().all(finite) {
+        return Err(ModalError::NonFiniteResult {
+            what: "mode shapes or energy fractions",
+        });
+    }
     Ok(Modal {
-        modes: describe_all(model, step, &l.eigenvalues, l.shapes, l.kinetic),
+        modes,
         ndof: l.ndof,
         massless: l.massless,
         massless_nodes: l.massless_nodes,
@@ -555,6 +631,8 @@ struct Lowest {
     solver: EigenSolver,
     /// Kinetic energy per mode and node (translation, rotation), when the solver has it.
     kinetic: Option<Vec<Vec<(f64, f64)>>>,
+    /// Number of rigid-body modes at the start ([`rigid_body_count`]).
+    rigid: usize,
 }
 
 fn lowest(
@@ -567,7 +645,18 @@ fn lowest(
         match sparse::sparse_modes(model, step, count) {
             Ok(mut sm) => {
                 sm.shapes.iter_mut().for_each(|s| fix_sign(s));
+                if sm.eigenvalues.iter().any(|l| !l.is_finite()) {
+                    return Err(ModalError::NonFiniteResult {
+                        what: "eigenvalues",
+                    });
+                }
+                if sm.shapes.iter().flatten().any(|v| !v.is_finite()) {
+                    return Err(ModalError::NonFiniteResult {
+                        what: "mode shapes",
+                    });
+                }
                 return Ok(Lowest {
+                    rigid: rigid_body_count(&sm.eigenvalues),
                     eigenvalues: sm.eigenvalues,
                     shapes: sm.shapes,
                     ndof: sm.ndof,
@@ -599,6 +688,7 @@ fn lowest(
         })
         .collect();
     Ok(Lowest {
+        rigid: rigid_body_count(&lam).min(nm),
         eigenvalues: lam[..nm].to_vec(),
         shapes,
         ndof: red.ndof(),
@@ -781,6 +871,7 @@ fn describe(
         nodal,
         strain,
         kinetic,
+        rigid_body: false,
     }
 }
 

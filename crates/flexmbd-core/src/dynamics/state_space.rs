@@ -1646,7 +1646,7 @@ impl StateSpace {
         let lu = am.partial_piv_lu();
         let sol = faer::prelude::Solve::solve(&lu, &bm);
         let res = &am * &sol - &bm;
-        if !sol.norm_max().is_finite()
+        if !crate::linalg::all_finite(&sol)
             || res.norm_max() > 1e-8 * (amax * sol.norm_max() + bm.norm_max())
         {
             return Err(StateSpaceError::Singular);

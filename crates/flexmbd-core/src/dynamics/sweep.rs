@@ -25,12 +25,17 @@ pub struct SweepPoint {
 }
 
 impl SweepPoint {
-    /// Frequencies [Hz] (NaN for ω² < 0: unstable), if the modal analysis succeeded.
+    /// Frequencies [Hz] (0 for rigid-body modes, [`crate::dynamics::rigid_body_count`]; NaN
+    /// for ω² < 0: unstable), if the modal analysis succeeded.
     pub fn frequencies(&self) -> Option<Vec<f64>> {
         self.eigenvalues.as_ref().ok().map(|l| {
+            let rigid = crate::dynamics::rigid_body_count(l);
             l.iter()
-                .map(|&l| {
-                    if l >= 0.0 {
+                .enumerate()
+                .map(|(k, &l)| {
+                    if k < rigid {
+                        0.0
+                    } else if l >= 0.0 {
                         l.sqrt() / (2.0 * std::f64::consts::PI)
                     } else {
                         f64::NAN

@@ -102,6 +102,13 @@ fn f01_free_free_strip_has_six_rigid_modes_then_bending() {
     let modal = modes(&model, &step, 10).unwrap();
     // rigid-body eigenvalues relative to the first elastic one
     let first_elastic = modal.modes[6].eigenvalue;
+    for (k, m) in modal.modes.iter().enumerate() {
+        // identified as such: frequency 0, no sign of instability
+        assert_eq!(m.rigid_body, k < 6, "mode {k}: {}", m.eigenvalue);
+        if k < 6 {
+            assert_eq!(m.frequency, 0.0);
+        }
+    }
     for m in &modal.modes[..6] {
         assert!(
             m.eigenvalue.abs() < 1e-9 * first_elastic,
@@ -201,4 +208,17 @@ fn sign_convention_of_mode_shapes() {
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         assert!(diff < 1e-6 * big, "shapes differ by {diff}");
     }
+}
+
+#[test]
+fn rigid_body_modes_need_a_gap_of_nine_decades() {
+    // round-off of zero below a positive eigenvalue 1e9 times larger
+    assert_eq!(rigid_body_count(&[-4e-9, 2e-9, 3e-6, 2.7e6, 3e7]), 3);
+    // a buckled state: a negative eigenvalue of its own size is no rigid-body mode
+    assert_eq!(rigid_body_count(&[-5.0, 1e-12, 2.7e6]), 0);
+    // no gap, or nothing above the rigid-body modes
+    assert_eq!(rigid_body_count(&[1.0, 2.0, 3.0]), 0);
+    assert_eq!(rigid_body_count(&[1e-12, -1e-12]), 0);
+    assert_eq!(rigid_body_count(&[]), 0);
+    assert_eq!(rigid_body_count(&[f64::NAN, 1.0]), 0);
 }

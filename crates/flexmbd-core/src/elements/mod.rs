@@ -123,6 +123,14 @@ pub trait ElementKind {
         let _ = sigma;
         None
     }
+    /// True when the element is inverted at the local coordinates `xk`: its chord has passed
+    /// through zero length or points backwards in the element's own frame, a state its
+    /// deformations cannot see (they are even in the chord direction). `prev` holds the local
+    /// coordinates of the last accepted state on the path (the reference state at first).
+    fn inverted(&self, xk: &[f64], prev: &[f64]) -> bool {
+        let _ = (xk, prev);
+        false
+    }
     /// e_k = 𝒟_k(x_k)  (paper eq. (1)).
     fn deformations(&self, xk: &[f64]) -> Vec<f64>;
     /// D_k = ∂e_k/∂x_k  (ne_k × nx_k).
@@ -219,6 +227,9 @@ impl ElementKind for Element {
     }
     fn max_stress(&self, sigma: &[f64]) -> Option<f64> {
         self.kind().max_stress(sigma)
+    }
+    fn inverted(&self, xk: &[f64], prev: &[f64]) -> bool {
+        self.kind().inverted(xk, prev)
     }
     fn deformations(&self, xk: &[f64]) -> Vec<f64> {
         self.kind().deformations(xk)

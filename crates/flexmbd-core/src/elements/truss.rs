@@ -47,6 +47,29 @@ impl ElementKind for Truss {
         "elongation".into()
     }
     smooth_map_derivatives!();
+    /// The chord has passed through zero length since `prev`: it points against the previous
+    /// chord and the straight path between the two chords passes within l₀/10 of zero (a
+    /// rotation of the truss by more than about 170° in one step counts too: it is not a
+    /// resolved path either).
+    fn inverted(&self, xk: &[f64], prev: &[f64]) -> bool {
+        if xk.len() < 6 || prev.len() < 6 {
+            return false;
+        }
+        let d = sub([xk[3], xk[4], xk[5]], [xk[0], xk[1], xk[2]]);
+        let p = sub([prev[3], prev[4], prev[5]], [prev[0], prev[1], prev[2]]);
+        let l = dot(d, d).sqrt();
+        if !(l > 1e-12 * self.l0) {
+            return true;
+        }
+        if dot(d, p) >= 0.0 {
+            return false;
+        }
+        // distance of the origin to the segment p + s (d − p), 0 ≤ s ≤ 1
+        let dp = sub(d, p);
+        let s = (-dot(p, dp) / dot(dp, dp)).clamp(0.0, 1.0);
+        let c = [p[0] + s * dp[0], p[1] + s * dp[1], p[2] + s * dp[2]];
+        dot(c, c).sqrt() < 0.1 * self.l0
+    }
     fn stiffness(&self) -> Mat<f64> {
         Mat::from_fn(1, 1, |_, _| self.ea / self.l0)
     }

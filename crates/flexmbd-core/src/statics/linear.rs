@@ -171,7 +171,7 @@ pub fn compliance(
     // residual check: a singular system gives garbage or non-finite values
     let res = &kkt * &sol - &rhs;
     let scale = kkt.norm_max() * sol.norm_max() + 1.0;
-    if !sol.norm_max().is_finite() || res.norm_max() > 1e-6 * scale {
+    if !crate::linalg::all_finite(&sol) || !scale.is_finite() || res.norm_max() > 1e-6 * scale {
         return Err(LinearError::Singular {
             load_factor: step.load_factor,
         });
@@ -344,6 +344,54 @@ pub enum LinearFailure {
     /// The stability (count of negative directions of the tangent).
     #[error("stability: {0}")]
     Stability(LinearError),
+    /// A warning, not a failure: the material stiffness is so ill-conditioned that the
+    /// compliance, support stiffness, buckling and stability figures of this step are not
+    /// reliable (they are still given).
+    #[error("warning: the stiffness matrix is ill-conditioned (condition number {condition:.1e} after scaling: about {digits} of the 16 significant digits of double precision are lost), so the compliance, support stiffness, buckling and stability figures at this step may be wrong by about {:.1e} relative to the largest ones, the small ones even in sign (stiffnesses over many decades, e.g. a very soft element in series with a very stiff one)", f64::EPSILON * condition)]
+    IllConditioned {
+        /// Condition number of the scaled reduced material stiffness.
+        condition: f64,
+        /// Decimal digits lost, log10 of the condition number (rounded).
+        digits: u32,
+    },
+}
+
+/// Condition numbers above this make the linearised figures unreliable: with ε ≈ 2.2e-16 the
+/// relative error of a solve with the stiffness reaches about ε κ = 2e-3 of the largest
+/// quantities, and the small ones (the compliance of a stiff part carried by a soft one, a
+/// buckling multiplier near 1) lose their meaning first. Measured on a strip of two materials
+/// in series (tests/reliability/manual_wrong_compliance_stiffness_ratio): E ratio 1e8, κ = 2e12,
+/// support stiffness off by 2e-5; 1e9, κ = 2e13, 2e-4; 1e11, κ = 3e15, 2e-2; 1e12: wrong sign.
+pub const ILL_CONDITIONED: f64 = 1e13;
+
+/// The condition number of the material stiffness K_m restricted to the null space of the
+/// constraints, after symmetric diagonal scaling by diag(K_m)^-½ (which makes it independent of
+/// the units of the coordinates: metres and Euler parameters): λ_max / λ_min of the scaled,
+/// reduced matrix, at most 1/ε (a smallest eigenvalue at round-off). `None` when it cannot be
+/// measured (no free direction, no stiffness, a matrix that is not finite).
+pub fn stiffness_condition(lin: &Linearized) -> Option<f64> {
+    if lin.km.nrows() == 0 || !crate::linalg::all_finite(&lin.km) {
+        return None;
+    }
+    let z = null_space(&lin.g).ok()?;
+    let n = z.ncols();
+    if n == 0 {
+        return None;
+    }
+    let kr = sym(&(z.transpose() * &lin.km * &z));
+    let dmax = (0..n).fold(0.0f64, |m, i| m.max(kr[(i, i)]));
+    if !(dmax > 0.0 && dmax.is_finite()) {
+        return None;
+    }
+    let d: Vec<f64> = (0..n)
+        .map(|i| 1.0 / kr[(i, i)].max(f64::EPSILON * dmax).sqrt())
+        .collect();
+    let ks = Mat::from_fn(n, n, |i, j| d[i] * kr[(i, j)] * d[j]);
+    let ev = ks.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+    let lmax = ev.iter().fold(0.0f64, |m, l| m.max(l.abs()));
+    let lmin = ev.iter().fold(f64::INFINITY, |m, &l| m.min(l));
+    // a smallest eigenvalue at round-off (of either sign) is a condition number beyond 1/ε
+    (lmax > 0.0 && lmax.is_finite()).then(|| lmax / lmin.max(f64::EPSILON * lmax))
 }
 
 /// The linearised results at one step ([`at_step`]).
@@ -367,6 +415,12 @@ pub fn at_step(model: &Model, step: &StepResult, req: &LinearRequest) -> StepLin
         return out;
     }
     let lin = linearize(model, step);
+    if let Some(condition) = stiffness_condition(&lin).filter(|&c| c > ILL_CONDITIONED) {
+        out.failures.push(LinearFailure::IllConditioned {
+            condition,
+            digits: condition.log10().round().clamp(0.0, 99.0) as u32,
+        });
+    }
     for &id in &req.compliance {
         let node = model
             .nodes

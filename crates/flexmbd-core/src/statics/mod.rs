@@ -173,6 +173,32 @@ pub enum SolveError {
         /// What went wrong in the last attempt.
         reason: String,
     },
+    /// A converged state holds numbers that are not finite (coordinates, deformations, stress
+    /// resultants, reactions or energy): the arithmetic overflowed double precision.
+    #[error("the state at load factor {load_factor:.6} (step {step}) is not finite ({what} contain NaN or infinity): the coordinates or forces overflow double precision (are node positions or loads beyond about 1e150?); {}", last_good_text(*last_good))]
+    NonFinite {
+        /// Load step.
+        step: usize,
+        /// Load factor of the state.
+        load_factor: f64,
+        /// The quantities that are not finite.
+        what: String,
+        /// The last load factor whose state is finite, if any.
+        last_good: Option<f64>,
+    },
+    /// An element was pushed through itself (zero length or reversed chord) along the path:
+    /// the converged state would be a wrong, inverted equilibrium.
+    #[error("element `{element}` inverted at load factor {load_factor:.6} (step {step}): its chord passed through zero length or turned against its own axis, so this state is not a valid equilibrium of the structure (often a compressed member far beyond buckling); the last valid load factor is {last_converged:.6}. Try more load steps, a smaller load, or prescribe the displacement instead of the force (displacement control)")]
+    Inverted {
+        /// Load step.
+        step: usize,
+        /// Load factor attempted.
+        load_factor: f64,
+        /// Last load factor with a valid state.
+        last_converged: f64,
+        /// Element name.
+        element: String,
+    },
     /// The model has nothing to solve for.
     #[error("the model has no free coordinate: nothing to solve")]
     NothingToSolve,
@@ -188,6 +214,46 @@ pub enum SolveError {
         /// The value given.
         found: usize,
     },
+}
+
+fn last_good_text(last: Option<f64>) -> String {
+    match last {
+        Some(t) => format!("the last finite state is at load factor {t:.6}"),
+        None => "no state of the path is finite".into(),
+    }
+}
+
+/// The quantities of a step result that hold a non-finite number (empty: all finite).
+pub fn non_finite_parts(st: &StepResult) -> Vec<&'static str> {
+    let bad = |v: &[f64]| v.iter().any(|x| !x.is_finite());
+    let mut out = Vec::new();
+    if bad(&st.x) {
+        out.push("coordinates");
+    }
+    if bad(&st.e) {
+        out.push("deformations");
+    }
+    if bad(&st.sigma) {
+        out.push("stress resultants");
+    }
+    if bad(&st.reactions) {
+        out.push("reactions");
+    }
+    if bad(&st.multipliers) {
+        out.push("multipliers");
+    }
+    if !st.energy.is_finite() || !st.residual.is_finite() {
+        out.push("energy");
+    }
+    out
+}
+
+/// The first element (name) that is inverted at `x`, having been valid at `prev`.
+fn inverted_element(model: &Model, x: &[f64], prev: &[f64]) -> Option<String> {
+    model.elements.iter().find_map(|entry| {
+        let (xk, pk) = (gather(entry, x), gather(entry, prev));
+        entry.element.inverted(&xk, &pk).then(|| entry.name.clone())
+    })
 }
 
 /// The most load steps [`solve`] takes (every step is kept in memory).
@@ -1859,7 +1925,17 @@ pub fn solve(
             residual,
             state,
         } => {
-            out.push(record(&x, &mu, &state, 0.0, iterations, 1, residual));
+            let st = record(&x, &mu, &state, 0.0, iterations, 1, residual);
+            let bad = non_finite_parts(&st);
+            if !bad.is_empty() {
+                return Err(SolveError::NonFinite {
+                    step: 0,
+                    load_factor: 0.0,
+                    what: bad.join(", "),
+                    last_good: None,
+                });
+            }
+            out.push(st);
             Some(state)
         }
         Newton::Failed { reason } => {
@@ -1900,7 +1976,17 @@ pub fn solve(
             }
             apply_prescribed(model, &su, &mut x, t_try);
             let prev = if reuse { last.take() } else { None };
-            match newton(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev) {
+            let mut result = newton(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev);
+            let mut inverted: Option<String> = None;
+            if matches!(result, Newton::Converged { .. }) {
+                if let Some(name) = inverted_element(model, &x, &x_save) {
+                    result = Newton::Failed {
+                        reason: format!("element `{name}` inverted"),
+                    };
+                    inverted = Some(name);
+                }
+            }
+            match result {
                 Newton::Converged {
                     iterations: it,
                     residual: r,
@@ -1920,6 +2006,14 @@ pub fn solve(
                     halvings += 1;
                     dt *= 0.5;
                     if halvings > opts.max_halvings {
+                        if let Some(element) = inverted.take() {
+                            return Err(SolveError::Inverted {
+                                step,
+                                load_factor: t_try,
+                                last_converged: t,
+                                element,
+                            });
+                        }
                         return Err(SolveError::NoConvergence {
                             step,
                             load_factor: t_try,
@@ -1935,7 +2029,17 @@ pub fn solve(
             Some(a) => a,
             None => Box::new(assemble(model, &su, &x, &mu, t_end)),
         };
-        out.push(record(&x, &mu, &a, t_end, iterations, substeps, residual));
+        let st = record(&x, &mu, &a, t_end, iterations, substeps, residual);
+        let bad = non_finite_parts(&st);
+        if !bad.is_empty() {
+            return Err(SolveError::NonFinite {
+                step,
+                load_factor: t_end,
+                what: bad.join(", "),
+                last_good: out.last().map(|s: &StepResult| s.load_factor),
+            });
+        }
+        out.push(st);
         last = Some(a);
         progress(step, steps);
     }

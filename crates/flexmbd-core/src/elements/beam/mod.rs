@@ -189,6 +189,23 @@ impl ElementKind for Beam {
     fn deformations(&self, xk: &[f64]) -> Vec<f64> {
         fixed_values(self, xk)
     }
+    /// The chord has zero length or points backwards against the element axis of both end
+    /// triads (e_l · e_x^p ≤ 0 and e_l · e_x^q ≤ 0): the element has been pushed through
+    /// itself. Measured in the element's own frame, so large rigid rotations (a beam rolled
+    /// into a circle) are not inversions; `prev` is not needed.
+    fn inverted(&self, xk: &[f64], _prev: &[f64]) -> bool {
+        if xk.len() < 14 {
+            return false;
+        }
+        let d = sub([xk[7], xk[8], xk[9]], [xk[0], xk[1], xk[2]]);
+        if !(norm(d) > 1e-12 * self.l0) {
+            return true;
+        }
+        let ex = self.frame[0];
+        let exp = rotate(&[xk[3], xk[4], xk[5], xk[6]], ex);
+        let exq = rotate(&[xk[10], xk[11], xk[12], xk[13]], ex);
+        dot(d, exp) <= 0.0 && dot(d, exq) <= 0.0
+    }
     fn jacobian(&self, xk: &[f64]) -> Mat<f64> {
         // closed form (closed_form.rs); the jet version (SmoothMap) is its reference in the tests
         let d = self.first(&local14(xk)).d;
