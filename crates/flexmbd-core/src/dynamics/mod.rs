@@ -376,9 +376,8 @@ pub fn reduced_matrices_with(
         let k_scale = k0.norm_max();
         if !all_finite(&sol)
             || !all_finite(&res)
-            // (not above the floor, or NaN)
-            || k00_eig_min.partial_cmp(&(1e2 * f64::EPSILON * k_scale))
-                != Some(std::cmp::Ordering::Greater)
+            || k00_eig_min.is_nan()
+            || k00_eig_min <= 1e2 * f64::EPSILON * k_scale
             || res.norm_max() > 1e-8 * (k00.norm_max() * sol.norm_max() + k0m.norm_max())
         {
             let names: Vec<&str> = massless_nodes

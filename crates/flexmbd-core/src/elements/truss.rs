@@ -58,8 +58,7 @@ impl ElementKind for Truss {
         let d = sub([xk[3], xk[4], xk[5]], [xk[0], xk[1], xk[2]]);
         let p = sub([prev[3], prev[4], prev[5]], [prev[0], prev[1], prev[2]]);
         let l = dot(d, d).sqrt();
-        // zero length, or not a number
-        if l.partial_cmp(&(1e-12 * self.l0)) != Some(std::cmp::Ordering::Greater) {
+        if l.is_nan() || l <= 1e-12 * self.l0 {
             return true;
         }
         if dot(d, p) >= 0.0 {

@@ -198,8 +198,8 @@ impl ElementKind for Beam {
             return false;
         }
         let d = sub([xk[7], xk[8], xk[9]], [xk[0], xk[1], xk[2]]);
-        // zero length, or not a number
-        if norm(d).partial_cmp(&(1e-12 * self.l0)) != Some(std::cmp::Ordering::Greater) {
+        let l = norm(d);
+        if l.is_nan() || l <= 1e-12 * self.l0 {
             return true;
         }
         let ex = self.frame[0];
