@@ -13,8 +13,8 @@ fn input(finding: &str) -> PathBuf {
         .join("in.toml")
 }
 
-/// Runs flexmbd and returns (exit code, stderr).
-fn run(args: &[&str], finding: &str) -> (Option<i32>, String) {
+/// Runs `flexmbd ARGS FINDING/in.toml --quiet`: (exit code, stdout, stderr).
+fn run_out(args: &[&str], finding: &str) -> (Option<i32>, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
         .args(args)
         .arg(input(finding))
@@ -23,8 +23,15 @@ fn run(args: &[&str], finding: &str) -> (Option<i32>, String) {
         .expect("run flexmbd");
     (
         out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into(),
         String::from_utf8_lossy(&out.stderr).into(),
     )
+}
+
+/// [`run_out`] without stdout: (exit code, stderr).
+fn run(args: &[&str], finding: &str) -> (Option<i32>, String) {
+    let (code, _, err) = run_out(args, finding);
+    (code, err)
 }
 
 #[test]
@@ -54,21 +61,6 @@ fn huge_coordinates_are_a_numerical_failure_not_a_panic() {
     );
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("not finite"), "{err}");
-}
-
-/// Runs flexmbd and returns (exit code, stdout, stderr).
-fn run_out(args: &[&str], finding: &str) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args(args)
-        .arg(input(finding))
-        .arg("--quiet")
-        .output()
-        .expect("run flexmbd");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
 }
 
 #[test]

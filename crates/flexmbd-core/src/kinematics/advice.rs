@@ -108,6 +108,26 @@ impl Action {
         }
         Ok(p)
     }
+    /// The action that takes a constraint row of Dcc out: release a fixed deformation, or make
+    /// an input deformation dependent. `names` are the model's node names (for mode names).
+    pub fn remove_row(model: &Model, names: &[String], r: &super::Row) -> Action {
+        let entry = &model.elements[r.element];
+        let (element, mode) = (entry.name.clone(), r.mode + 1);
+        let mode_name = entry.element.mode_name(r.mode, names);
+        if r.kind == DefKind::Input {
+            Action::MakeDependent {
+                element,
+                mode,
+                mode_name,
+            }
+        } else {
+            Action::Release {
+                element,
+                mode,
+                mode_name,
+            }
+        }
+    }
     /// Human description.
     pub fn describe(&self) -> String {
         match self {
@@ -217,23 +237,7 @@ pub fn advise(
     for s in 0..a.n_self_stresses() {
         let u: Vec<f64> = (0..a.m()).map(|i| a.null_u[(i, s)]).collect();
         let cands = ranked(&u).into_iter().map(|(i, w)| {
-            let r = a.rows[i];
-            let entry = &model.elements[r.element];
-            let (element, mode) = (entry.name.clone(), r.mode + 1);
-            let mode_name = entry.element.mode_name(r.mode, &names);
-            let action = if r.kind == DefKind::Input {
-                Action::MakeDependent {
-                    element,
-                    mode,
-                    mode_name,
-                }
-            } else {
-                Action::Release {
-                    element,
-                    mode,
-                    mode_name,
-                }
-            };
+            let action = Action::remove_row(model, &names, &a.rows[i]);
             (Change::RemoveRow(i), action, w)
         });
         let want = (before.0, before.1 - 1);

@@ -373,25 +373,7 @@ fn every_action(m: &Model, x: &[f64], a: &ConstraintAnalysis) -> Vec<(Action, up
     let names = m.node_names();
     let mut out = Vec::new();
     for (i, r) in a.rows.iter().enumerate() {
-        let entry = &m.elements[r.element];
-        let (element, mode, mode_name) = (
-            entry.name.clone(),
-            r.mode + 1,
-            entry.element.mode_name(r.mode, &names),
-        );
-        let action = if r.kind == DefKind::Input {
-            Action::MakeDependent {
-                element,
-                mode,
-                mode_name,
-            }
-        } else {
-            Action::Release {
-                element,
-                mode,
-                mode_name,
-            }
-        };
+        let action = Action::remove_row(m, &names, r);
         out.push((action, Change::RemoveRow(i)));
     }
     for (j, c) in a.cols.iter().enumerate() {
