@@ -9,6 +9,7 @@ mod hints;
 mod output_cmd;
 mod outputs;
 mod progress;
+mod simulate_cmd;
 mod view_cmd;
 
 use anyhow::Context;
@@ -155,6 +156,9 @@ enum Command {
     Statespace(dynamics_cmd::StatespaceArgs),
     /// Frequencies and support stiffness at every load step of the static solution.
     Sweep(dynamics_cmd::SweepArgs),
+    /// Nonlinear time simulation (generalised-α): motions, forces and energies over time
+    /// (docs/simulation.md).
+    Simulate(simulate_cmd::SimulateArgs),
     /// Export results for ParaView (.vtu, .pvd) and as PNG/SVG plots (docs/visualisation.md).
     Export(output_cmd::ExportArgs),
     /// Write a self-contained HTML report with a 3D view: motions, modes, self-stress and
@@ -219,11 +223,14 @@ fn read_spacar(path: &Path) -> anyhow::Result<flexmbd_io::SpacarModel> {
 /// its stiffness, masses, loads, prescribed values, gravity and `ITERSTEP` mapped
 /// (docs/spacar-import.md §6; what the mapping approximates is printed as a warning).
 fn load_with_settings(path: &Path) -> anyhow::Result<(flexmbd_core::Model, flexmbd_io::Settings)> {
+    let f = load_file(path)?;
+    Ok((f.model, f.settings))
+}
+
+/// Read a model file with its settings, whatever its format.
+fn load_file(path: &Path) -> anyhow::Result<flexmbd_io::ModelFile> {
     match extension(path).as_deref() {
-        Some("toml") => {
-            let f = flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?;
-            Ok((f.model, f.settings))
-        }
+        Some("toml") => Ok(flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?),
         Some("dat") => {
             let m = read_spacar(path)?;
             let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
@@ -235,7 +242,7 @@ fn load_with_settings(path: &Path) -> anyhow::Result<(flexmbd_core::Model, flexm
                     flexmbd_io::error::printable(&w.message)
                 );
             }
-            Ok((file.model, file.settings))
+            Ok(file)
         }
         _ => Err(BadInput(format!(
             "{}: unknown model format (expected a .toml file or a SPACAR .dat file)",
@@ -289,6 +296,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Convert { input, output } => convert(&input, &output),
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
         Command::Sweep(args) => dynamics_cmd::run_sweep(args),
+        Command::Simulate(args) => simulate_cmd::run(args),
         Command::Export(args) => output_cmd::run_export(args),
         Command::View(args) => view_cmd::run_view(args),
         Command::Modes {

@@ -90,3 +90,30 @@ pub fn stage<T>(what: &str, f: impl FnOnce() -> T) -> T {
     s.finish_and_clear();
     r
 }
+
+/// A bar over simulated time [s] up to `t_end` (per mille of it), with steps per second.
+pub fn time_bar(t_end: f64) -> ProgressBar {
+    if !shown() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new(1000);
+    b.set_style(
+        ProgressStyle::with_template("simulate {bar:30} {msg} {elapsed}")
+            .expect("a valid constant template"),
+    );
+    b.set_message(format!("t = 0 / {t_end:.4e} s"));
+    b
+}
+
+/// Advance a [`time_bar`] to the simulated time `t` of `t_end` after `steps` steps.
+pub fn time_tick(b: &ProgressBar, t: f64, t_end: f64, steps: usize, started: std::time::Instant) {
+    if b.is_hidden() {
+        return;
+    }
+    let secs = started.elapsed().as_secs_f64().max(1e-9);
+    b.set_position((1000.0 * (t / t_end).clamp(0.0, 1.0)) as u64);
+    b.set_message(format!(
+        "t = {t:.4e} / {t_end:.4e} s, {steps} steps, {:.0} steps/s",
+        steps as f64 / secs
+    ));
+}

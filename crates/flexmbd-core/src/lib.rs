@@ -25,6 +25,7 @@ pub mod math;
 pub mod model;
 pub mod results;
 pub mod section;
+pub mod simulation;
 pub mod statics;
 
 pub use model::{CoordKind, DefKind, Model, ModelBuilder, ModelError, Partition};

@@ -71,10 +71,13 @@ struct FileSpec {
     prescribe: Vec<Spanned<PrescribeSpec>>,
     #[serde(rename = "static")]
     statics: Option<Spanned<StaticSpec>>,
+    simulate: Option<Spanned<simulate::SimulateSpec>>,
+    #[serde(default)]
+    velocity: Vec<Spanned<simulate::VelocitySpec>>,
 }
 
 impl FileSpec {
-    const SECTIONS: [&'static str; 14] = [
+    const SECTIONS: [&'static str; 16] = [
         "model",
         "nodes",
         "fix",
@@ -89,6 +92,8 @@ impl FileSpec {
         "mass",
         "prescribe",
         "static",
+        "simulate",
+        "velocity",
     ];
 }
 
@@ -144,6 +149,8 @@ struct LoadSpec {
     force: [f64; 3],
     #[serde(default)]
     moment: [f64; 3],
+    /// φ(t) in a time simulation.
+    history: Option<flexmbd_core::simulation::TimeFunction>,
 }
 
 /// `[[mass]]`: a point mass on a node.
@@ -173,6 +180,8 @@ struct PrescribeSpec {
     element: Option<String>,
     mode: Option<i64>,
     value: f64,
+    /// φ(t) in a time simulation.
+    history: Option<flexmbd_core::simulation::TimeFunction>,
 }
 
 /// `[static]`: solver settings and requested outputs.
@@ -221,6 +230,8 @@ pub struct ModelFile {
     pub model: Model,
     /// Settings from `[static]`.
     pub settings: Settings,
+    /// Settings from `[simulate]`, the histories and `[[velocity]]`.
+    pub simulate: simulate::SimulateSettings,
 }
 
 #[derive(Deserialize)]
@@ -715,7 +726,59 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         },
     })?;
     crate::error::require_elements(&model, file)?;
-    Ok(ModelFile { model, settings })
+    // the time simulation: [simulate], histories, initial velocities
+    let mut sim = match &spec.simulate {
+        Some(sp) => simulate::settings(sp.get_ref()).map_err(|m| err(&sp.span(), m))?,
+        None => simulate::SimulateSettings::default(),
+    };
+    for l in &spec.load {
+        let h = l.get_ref().history.clone().unwrap_or_default();
+        h.validate().map_err(|e| {
+            err(
+                &l.span(),
+                format!("[[load]] at node `{}`: history: {e}", l.get_ref().node),
+            )
+        })?;
+        sim.excitation.loads.push(h);
+    }
+    for (k, p) in spec.prescribe.iter().enumerate() {
+        let h = p.get_ref().history.clone().unwrap_or_default();
+        h.validate()
+            .map_err(|e| err(&p.span(), format!("[[prescribe]] {}: history: {e}", k + 1)))?;
+        if h.is_discontinuous() {
+            return Err(err(
+                &p.span(),
+                format!("[[prescribe]] {}: history: a prescribed motion cannot jump (a step); use a ramp or a table", k + 1),
+            ));
+        }
+        sim.excitation.prescribed.push(h);
+    }
+    for v in &spec.velocity {
+        let s = v.get_ref();
+        let node = model.node_id(&s.node).ok_or_else(|| {
+            err(
+                &v.span(),
+                format!("[[velocity]]: node `{}` is not defined", s.node),
+            )
+        })?;
+        if model.nodes[node].ix_rot.is_none() && s.omega != [0.0; 3] {
+            return Err(err(
+                &v.span(),
+                format!(
+                    "[[velocity]] at node `{}`: `omega` needs a rotational node",
+                    s.node
+                ),
+            ));
+        }
+        sim.excitation
+            .velocities
+            .push(simulate::velocity(s, node).map_err(|m| err(&v.span(), m))?);
+    }
+    Ok(ModelFile {
+        model,
+        settings,
+        simulate: sim,
+    })
 }
 
 /// A model error in this format's words: the core's neutral message plus the TOML spelling of
@@ -1197,3 +1260,5 @@ fn dof_list(v: &toml::Value) -> Result<Option<Vec<Dof>>, String> {
 
 #[cfg(test)]
 mod tests;
+
+pub mod simulate;

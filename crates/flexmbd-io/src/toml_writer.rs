@@ -221,6 +221,7 @@ impl ModelSpec {
                 tol_force: self.statics.tol_force,
                 ..Default::default()
             },
+            simulate: Default::default(),
         })
     }
 

@@ -14,11 +14,16 @@ use crate::model::Model;
 /// The nodal loads of gravity and of the model's spin on the reference configuration: per node
 /// (force, moment) in global axes [N, N·m]; all zero without gravity and spin.
 pub fn field_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
+    field_loads_at(model, &model.x0())
+}
+
+/// The nodal loads of gravity and of the model's spin at the coordinates `x` (the loads follow
+/// the configuration: time simulation); [`field_loads`] is this on the reference configuration.
+pub fn field_loads_at(model: &Model, x: &[f64]) -> Vec<([f64; 3], [f64; 3])> {
     let mut out = vec![([0.0; 3], [0.0; 3]); model.nodes.len()];
     let Some(field) = model.loads.acceleration_field() else {
         return out;
     };
-    let x0 = model.x0();
     let add = |v: &mut [f64; 3], a: [f64; 3]| {
         for k in 0..3 {
             v[k] += a[k];
@@ -31,14 +36,15 @@ pub fn field_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
         per_use.resize(uses.len(), ([0.0; 3], [0.0; 3]));
         entry
             .element
-            .field_loads(&gather(entry, &x0), &field, &mut per_use);
+            .field_loads(&gather(entry, x), &field, &mut per_use);
         for (u, (f, m)) in uses.iter().zip(&per_use) {
             add(&mut out[u.node].0, *f);
             add(&mut out[u.node].1, *m);
         }
     }
     for &(node, m) in &model.loads.point_masses {
-        let a = field.at(model.nodes[node].x0);
+        let ip = model.nodes[node].ix_pos;
+        let a = field.at([x[ip], x[ip + 1], x[ip + 2]]);
         add(&mut out[node].0, a.map(|v| m * v));
     }
     for (node, tensor) in &model.loads.inertias {

@@ -5,7 +5,7 @@
 //! entries.
 
 use crate::elements::ElementKind;
-use crate::math::inertia::node_inertia_block;
+use crate::math::inertia::{lambda_velocity_force, node_inertia_block};
 use crate::model::Model;
 use faer::Mat;
 
@@ -125,6 +125,38 @@ pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
             o[r] += m * v[c];
         }
     });
+    out
+}
+
+/// The velocity-dependent inertia forces h(x, ẋ) in x (nx), element by element
+/// ([`ElementKind::velocity_forces`]) plus the inertia tensors at nodes
+/// ([`lambda_velocity_force`]; point masses have none): with them the inertia forces of the
+/// equations of motion are M(x) ẍ + h (theory.md §9.2).
+pub fn velocity_forces(model: &Model, x: &[f64], v: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; model.nx];
+    let (mut xk, mut vk, mut hk) = (Vec::new(), Vec::new(), Vec::new());
+    for entry in &model.elements {
+        let n = entry.xmap.len();
+        xk.clear();
+        vk.clear();
+        xk.extend(entry.xmap.iter().map(|&i| x[i]));
+        vk.extend(entry.xmap.iter().map(|&i| v[i]));
+        hk.resize(n, 0.0);
+        if entry.element.velocity_forces(&xk, &vk, &mut hk) {
+            for (&i, h) in entry.xmap.iter().zip(&hk) {
+                out[i] += h;
+            }
+        }
+    }
+    for (node, tensor) in &model.loads.inertias {
+        let Some(r) = model.nodes[*node].ix_rot else {
+            continue;
+        };
+        let h = lambda_velocity_force(&x[r..r + 4], &v[r..r + 4], tensor);
+        for k in 0..4 {
+            out[r + k] += h[k];
+        }
+    }
     out
 }
 

@@ -154,6 +154,15 @@ pub trait ElementKind {
         let _ = (xk, weight, rotary, out);
         false
     }
+    /// The velocity-dependent inertia forces h(x, ẋ) of the element's mass model at `xk` with
+    /// the rates `vk`, written into `out` (nx_k), so that the element's inertia forces are
+    /// M(x) ẍ + h (Lagrange's equations of the kinetic energy ½ ẋᵀ M(x) ẋ of
+    /// [`ElementKind::mass`] without weight). Returns `false`, leaving `out` alone, for an
+    /// element without mass (the default) or whose mass matrix does not depend on x.
+    fn velocity_forces(&self, xk: &[f64], vk: &[f64], out: &mut [f64]) -> bool {
+        let _ = (xk, vk, out);
+        false
+    }
     /// The generalised loads of an acceleration field (gravity, the centrifugal field of a
     /// steady rotation) on the element's mass, consistent with [`ElementKind::mass`], at the
     /// coordinates `xk`: one (force, moment) per node use, global axes, added to `out`
@@ -251,6 +260,9 @@ impl ElementKind for Element {
         out: &mut [f64],
     ) -> bool {
         self.kind().mass(xk, weight, rotary, out)
+    }
+    fn velocity_forces(&self, xk: &[f64], vk: &[f64], out: &mut [f64]) -> bool {
+        self.kind().velocity_forces(xk, vk, out)
     }
     fn field_loads(&self, xk: &[f64], field: &AccelerationField, out: &mut [([f64; 3], [f64; 3])]) {
         self.kind().field_loads(xk, field, out)

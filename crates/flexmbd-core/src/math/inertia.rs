@@ -95,6 +95,53 @@ pub fn node_inertia_block(l: &[f64], tensor: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
     lambda_block(l, &ig)
 }
 
+/// The 3 × 4 matrix Λ(λ) with ω_body = 2 Λ λ̇ (angular velocity in the node's own axes;
+/// theory.md §2.2). Like [`super::lambda_bar`] it is linear in λ and Λ(a) b = −Λ(b) a.
+pub fn lambda_body(l: &[f64]) -> [[f64; 4]; 3] {
+    [
+        [-l[1], l[0], l[3], -l[2]],
+        [-l[2], -l[3], l[0], l[1]],
+        [-l[3], l[2], -l[1], l[0]],
+    ]
+}
+
+/// The second derivative of R(λ) a along the Euler-parameter rate `ld`:
+/// ∂²(R(λ) a)/∂λ² [λ̇, λ̇], so that d²(R a)/dt² = ∂(R a)/∂λ λ̈ + this (exact, of the formula of
+/// [`rotate`], by a second-order jet).
+pub fn second_rotated(l: &[f64], ld: &[f64], a: [f64; 3]) -> [f64; 3] {
+    use super::jet::{Jet2, Scalar};
+    let lj: [Jet2<1>; 4] = std::array::from_fn(|i| Jet2 {
+        v: l[i],
+        g: [ld[i]],
+        h: [[0.0]],
+    });
+    let aj = a.map(Jet2::<1>::cst);
+    let r = rotate(&lj, aj);
+    r.map(|c| c.h[0][0])
+}
+
+/// The velocity-dependent inertia force on the Euler parameters of a body with the inertia
+/// tensor `i_body` in its own axes (global axes at the reference orientation) and kinetic energy
+/// T = ½ ω_bᵀ I ω_b, ω_b = 2 Λ(λ) λ̇ (mass block 4 Λᵀ I Λ, equal to
+/// [`lambda_block`]`(λ, R I Rᵀ)` for unit λ). Lagrange's equations
+/// d/dt ∂T/∂λ̇ − ∂T/∂λ = 4 Λᵀ I Λ λ̈ + h with Λ(λ̇) λ̇ = 0 and ∂ω_b/∂λ = −2 Λ(λ̇) give
+/// h = 4 Λ(λ̇)ᵀ I ω_b.
+pub fn lambda_velocity_force(l: &[f64], ld: &[f64], i_body: &[[f64; 3]; 3]) -> [f64; 4] {
+    let lb = lambda_body(l);
+    let w: [f64; 3] = std::array::from_fn(|r| 2.0 * (0..4).map(|c| lb[r][c] * ld[c]).sum::<f64>());
+    let iw: [f64; 3] = std::array::from_fn(|r| dot(i_body[r], w));
+    let ldb = lambda_body(ld);
+    std::array::from_fn(|c| 4.0 * (0..3).map(|r| ldb[r][c] * iw[r]).sum::<f64>())
+}
+
+/// The kinetic energy ½ ω_bᵀ I ω_b of a body with the inertia tensor `i_body` in its own axes,
+/// ω_b = 2 Λ(λ) λ̇ ([`lambda_velocity_force`]).
+pub fn lambda_kinetic_energy(l: &[f64], ld: &[f64], i_body: &[[f64; 3]; 3]) -> f64 {
+    let lb = lambda_body(l);
+    let w: [f64; 3] = std::array::from_fn(|r| 2.0 * (0..4).map(|c| lb[r][c] * ld[c]).sum::<f64>());
+    0.5 * (0..3).map(|r| w[r] * dot(i_body[r], w)).sum::<f64>()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -117,6 +164,69 @@ mod tests {
                     let fd = (rp[i] - rm[i]) / (2.0 * h);
                     assert!((d[i][j] - fd).abs() < 1e-7, "{i} {j}: {} vs {fd}", d[i][j]);
                 }
+            }
+        }
+    }
+    /// The velocity force of a rotating body against Lagrange's equations by central
+    /// differences of the kinetic energy T(λ, λ̇) = ½ λ̇ᵀ 4 Λᵀ I Λ λ̇:
+    /// h = (∂²T/∂λ̇∂λ) λ̇ − ∂T/∂λ.
+    #[test]
+    fn lambda_velocity_force_matches_lagrange_by_differences() {
+        let mut rng = crate::elements::testing::Rng(5);
+        let i_body = [[2.0, 0.3, -0.1], [0.3, 1.5, 0.2], [-0.1, 0.2, 0.7]];
+        let t = |l: &[f64; 4], ld: &[f64; 4]| lambda_kinetic_energy(l, ld, &i_body);
+        for _ in 0..10 {
+            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let ld: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let h = lambda_velocity_force(&l, &ld, &i_body);
+            let e = 1e-5;
+            for j in 0..4 {
+                // ∂T/∂λ_j
+                let (mut lp, mut lm) = (l, l);
+                lp[j] += e;
+                lm[j] -= e;
+                let dt_dl = (t(&lp, &ld) - t(&lm, &ld)) / (2.0 * e);
+                // Σ_k ∂²T/∂λ̇_j∂λ_k λ̇_k: derivative of ∂T/∂λ̇_j along λ̇ in λ
+                let dtdv = |l: &[f64; 4]| {
+                    let (mut vp, mut vm) = (ld, ld);
+                    vp[j] += e;
+                    vm[j] -= e;
+                    (t(l, &vp) - t(l, &vm)) / (2.0 * e)
+                };
+                let lpp: [f64; 4] = std::array::from_fn(|k| l[k] + e * ld[k]);
+                let lmm: [f64; 4] = std::array::from_fn(|k| l[k] - e * ld[k]);
+                let mixed = (dtdv(&lpp) - dtdv(&lmm)) / (2.0 * e);
+                let fd = mixed - dt_dl;
+                assert!(
+                    (h[j] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "{j}: {} vs {fd}",
+                    h[j]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn second_rotated_matches_central_differences() {
+        let mut rng = crate::elements::testing::Rng(17);
+        for _ in 0..10 {
+            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let ld: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let a: [f64; 3] = std::array::from_fn(|_| rng.next());
+            let s = second_rotated(&l, &ld, a);
+            let e = 1e-4;
+            let at = |k: f64| {
+                let lk: [f64; 4] = std::array::from_fn(|i| l[i] + k * ld[i]);
+                rotate(&lk, a)
+            };
+            let (p, c, m) = (at(e), at(0.0), at(-e));
+            for i in 0..3 {
+                let fd = (p[i] - 2.0 * c[i] + m[i]) / (e * e);
+                assert!(
+                    (s[i] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "{i}: {} vs {fd}",
+                    s[i]
+                );
             }
         }
     }

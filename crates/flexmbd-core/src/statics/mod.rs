@@ -249,7 +249,7 @@ pub fn non_finite_parts(st: &StepResult) -> Vec<&'static str> {
 }
 
 /// The first element (name) that is inverted at `x`, having been valid at `prev`.
-fn inverted_element(model: &Model, x: &[f64], prev: &[f64]) -> Option<String> {
+pub(crate) fn inverted_element(model: &Model, x: &[f64], prev: &[f64]) -> Option<String> {
     model.elements.iter().find_map(|entry| {
         let (xk, pk) = (gather(entry, x), gather(entry, prev));
         entry.element.inverted(&xk, &pk).then(|| entry.name.clone())
@@ -263,39 +263,39 @@ pub const MAX_STEPS: usize = 1_000_000;
 pub const MAX_ITERATIONS: usize = 1_000_000;
 
 /// Problem data derived once from the model.
-struct Setup {
-    roles: Vec<Role>,
+pub(crate) struct Setup {
+    pub(crate) roles: Vec<Role>,
     /// x index → unknown index (free coordinates).
-    unknown: Vec<Option<usize>>,
-    nf: usize,
+    pub(crate) unknown: Vec<Option<usize>>,
+    pub(crate) nf: usize,
     /// e index → constraint index.
-    constraint: Vec<Option<usize>>,
-    nk: usize,
+    pub(crate) constraint: Vec<Option<usize>>,
+    pub(crate) nk: usize,
     /// Flexible part of each element's stiffness (other rows and columns zeroed).
-    s_eff: Vec<Mat<f64>>,
+    pub(crate) s_eff: Vec<Mat<f64>>,
     /// Dead nodal forces in x (translations only), at t = 1, including gravity.
-    f_dead: Vec<f64>,
+    pub(crate) f_dead: Vec<f64>,
     /// Moments at t = 1: (λ0 index, M).
-    moments: Vec<(usize, [f64; 3])>,
+    pub(crate) moments: Vec<(usize, [f64; 3])>,
     /// Prescribed values at t = 1: coordinate targets (index, reference, final).
-    x_targets: Vec<(usize, f64)>,
+    pub(crate) x_targets: Vec<(usize, f64)>,
     /// Deformation targets at t = 1.
-    e_targets: Vec<f64>,
+    pub(crate) e_targets: Vec<f64>,
     /// λ0 index of every rotational node.
-    lambda: Vec<usize>,
+    pub(crate) lambda: Vec<usize>,
     /// Normalisation constraints: (λ0 index, constraint index) of nodes with a free λ.
-    norm: Vec<(usize, usize)>,
+    pub(crate) norm: Vec<(usize, usize)>,
     /// Model size (reference for displacement tolerances).
-    l_ref: f64,
+    pub(crate) l_ref: f64,
     /// Whether x index i is a rotation parameter.
-    is_lambda: Vec<bool>,
+    pub(crate) is_lambda: Vec<bool>,
     /// Order of the KKT entries written by the element assembly.
     pattern: Pattern,
     /// The reduced Newton system (rotations of fully free nodes in tangent coordinates).
     red: Reduction,
 }
 
-fn setup(model: &Model) -> Setup {
+pub(crate) fn setup(model: &Model) -> Setup {
     let roles = roles(model);
     let mut unknown = vec![None; model.nx];
     let mut nf = 0;
@@ -885,38 +885,38 @@ fn write_reduced(
 }
 
 /// Everything assembled at one state.
-struct Assembled {
+pub(crate) struct Assembled {
     /// Residual on the free coordinates.
-    r: Vec<f64>,
+    pub(crate) r: Vec<f64>,
     /// Constraint violations.
-    g: Vec<f64>,
+    pub(crate) g: Vec<f64>,
     /// KKT matrix entries, in the order of [`Pattern`] (or of [`Reduction`] for the reduced
     /// system) followed by the tail entries (moments, normalisations) whose row and column are
     /// in `tail`.
-    vals: Vec<f64>,
+    pub(crate) vals: Vec<f64>,
     /// Number of element entries at the start of `vals`.
-    n_el: usize,
+    pub(crate) n_el: usize,
     /// Row and column of the entries after the element blocks.
-    tail: Vec<(usize, usize)>,
+    pub(crate) tail: Vec<(usize, usize)>,
     /// KKT matrix entries as triplets (only from [`assemble_part`], for the linearisation).
-    triplets: Vec<Triplet<usize, usize, f64>>,
+    pub(crate) triplets: Vec<Triplet<usize, usize, f64>>,
     /// Force scale for the convergence test.
-    f_scale: f64,
+    pub(crate) f_scale: f64,
     /// Full generalised force balance f_int − f_ext + ∇p on all of x (reactions).
-    balance: Vec<f64>,
+    pub(crate) balance: Vec<f64>,
     /// Element part of `balance` (internal forces Dᵀσ) and the sums of their magnitudes.
-    int_force: Vec<f64>,
-    int_abs: Vec<f64>,
-    e: Vec<f64>,
-    sigma: Vec<f64>,
-    energy: f64,
+    pub(crate) int_force: Vec<f64>,
+    pub(crate) int_abs: Vec<f64>,
+    pub(crate) e: Vec<f64>,
+    pub(crate) sigma: Vec<f64>,
+    pub(crate) energy: f64,
     /// Whether `vals` holds the reduced system ([`Reduction`]).
-    reduced: bool,
+    pub(crate) reduced: bool,
 }
 
 /// Which part of the tangent to assemble.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Part {
+pub(crate) enum Part {
     /// K = K_material + K_geometric (Newton).
     Full,
     /// Dᵀ S D only.
@@ -930,7 +930,7 @@ fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembl
 }
 
 /// [`assemble_values`] with the KKT entries as triplets.
-fn assemble_part(
+pub(crate) fn assemble_part(
     model: &Model,
     su: &Setup,
     x: &[f64],
@@ -1400,7 +1400,10 @@ fn apply_prescribed(model: &Model, su: &Setup, x: &mut [f64], t: f64) {
 /// structure, the map from the assembly's entry order to the value slots, the fill-reducing
 /// ordering and the structure of the factors are computed once; each Newton iteration gathers
 /// the values and refactors numerically (see [`KktSolver::solve`] and [`SparseLu`]).
-struct KktSolver {
+/// Lists the (row, column) of every matrix entry, in the order of the values, to a callback.
+pub(crate) type EntryLister<'a> = &'a dyn Fn(&mut dyn FnMut(usize, usize));
+
+pub(crate) struct KktSolver {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     /// The assembled entries summed into CSC value slot k: `src[src_ptr[k]..src_ptr[k + 1]]`
@@ -1427,36 +1430,44 @@ struct KktSolver {
 
 impl KktSolver {
     fn new(su: &Setup, tail: &[(usize, usize)]) -> Result<Self, String> {
-        let n = su.red.n;
         let pat = &su.red;
+        let m = pat.n_entries + tail.len();
+        let entries = |f: &mut dyn FnMut(usize, usize)| {
+            pat.for_each_entry(&mut *f);
+            for &(r, c) in tail {
+                f(r, c);
+            }
+        };
+        Self::from_entries(pat.n, m, &entries, su.moments.is_empty())
+    }
+
+    /// A solver for n × n matrices whose `m` entries (row, column; repeated positions add up)
+    /// are listed, in the order of their values, by `entries`; `symmetric` allows the L D Lᵀ
+    /// strategy (the matrix is symmetric whatever the values).
+    pub(crate) fn from_entries(
+        n: usize,
+        m: usize,
+        entries: EntryLister<'_>,
+        symmetric: bool,
+    ) -> Result<Self, String> {
         // CSC structure of the entries (rows sorted, duplicates summed) and the entries summed
         // into each value slot: bucket the entries by column, sort each column by row
-        let ne_el = pat.n_entries;
-        let m = ne_el + tail.len();
         if m > u32::MAX as usize {
             return Err("too many matrix entries".into());
         }
         let mut by_col_ptr = vec![0usize; n + 1];
-        pat.for_each_entry(|_, c| by_col_ptr[c + 1] += 1);
-        for &(_, c) in tail {
-            by_col_ptr[c + 1] += 1;
-        }
+        entries(&mut |_, c| by_col_ptr[c + 1] += 1);
         for c in 0..n {
             by_col_ptr[c + 1] += by_col_ptr[c];
         }
         let mut fill = by_col_ptr.clone();
         let mut by_col = vec![(0u32, 0u32); m];
         let mut i = 0;
-        pat.for_each_entry(|r, c| {
+        entries(&mut |r, c| {
             by_col[fill[c]] = (r as u32, i as u32);
             fill[c] += 1;
             i += 1;
         });
-        for &(r, c) in tail {
-            by_col[fill[c]] = (r as u32, i as u32);
-            fill[c] += 1;
-            i += 1;
-        }
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::new();
         let mut src_ptr = vec![0usize];
@@ -1484,7 +1495,7 @@ impl KktSolver {
         let lu = SparseLu::new(n, &col_ptr, &row_idx)?;
         let mut diag = lu.clone();
         let mut diag = diag.set_diagonal_pivots(&col_ptr, &row_idx).then_some(diag);
-        let symmetric = su.moments.is_empty() && diag.is_some();
+        let symmetric = symmetric && diag.is_some();
         let (mut lower_ptr, mut lower_src) = (vec![0], Vec::new());
         if let (true, Some(d)) = (symmetric, &mut diag) {
             for p in d.lower_layout(&col_ptr, &row_idx) {
@@ -1518,7 +1529,7 @@ impl KktSolver {
     /// last factorisation with pivoting, then a new factorisation with pivoting. A
     /// refactorisation is accepted when its pivots are not small ([`MIN_PIVOT_RATIO`], or all
     /// positive for L D Lᵀ) or else when its solution is accurate ([`MAX_LINEAR_RESIDUAL`]).
-    fn solve(&mut self, vals: &[f64], rhs: &mut [f64]) -> Result<(), ()> {
+    pub(crate) fn solve(&mut self, vals: &[f64], rhs: &mut [f64]) -> Result<(), ()> {
         debug_assert_eq!(vals.len(), self.src.len());
         self.csc_current = false;
         let b = rhs.to_vec();

@@ -21,7 +21,9 @@
 
 use super::Beam;
 use crate::elements::AccelerationField;
-use crate::math::inertia::{d_rotated, lambda_block, rotated_tensor, unit};
+use crate::math::inertia::{
+    d_rotated, lambda_block, lambda_velocity_force, rotated_tensor, second_rotated, unit,
+};
 use crate::math::{cross, dot, rotate};
 use crate::section::BeamProps;
 
@@ -96,6 +98,57 @@ pub(crate) fn local_mass(
     Some(m)
 }
 
+/// The velocity-dependent inertia forces h(x, ẋ) of the beam's mass model at the coordinates
+/// `xk` and rates `vk`, so that the inertia forces are M(x) ẍ + h (Lagrange's equations of the
+/// kinetic energy of [`local_mass`]; theory.md §9.2, the term M (D²F q̇) q̇):
+///
+/// - translational: with the Hermite terms y = (r_p, l0 t_p, r_q, l0 t_q), ẏ = J ẋ and
+///   ÿ = J ẍ + c, c = (0, l0 ∂²t_p[λ̇_p, λ̇_p], 0, l0 ∂²t_q[λ̇_q, λ̇_q]), the generalised inertia
+///   force ρA l0 Σᵢⱼ Hᵢⱼ Jᵢᵀ ÿⱼ has h = ρA l0 Σᵢⱼ Hᵢⱼ Jᵢᵀ cⱼ;
+/// - rotary: h = 4 Λ(λ̇)ᵀ I ω_b at each end ([`lambda_velocity_force`]).
+///
+/// `None` for a beam without mass data.
+pub(crate) fn velocity_forces(b: &Beam, xk: &[f64], vk: &[f64]) -> Option<[f64; 14]> {
+    let p = b.props.as_ref()?;
+    let ex = b.frame[0];
+    let mut h = [0.0; 14];
+    let ml = p.rho_a * b.l0;
+    // c of the two tangent terms, and their Jacobians
+    let ends = [(1usize, 3usize), (3, 10)];
+    let mut c = [[0.0; 3]; 4];
+    let mut jt = [[[0.0; 4]; 3]; 4];
+    for &(term, r0) in &ends {
+        let (l, ld) = (&xk[r0..r0 + 4], &vk[r0..r0 + 4]);
+        c[term] = second_rotated(l, ld, ex).map(|v| b.l0 * v);
+        jt[term] = d_rotated(l, ex);
+    }
+    let first_row = [0usize, 3, 7, 10];
+    for a in 0..4 {
+        // Σⱼ Hₐⱼ cⱼ (3-vector), then Jₐᵀ of it
+        let s: [f64; 3] =
+            std::array::from_fn(|k| ml * (0..4).map(|j| HERMITE[a][j] * c[j][k]).sum::<f64>());
+        let r0 = first_row[a];
+        if a % 2 == 0 {
+            for k in 0..3 {
+                h[r0 + k] += s[k];
+            }
+        } else {
+            for col in 0..4 {
+                h[r0 + col] += b.l0 * (0..3).map(|k| jt[a][k][col] * s[k]).sum::<f64>();
+            }
+        }
+    }
+    let identity = [1.0, 0.0, 0.0, 0.0];
+    let i_body = end_inertia(b, p, &identity);
+    for r0 in [3usize, 10] {
+        let f = lambda_velocity_force(&xk[r0..r0 + 4], &vk[r0..r0 + 4], &i_body);
+        for k in 0..4 {
+            h[r0 + k] += f[k];
+        }
+    }
+    Some(h)
+}
+
 /// The loads of an acceleration field on the beam's mass at the coordinates `xk` (module docs):
 /// (force, moment) at p and at q, global axes; `None` for a beam without mass data.
 pub(crate) fn field_loads(
@@ -141,4 +194,71 @@ pub(crate) fn field_loads(
 
 fn col(d: &[[f64; 4]; 3], c: usize, l0: f64) -> [f64; 3] {
     [l0 * d[0][c], l0 * d[1][c], l0 * d[2][c]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::testing::Rng;
+
+    /// h = Ṁ ẋ − ½ ∂(ẋᵀ M ẋ)/∂x (Lagrange's equations of T = ½ ẋᵀ M(x) ẋ), with the derivatives
+    /// of the mass matrix taken by central differences: an independent check of
+    /// [`velocity_forces`] against [`local_mass`].
+    #[test]
+    fn velocity_forces_match_lagrange_by_differences_of_the_mass_matrix() {
+        let mut b = Beam::new(
+            [0, 1],
+            [0.1, -0.2, 0.3],
+            [0.9, 0.4, 0.1],
+            Some([0.0, 0.0, 1.0]),
+        )
+        .unwrap();
+        b.set_props(BeamProps {
+            ea: 1.0,
+            gj: 1.0,
+            eiy: 1.0,
+            eiz: 1.0,
+            rho_a: 2.7,
+            rho_i: [0.5, 0.2, 0.3],
+            ..Default::default()
+        });
+        let mut rng = Rng(23);
+        for _ in 0..5 {
+            let mut x: [f64; 14] = std::array::from_fn(|_| 0.3 * rng.next());
+            for (r0, n) in [(0usize, [0.1, -0.2, 0.3]), (7, [0.9, 0.4, 0.1])] {
+                for k in 0..3 {
+                    x[r0 + k] += n[k];
+                }
+            }
+            x[3] += 1.0;
+            x[10] += 1.0;
+            let v: [f64; 14] = std::array::from_fn(|_| rng.next());
+            let h = velocity_forces(&b, &x, &v).unwrap();
+            let mass = |x: &[f64; 14]| local_mass(&b, x, None, true).unwrap();
+            let e = 1e-6;
+            let shifted =
+                |d: &[f64; 14], s: f64| -> [f64; 14] { std::array::from_fn(|i| x[i] + s * d[i]) };
+            // Ṁ ẋ: derivative of M along ẋ
+            let (mp, mm) = (mass(&shifted(&v, e)), mass(&shifted(&v, -e)));
+            for i in 0..14 {
+                let mdot_v: f64 = (0..14)
+                    .map(|j| (mp[i][j] - mm[i][j]) / (2.0 * e) * v[j])
+                    .sum();
+                let unit: [f64; 14] = std::array::from_fn(|k| if k == i { 1.0 } else { 0.0 });
+                let quad = |m: &[[f64; 14]; 14]| -> f64 {
+                    (0..14)
+                        .map(|a| (0..14).map(|c| v[a] * m[a][c] * v[c]).sum::<f64>())
+                        .sum()
+                };
+                let dq = (quad(&mass(&shifted(&unit, e))) - quad(&mass(&shifted(&unit, -e))))
+                    / (2.0 * e);
+                let fd = mdot_v - 0.5 * dq;
+                assert!(
+                    (h[i] - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "coordinate {i}: {} vs {fd}",
+                    h[i]
+                );
+            }
+        }
+    }
 }

@@ -248,6 +248,13 @@ impl ElementKind for Beam {
         }
         true
     }
+    fn velocity_forces(&self, xk: &[f64], vk: &[f64], out: &mut [f64]) -> bool {
+        let Some(h) = mass::velocity_forces(self, xk, vk) else {
+            return false;
+        };
+        out.copy_from_slice(&h);
+        true
+    }
     fn field_loads(&self, xk: &[f64], field: &AccelerationField, out: &mut [([f64; 3], [f64; 3])]) {
         let Some(loads) = mass::field_loads(self, xk, field) else {
             return;

@@ -1,0 +1,138 @@
+//! `flexmbd simulate` as a user runs it: arguments, exit codes, formats, the stop with partial
+//! results. The physics is tested in the core (`simulation::tests`).
+
+mod common;
+use common::*;
+
+/// The shipped pendulum: JSON frames at the output times, a period from the tip's crossings of
+/// the vertical within 1e-3 of the elliptic-integral value 1.93334 s (validation.md N04, 90°;
+/// the core test holds it to 1e-4 with tighter tolerances).
+#[test]
+fn pendulum_example_runs_with_json_and_csv() {
+    let dir = Temp::new("sim_pendulum");
+    let csv = dir.path("out");
+    let (out, json) = run_json(&[
+        "simulate".as_ref(),
+        example("pendulum.toml").as_os_str(),
+        "--t-end".as_ref(),
+        "2.5".as_ref(),
+        "--json".as_ref(),
+        "--csv".as_ref(),
+        csv.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = json.expect("JSON on stdout");
+    assert_eq!(json["complete"], true);
+    let frames = json["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 251, "t = 0, 0.01, …, 2.5");
+    let angle = |f: &serde_json::Value| {
+        let tip = &f["nodes"][1]["position"];
+        tip[0].as_f64().unwrap().atan2(-tip[2].as_f64().unwrap())
+    };
+    let mut crossings = Vec::new();
+    for w in frames.windows(2) {
+        let (a, b) = (angle(&w[0]), angle(&w[1]));
+        if a > 0.0 && b <= 0.0 {
+            let (ta, tb) = (w[0]["t"].as_f64().unwrap(), w[1]["t"].as_f64().unwrap());
+            crossings.push(ta + a / (a - b) * (tb - ta));
+        }
+    }
+    // released at +90°: the first downward crossing is a quarter period
+    let quarter = crossings[0];
+    assert!(
+        (4.0 * quarter - 1.933335).abs() < 2e-3 * 1.933335,
+        "T/4 = {quarter}"
+    );
+    for f in ["energy.csv", "nodes.csv", "elements.csv"] {
+        let text = std::fs::read_to_string(csv.join(f)).unwrap();
+        assert!(text.lines().count() > 251, "{f}");
+    }
+    // a second run into the same folder is refused without --force
+    let again = run(&[
+        "simulate".as_ref(),
+        example("pendulum.toml").as_os_str(),
+        "--t-end".as_ref(),
+        "0.1".as_ref(),
+        "--csv".as_ref(),
+        csv.as_os_str(),
+    ]);
+    assert_eq!(again.status.code(), Some(2));
+}
+
+#[test]
+fn bad_arguments_and_settings_exit_2_with_the_item() {
+    let out = run(&[
+        "simulate".as_ref(),
+        example("pendulum.toml").as_os_str(),
+        "--t-end".as_ref(),
+        "-1".as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--t-end"));
+    let dir = Temp::new("sim_bad");
+    let text = std::fs::read_to_string(example("pendulum.toml"))
+        .unwrap()
+        .replace("t_end = 4.0", "t_end = 4.0\nrho_inf = 1.5");
+    let bad = dir.write("bad.toml", text.as_bytes());
+    let out = run(&["simulate".as_ref(), bad.as_os_str()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad.toml:") && err.contains("rho_inf"),
+        "{err}"
+    );
+}
+
+/// A run that cannot go on stops with exit 1 and keeps the results up to then: a load that
+/// crushes a strip through itself (the inverted-element check) after a stretch of ordinary
+/// motion.
+#[test]
+fn a_stopped_run_writes_the_results_up_to_then() {
+    let dir = Temp::new("sim_stop");
+    let model = dir.write(
+        "crush.toml",
+        br#"[model]
+name = "crushed bar"
+[nodes]
+a = [0.0, 0.0, 0.0]
+b = [0.1, 0.0, 0.0]
+[fix]
+a = "all"
+b = ["y", "z", "rx", "ry", "rz"]
+[[beam]]
+id = "bar"
+nodes = ["a", "b"]
+EA = 1.0
+GJ = 1.0
+EIy = 1.0
+EIz = 1.0
+rho_a = 1.0
+[[load]]
+node = "b"
+force = [-1000.0, 0.0, 0.0]
+history = { ramp = { start = 0.01, end = 0.02 } }
+[simulate]
+t_end = 1.0
+output_step = 0.001
+"#,
+    );
+    let (out, json) = run_json(&["simulate".as_ref(), model.as_os_str(), "--json".as_ref()]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = json.expect("the partial results as JSON");
+    assert_eq!(json["complete"], false);
+    let t_stop = json["stopped"]["t"].as_f64().unwrap();
+    assert!(t_stop > 0.01 && t_stop < 1.0, "{t_stop}");
+    let frames = json["frames"].as_array().unwrap();
+    assert!(frames.len() >= 10, "the frames up to the stop are kept");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("stopped") && err.contains("bar"), "{err}");
+}

@@ -1,0 +1,210 @@
+//! `[simulate]`, `[[velocity]]` and the `history` of loads and prescribed inputs: the time
+//! simulation settings of a TOML model (docs/simulation.md).
+
+use flexmbd_core::simulation::{Excitation, InitialVelocity, SimOptions, Start, TimeFunction};
+use serde::Deserialize;
+
+/// `[simulate]` as written.
+#[derive(Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SimulateSpec {
+    t_end: Option<f64>,
+    dt: Option<f64>,
+    step: Option<String>,
+    dt_min: Option<f64>,
+    dt_max: Option<f64>,
+    rho_inf: Option<f64>,
+    tolerance: Option<[f64; 2]>,
+    output_step: Option<f64>,
+    max_iterations: Option<usize>,
+    rayleigh: Option<[f64; 2]>,
+    start: Option<String>,
+    static_steps: Option<usize>,
+    gravity_history: Option<TimeFunction>,
+}
+
+/// `[[velocity]]`: an initial velocity.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct VelocitySpec {
+    pub(super) node: String,
+    #[serde(default)]
+    pub(super) v: [f64; 3],
+    #[serde(default)]
+    pub(super) omega: [f64; 3],
+}
+
+/// The simulation settings of a model file: options the file sets (the rest default or come
+/// from the command line) and the excitation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SimulateSettings {
+    /// End time [s].
+    pub t_end: Option<f64>,
+    /// Step size [s].
+    pub dt: Option<f64>,
+    /// Fixed steps (`step = "fixed"`) instead of step control.
+    pub fixed_step: Option<bool>,
+    /// Smallest step [s].
+    pub dt_min: Option<f64>,
+    /// Largest step [s].
+    pub dt_max: Option<f64>,
+    /// ρ∞.
+    pub rho_inf: Option<f64>,
+    /// Absolute and relative tolerance (SPACAR's `ERROR abs rel`).
+    pub tolerance: Option<[f64; 2]>,
+    /// Output interval [s].
+    pub output_step: Option<f64>,
+    /// Newton iterations per step.
+    pub max_iterations: Option<usize>,
+    /// Rayleigh α, β.
+    pub rayleigh: Option<[f64; 2]>,
+    /// Initial state.
+    pub start: Option<Start>,
+    /// Load steps of the static start.
+    pub static_steps: Option<usize>,
+    /// Histories and initial velocities.
+    pub excitation: Excitation,
+}
+
+impl SimulateSettings {
+    /// The integrator options: these settings over the defaults of [`SimOptions::new`] for the
+    /// end time `t_end` (the file's when `None`). `None` when neither gives an end time.
+    pub fn options(&self, t_end: Option<f64>) -> Option<SimOptions> {
+        let t_end = t_end.or(self.t_end)?;
+        let mut o = SimOptions::new(t_end);
+        if let Some(v) = self.dt {
+            o.dt = v;
+        }
+        if let Some(v) = self.fixed_step {
+            o.adaptive = !v;
+        }
+        o.dt_max = self.dt_max.unwrap_or(o.dt_max).max(o.dt);
+        o.dt_min = self.dt_min.unwrap_or(o.dt_min).min(o.dt);
+        if let Some(v) = self.rho_inf {
+            o.rho_inf = v;
+        }
+        if let Some([a, r]) = self.tolerance {
+            o.atol = a;
+            o.rtol = r;
+        }
+        if let Some(v) = self.output_step {
+            o.output_step = v;
+        }
+        if let Some(v) = self.max_iterations {
+            o.max_iterations = v;
+        }
+        if let Some(v) = self.rayleigh {
+            o.rayleigh = v;
+        }
+        if let Some(v) = self.start {
+            o.start = v;
+        }
+        if let Some(v) = self.static_steps {
+            o.static_steps = v;
+        }
+        Some(o)
+    }
+}
+
+/// Check and convert `[simulate]`; `Err` is the message (the caller adds file and line).
+pub(super) fn settings(spec: &SimulateSpec) -> Result<SimulateSettings, String> {
+    let positive = |what: &str, v: Option<f64>| -> Result<Option<f64>, String> {
+        match v {
+            Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
+                "[simulate]: `{what}` must be a positive number, found {v}"
+            )),
+            v => Ok(v),
+        }
+    };
+    let fixed_step = match spec.step.as_deref() {
+        None => None,
+        Some("fixed") => Some(true),
+        Some("adaptive") => Some(false),
+        Some(o) => {
+            return Err(format!(
+                "[simulate]: `step` must be \"adaptive\" or \"fixed\", found \"{o}\""
+            ))
+        }
+    };
+    let start = match spec.start.as_deref() {
+        None => None,
+        Some("reference") => Some(Start::Reference),
+        Some("static") => Some(Start::Static),
+        Some(o) => {
+            return Err(format!(
+                "[simulate]: `start` must be \"reference\" or \"static\", found \"{o}\""
+            ))
+        }
+    };
+    if let Some(r) = spec.rho_inf {
+        if !(0.0..=1.0).contains(&r) {
+            return Err(format!(
+                "[simulate]: `rho_inf` must lie in [0, 1], found {r}"
+            ));
+        }
+    }
+    if let Some([a, r]) = spec.tolerance {
+        if !(a.is_finite() && a > 0.0 && r.is_finite() && r >= 0.0) {
+            return Err(format!(
+                "[simulate]: `tolerance = [abs, rel]` needs abs > 0 and rel >= 0, found [{a}, {r}]"
+            ));
+        }
+    }
+    if let Some([a, b]) = spec.rayleigh {
+        if !(a.is_finite() && a >= 0.0 && b.is_finite() && b >= 0.0) {
+            return Err(format!(
+                "[simulate]: `rayleigh = [alpha, beta]` must be finite and >= 0, found [{a}, {b}]"
+            ));
+        }
+    }
+    for (what, v) in [
+        ("max_iterations", spec.max_iterations),
+        ("static_steps", spec.static_steps),
+    ] {
+        if let Some(v) = v {
+            if v == 0 || v > crate::limits::MAX_STEPS {
+                return Err(format!(
+                    "[simulate]: `{what}` must be from 1 to {}, found {v}",
+                    crate::limits::MAX_STEPS
+                ));
+            }
+        }
+    }
+    let gravity = spec.gravity_history.clone().unwrap_or_default();
+    gravity
+        .validate()
+        .map_err(|e| format!("[simulate]: `gravity_history`: {e}"))?;
+    Ok(SimulateSettings {
+        t_end: positive("t_end", spec.t_end)?,
+        dt: positive("dt", spec.dt)?,
+        fixed_step,
+        dt_min: positive("dt_min", spec.dt_min)?,
+        dt_max: positive("dt_max", spec.dt_max)?,
+        rho_inf: spec.rho_inf,
+        tolerance: spec.tolerance,
+        output_step: positive("output_step", spec.output_step)?,
+        max_iterations: spec.max_iterations,
+        rayleigh: spec.rayleigh,
+        start,
+        static_steps: spec.static_steps,
+        excitation: Excitation {
+            gravity,
+            ..Default::default()
+        },
+    })
+}
+
+/// An initial velocity of a node that exists (`node` its id).
+pub(super) fn velocity(spec: &VelocitySpec, node: usize) -> Result<InitialVelocity, String> {
+    if !spec.v.iter().chain(&spec.omega).all(|v| v.is_finite()) {
+        return Err(format!(
+            "[[velocity]] at node `{}`: the values must be finite numbers",
+            spec.node
+        ));
+    }
+    Ok(InitialVelocity {
+        node,
+        velocity: spec.v,
+        angular: spec.omega,
+    })
+}
