@@ -741,6 +741,8 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         })?;
         sim.excitation.loads.push(h);
     }
+    // the model lists prescribed coordinates first, then deformations (ModelBuilder::build)
+    let (mut h_coord, mut h_def) = (Vec::new(), Vec::new());
     for (k, p) in spec.prescribe.iter().enumerate() {
         let h = p.get_ref().history.clone().unwrap_or_default();
         h.validate()
@@ -751,8 +753,13 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
                 format!("[[prescribe]] {}: history: a prescribed motion cannot jump (a step); use a ramp or a table", k + 1),
             ));
         }
-        sim.excitation.prescribed.push(h);
+        if p.get_ref().node.is_some() {
+            h_coord.push(h);
+        } else {
+            h_def.push(h);
+        }
     }
+    sim.excitation.prescribed = h_coord.into_iter().chain(h_def).collect();
     for v in &spec.velocity {
         let s = v.get_ref();
         let node = model.node_id(&s.node).ok_or_else(|| {

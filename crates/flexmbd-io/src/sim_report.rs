@@ -53,8 +53,14 @@ pub fn sim_text(model: &Model, file: &str, sim: &Simulation, stopped: Option<&St
     let st = &sim.stats;
     let _ = writeln!(
         s,
-        "{} steps ({} rejected, {} Newton failures, {} Newton iterations); step {:.3e} … {:.3e} s",
-        st.steps, st.rejected, st.newton_failures, st.newton_iterations, st.min_step, st.max_step
+        "{} steps ({} rejected, {} Newton failures, {} Newton iterations, {} matrix updates); step {:.3e} … {:.3e} s",
+        st.steps,
+        st.rejected,
+        st.newton_failures,
+        st.newton_iterations,
+        st.matrix_updates,
+        st.min_step,
+        st.max_step
     );
     let _ = writeln!(
         s,

@@ -5,7 +5,7 @@
 //! entries.
 
 use crate::elements::ElementKind;
-use crate::math::inertia::{lambda_velocity_force, node_inertia_block};
+use crate::math::inertia::{lambda_body, lambda_velocity_force, node_inertia_block};
 use crate::model::Model;
 use faer::Mat;
 
@@ -125,6 +125,48 @@ pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
             o[r] += m * v[c];
         }
     });
+    out
+}
+
+/// The inertia forces M(x) ẍ + h(x, ẋ) in x (nx), element by element
+/// ([`ElementKind::inertia_forces`], without forming M), plus point masses m r̈ and the inertia
+/// tensors at nodes (4 Λᵀ I Λ λ̈ + h): the inertia terms of the equations of motion.
+pub fn inertia_forces(model: &Model, x: &[f64], v: &[f64], a: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; model.nx];
+    let (mut xk, mut vk, mut ak, mut fk) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for entry in &model.elements {
+        let n = entry.xmap.len();
+        for (buf, src) in [(&mut xk, x), (&mut vk, v), (&mut ak, a)] {
+            buf.clear();
+            buf.extend(entry.xmap.iter().map(|&i| src[i]));
+        }
+        fk.resize(n, 0.0);
+        if entry.element.inertia_forces(&xk, &vk, &ak, &mut fk) {
+            for (&i, f) in entry.xmap.iter().zip(&fk) {
+                out[i] += f;
+            }
+        }
+    }
+    for &(node, mass) in &model.loads.point_masses {
+        let ip = model.nodes[node].ix_pos;
+        for k in 0..3 {
+            out[ip + k] += mass * a[ip + k];
+        }
+    }
+    for (node, tensor) in &model.loads.inertias {
+        let Some(r) = model.nodes[*node].ix_rot else {
+            continue;
+        };
+        let (l, ld, ldd) = (&x[r..r + 4], &v[r..r + 4], &a[r..r + 4]);
+        let lb = lambda_body(l);
+        let wd: [f64; 3] = std::array::from_fn(|i| (0..4).map(|c| lb[i][c] * ldd[c]).sum::<f64>());
+        let iw: [f64; 3] =
+            std::array::from_fn(|i| (0..3).map(|j| tensor[i][j] * wd[j]).sum::<f64>());
+        let h = lambda_velocity_force(l, ld, tensor);
+        for c in 0..4 {
+            out[r + c] += 4.0 * (0..3).map(|i| lb[i][c] * iw[i]).sum::<f64>() + h[c];
+        }
+    }
     out
 }
 

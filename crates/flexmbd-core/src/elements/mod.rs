@@ -163,6 +163,25 @@ pub trait ElementKind {
         let _ = (xk, vk, out);
         false
     }
+    /// The inertia forces M(x) ẍ + h(x, ẋ) at `xk` with rates `vk` and accelerations `ak`,
+    /// written into `out` (nx_k); `false` for an element without mass. The default forms
+    /// [`ElementKind::mass`] and adds [`ElementKind::velocity_forces`]; an element may compute
+    /// them faster without the matrix.
+    fn inertia_forces(&self, xk: &[f64], vk: &[f64], ak: &[f64], out: &mut [f64]) -> bool {
+        let n = xk.len();
+        let mut m = vec![0.0; n * n];
+        if !self.mass(xk, None, true, &mut m) {
+            return false;
+        }
+        for (r, o) in out.iter_mut().enumerate() {
+            *o = (0..n).map(|c| m[r * n + c] * ak[c]).sum();
+        }
+        let mut h = vec![0.0; n];
+        if self.velocity_forces(xk, vk, &mut h) {
+            out.iter_mut().zip(&h).for_each(|(o, v)| *o += v);
+        }
+        true
+    }
     /// The generalised loads of an acceleration field (gravity, the centrifugal field of a
     /// steady rotation) on the element's mass, consistent with [`ElementKind::mass`], at the
     /// coordinates `xk`: one (force, moment) per node use, global axes, added to `out`
@@ -263,6 +282,9 @@ impl ElementKind for Element {
     }
     fn velocity_forces(&self, xk: &[f64], vk: &[f64], out: &mut [f64]) -> bool {
         self.kind().velocity_forces(xk, vk, out)
+    }
+    fn inertia_forces(&self, xk: &[f64], vk: &[f64], ak: &[f64], out: &mut [f64]) -> bool {
+        self.kind().inertia_forces(xk, vk, ak, out)
     }
     fn field_loads(&self, xk: &[f64], field: &AccelerationField, out: &mut [([f64; 3], [f64; 3])]) {
         self.kind().field_loads(xk, field, out)

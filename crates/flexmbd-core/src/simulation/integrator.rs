@@ -6,13 +6,18 @@ use super::{
     Start, Stopped, TimeFunction,
 };
 use crate::assembly::loads::field_loads_at;
-use crate::assembly::mass::{for_each_entry, mass_times, velocity_forces};
+use crate::assembly::mass::{for_each_entry, inertia_forces, mass_times};
 use crate::elements::ElementKind;
 use crate::math::lambda_bar;
 use crate::model::{Model, Target};
 use crate::statics::{
-    assemble_part, inverted_element, setup, solve, Assembled, KktSolver, Part, Setup, StaticOptions,
+    assemble, assemble_part, assemble_values, inverted_element, setup, solve, Assembled, KktSolver,
+    Part, Setup, StaticOptions,
 };
+
+/// Modified Newton: a new iteration matrix when the corrections shrink by less than this
+/// factor per iteration (a step that fails with a reused matrix is repeated with full Newton).
+const SLOW: f64 = 0.25;
 
 /// The generalised-α parameters of ρ∞ (Arnold & Brüls 2007; Chung & Hulbert 1993).
 #[derive(Clone, Copy, Debug)]
@@ -72,7 +77,7 @@ struct Eval {
     damp: Vec<f64>,
     /// Constraint violations (inputs at their targets).
     g: Vec<f64>,
-    /// K_m triplets (Rayleigh β), same order as `asm.triplets`.
+    /// K_m values (Rayleigh β), same order as `asm.vals`.
     km: Option<Vec<f64>>,
 }
 
@@ -103,6 +108,8 @@ struct Engine<'a> {
     moments: Vec<(usize, [f64; 3], usize)>,
     /// Absolute tolerance [x units].
     atol: f64,
+    /// Model size [m] (the round-off floor of the weights).
+    l_ref: f64,
     /// Number of triplets of the assembly.
     n_pat: usize,
     /// Value slot of every mass entry (order of `for_each_entry`), `None` off the free block.
@@ -112,7 +119,17 @@ struct Engine<'a> {
     /// First slot of the diagonal entries (one per free coordinate).
     diag_start: usize,
     n_vals: usize,
+    /// (row, column) of every matrix entry, in the order of the values.
+    entries: Vec<(usize, usize)>,
     solver: KktSolver,
+    /// The step size of the factorised iteration matrix (`None`: no valid factorisation), kept
+    /// over steps (modified Newton) while the iterations converge fast.
+    jac_h: Option<f64>,
+    /// Whether the last failed step used a reused matrix in some iteration (it is then tried
+    /// again with full Newton before the step is halved).
+    failed_stale: bool,
+    /// Full Newton (a fresh matrix in every iteration) for the next step.
+    full_newton: bool,
 }
 
 /// The matrix coefficients: K and the moment stiffness, M, K_m, and the unit diagonal.
@@ -294,6 +311,7 @@ impl<'a> Engine<'a> {
         // model size for the default absolute tolerance
         let x0 = model.x0();
         let atol = opts.atol;
+        let l_ref = su.l_ref;
         // the fixed entry list: assembly triplets, mass, moment stiffness, diagonal
         let asm = assemble_part(model, &su, &x0, &vec![0.0; su.nk], 0.0, Part::Full);
         let n_pat = asm.triplets.len();
@@ -343,13 +361,18 @@ impl<'a> Engine<'a> {
             inputs,
             moments,
             atol,
+            l_ref,
             n_pat,
             mass_slot,
             moment_slot,
             diag_start,
             n_vals: rows.len(),
+            entries: rows,
             su,
             solver,
+            jac_h: None,
+            failed_stale: false,
+            full_newton: false,
         })
     }
 
@@ -450,23 +473,48 @@ impl<'a> Engine<'a> {
 
     /// Evaluate at a state.
     fn evaluate(&self, x: &[f64], v: &[f64], a: &[f64], mu: &[f64], t: f64) -> Eval {
+        self.evaluate_part(x, v, a, mu, t, Part::Full)
+    }
+
+    /// [`Engine::evaluate`] with the tangent (`Part::Full`) or without it (`Part::Residual`).
+    fn evaluate_part(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        a: &[f64],
+        mu: &[f64],
+        t: f64,
+        part: Part,
+    ) -> Eval {
         let model = self.model;
-        let asm = assemble_part(model, &self.su, x, mu, 0.0, Part::Full);
-        let km = (self.opts.rayleigh[1] > 0.0).then(|| {
-            assemble_part(model, &self.su, x, mu, 0.0, Part::Material)
-                .triplets
-                .iter()
-                .map(|t| t.val)
-                .collect()
+        let asm = if part == Part::Full {
+            assemble(model, &self.su, x, mu, 0.0)
+        } else {
+            assemble_values(model, &self.su, x, mu, 0.0, part, false, Vec::new())
+        };
+        let km = (self.opts.rayleigh[1] > 0.0 && part == Part::Full).then(|| {
+            assemble_values(
+                model,
+                &self.su,
+                x,
+                mu,
+                0.0,
+                Part::Material,
+                false,
+                Vec::new(),
+            )
+            .vals
         });
         let ext = self.external(x, t);
-        let mut prod = mass_times(model, x, &[a, v]);
-        let mv = prod.pop().unwrap_or_default();
-        let ma = prod.pop().unwrap_or_default();
-        let h = velocity_forces(model, x, v);
+        let inertia = inertia_forces(model, x, v, a);
+        let mv = if self.opts.rayleigh[0] > 0.0 {
+            mass_times(model, x, &[v]).pop().unwrap_or_default()
+        } else {
+            vec![0.0; model.nx]
+        };
         let damp = self.damping(x, v, &mv);
         let balance: Vec<f64> = (0..model.nx)
-            .map(|i| asm.balance[i] + ma[i] + h[i] + damp[i] - ext[i])
+            .map(|i| asm.balance[i] + inertia[i] + damp[i] - ext[i])
             .collect();
         let mut g = asm.g.clone();
         for (kc, tv) in self.input_targets(t) {
@@ -487,14 +535,14 @@ impl<'a> Engine<'a> {
     fn values(&self, ev: &Eval, x: &[f64], t: f64, c: Coefs) -> Vec<f64> {
         let nf = self.su.nf;
         let mut vals = vec![0.0; self.n_vals];
-        for (i, tr) in ev.asm.triplets.iter().enumerate() {
-            vals[i] = if tr.row < nf && tr.col < nf {
-                c.k * tr.val + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
+        debug_assert_eq!(ev.asm.vals.len(), self.n_pat);
+        for (i, (&(r, col), &v)) in self.entries.iter().zip(&ev.asm.vals).enumerate() {
+            vals[i] = if r < nf && col < nf {
+                c.k * v + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
             } else {
-                tr.val
+                v
             };
         }
-        debug_assert_eq!(ev.asm.triplets.len(), self.n_pat);
         if c.m != 0.0 {
             let mut k = 0;
             for_each_entry(self.model, x, None, true, |_, _, v| {
@@ -766,6 +814,13 @@ impl<'a> Engine<'a> {
         self.atol + self.opts.rtol * a.abs().max(b.abs())
     }
 
+    /// The Newton tolerance of a coordinate: 1e-3 of its error weight, but not below the
+    /// round-off of the coordinate (100 ε (|x| + model size)).
+    fn newton_tol(&self, a: f64, b: f64) -> f64 {
+        let m = a.abs().max(b.abs());
+        (1e-3 * self.weight(a, b)).max(100.0 * f64::EPSILON * (m + self.l_ref))
+    }
+
     /// One step from `s` to s.t + h; `Err(reason)` when Newton fails.
     fn step(&mut self, s: &State, h: f64, stats: &mut SimStats) -> Result<(State, Eval), String> {
         let (nf, nk) = (self.su.nf, self.su.nk);
@@ -792,13 +847,24 @@ impl<'a> Engine<'a> {
             km: self.opts.rayleigh[1] * gp / bp,
             diag: 0.0,
         };
+        // modified Newton: the factorised matrix of an earlier iteration or step is reused
+        // while the corrections shrink at least fourfold per iteration; else it is rebuilt
         let mut last_inc = f64::INFINITY;
+        let mut prev_inc = f64::INFINITY;
+        let mut stale = false;
+        let full = std::mem::take(&mut self.full_newton);
         for it in 0..=self.opts.max_iterations {
-            let ev = self.evaluate(&n1.x, &n1.v, &n1.acc, &n1.mu, t1);
+            // slow: the corrections shrank less than fourfold
+            let slow = it > 1 && last_inc > SLOW * prev_inc;
+            let rebuild = full || self.jac_h != Some(h) || slow || !self.solver.reusable();
+            stale |= !rebuild;
+            let part = if rebuild { Part::Full } else { Part::Residual };
+            let ev = self.evaluate_part(&n1.x, &n1.v, &n1.acc, &n1.mu, t1, part);
             if !finite(&ev.balance) || !finite(&ev.g) {
+                self.jac_h = None;
                 return Err("the forces became non-finite during the Newton iteration".into());
             }
-            if it > 0 && last_inc <= 1e-3 {
+            if it > 0 && last_inc <= 1.0 {
                 for &i in &self.free {
                     n1.aux[i] = aux_pred[i] + (1.0 - p.af) / (1.0 - p.am) * n1.acc[i];
                 }
@@ -808,7 +874,6 @@ impl<'a> Engine<'a> {
             if it == self.opts.max_iterations {
                 break;
             }
-            let vals = self.values(&ev, &n1.x, t1, coefs);
             let mut rhs = vec![0.0; nf + nk];
             for u in 0..nf {
                 rhs[u] = -ev.balance[self.free[u]] / bp;
@@ -816,14 +881,24 @@ impl<'a> Engine<'a> {
             for k in 0..nk {
                 rhs[nf + k] = -ev.g[k];
             }
-            if self.solver.solve(&vals, &mut rhs).is_err() || !finite(&rhs) {
+            let solved = if !rebuild {
+                self.solver.solve_again(&mut rhs).is_ok()
+            } else {
+                let vals = self.values(&ev, &n1.x, t1, coefs);
+                stats.matrix_updates += 1;
+                let ok = self.solver.solve(&vals, &mut rhs).is_ok();
+                self.jac_h = ok.then_some(h);
+                ok
+            };
+            if !solved || !finite(&rhs) {
+                self.jac_h = None;
                 return Err("the iteration matrix is singular".into());
             }
             let mut inc: f64 = 0.0;
             for u in 0..nf {
                 let i = self.free[u];
                 let d = rhs[u];
-                inc = inc.max(d.abs() / self.weight(n1.x[i], s.x[i]));
+                inc = inc.max(d.abs() / self.newton_tol(n1.x[i], s.x[i]));
                 n1.x[i] += d;
                 n1.v[i] += gp * d;
                 n1.acc[i] += bp * d;
@@ -831,11 +906,14 @@ impl<'a> Engine<'a> {
             for k in 0..nk {
                 n1.mu[k] += bp * rhs[nf + k];
             }
+            prev_inc = if it == 0 { f64::INFINITY } else { last_inc };
             last_inc = inc;
         }
+        self.jac_h = None;
+        self.failed_stale = stale;
         stats.newton_iterations += self.opts.max_iterations;
         Err(format!(
-            "Newton's method did not converge in {} iterations (last correction {:.3e} of the tolerance)",
+            "Newton's method did not converge in {} iterations (the last correction is {:.3e} times its tolerance)",
             self.opts.max_iterations, last_inc
         ))
     }
@@ -951,6 +1029,11 @@ impl<'a> Engine<'a> {
                 ));
             }
             match self.step(&s, h_try, &mut stats) {
+                Err(_) if self.failed_stale => {
+                    // the same step again with full Newton
+                    self.failed_stale = false;
+                    self.full_newton = true;
+                }
                 Err(reason) => {
                     stats.newton_failures += 1;
                     h = 0.5 * h_try;
@@ -1022,12 +1105,14 @@ impl<'a> Engine<'a> {
                         } else {
                             2.0
                         };
+                        // keep the step (and its factorised matrix) unless it may grow by 25 %
+                        let f = if (1.0..1.25).contains(&f) { 1.0 } else { f };
                         // a step shortened to land on an event does not limit the next one
-                        h = (h_try.max(if h_try < h { h } else { h_try }) * f)
-                            .clamp(o.dt_min, o.dt_max);
-                        if h_try < h && f < 1.0 {
-                            h = (h_try * f).max(o.dt_min);
-                        }
+                        let base = if h_try < h { h } else { h_try };
+                        h = if f < 1.0 { h_try * f } else { base * f }.clamp(o.dt_min, o.dt_max);
+                    } else {
+                        // fixed steps: back to the step size after halvings
+                        h = (2.0 * h.max(h_try)).min(o.dt);
                     }
                     s = n1;
                     if (s.t - target).abs() <= tol_t {

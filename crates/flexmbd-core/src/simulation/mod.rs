@@ -233,6 +233,8 @@ pub struct SimStats {
     pub newton_failures: usize,
     /// Newton iterations in all.
     pub newton_iterations: usize,
+    /// Iteration matrices built and factorised (modified Newton reuses them).
+    pub matrix_updates: usize,
     /// Smallest and largest accepted step [s].
     pub min_step: f64,
     /// Largest accepted step [s].

@@ -86,15 +86,16 @@ fn n04_large_amplitude_pendulum_period() {
             ((got - want) / want).abs() < 1e-4,
             "{deg}°: period {got} vs {want}"
         );
-        // the bar's length is kept (constraint-free here: the stiff beams) and energy is
-        // conserved to the integrator's accuracy: T + V with V = m g z_centre
+        // energy T + V (V = m g z_centre) is kept to 1e-4 of m g L/2, the tolerance of N04
+        // (ρ∞ = 0.9 dissipates a little in the stiff axial modes; the energy test with ρ∞ = 1
+        // is `undamped_free_vibration_keeps_energy_and_the_modes_frequency`)
         let tip = model.nodes.len() - 1;
+        let scale = 9.81 * 0.5;
         for f in &sim.frames {
             let z = f.x[model.nodes[tip].ix_pos + 2];
-            let v = 9.81 * 0.5 * z;
-            let e = f.energy.kinetic + v;
+            let e = f.energy.kinetic + scale * z;
             assert!(
-                (e - (-9.81 * 0.5 * theta0.cos())).abs() < 1e-5,
+                (e + scale * theta0.cos()).abs() < 1e-5 * scale,
                 "energy {e}"
             );
         }
@@ -113,8 +114,8 @@ fn second_order_convergence_in_the_step_size() {
         o.dt = dt;
         o.dt_min = dt * 1e-3;
         o.output_step = 0.5;
-        o.atol = 1e-13;
-        o.rtol = 1e-12;
+        o.atol = 1e-12;
+        o.rtol = 1e-10;
         let sim = run(&model, &Excitation::default(), &o);
         tip_angle(&model, sim.frames.last().unwrap())
     };

@@ -923,9 +923,12 @@ pub(crate) enum Part {
     Material,
     /// Σ σᵢ ∂²eᵢ/∂x² + normalisation multipliers + load stiffness (proportional to the load).
     Geometric,
+    /// No tangent: forces, deformations and constraint violations only (the matrix values
+    /// are left as they are; a modified Newton iteration that reuses its matrix).
+    Residual,
 }
 
-fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembled {
+pub(crate) fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembled {
     assemble_values(model, su, x, mu, t, Part::Full, false, Vec::new())
 }
 
@@ -1018,6 +1021,9 @@ fn element_local(
         for (c, f) in f_out.iter_mut().enumerate() {
             *f = (0..6).map(|a| d[a][c] * sigma_out[a]).sum();
         }
+        if part == Part::Residual {
+            return energy;
+        }
         let s6: [[f64; 6]; 6] = std::array::from_fn(|a| std::array::from_fn(|b| s[(a, b)]));
         let w: [f64; 6] = std::array::from_fn(|a| sigma_out[a]);
         if reduced && su.red.beam_full[el] && part == Part::Full {
@@ -1032,7 +1038,7 @@ fn element_local(
         let k = match part {
             Part::Full => first.hessian(&w, Some(&s6)),
             Part::Material => first.hessian(&[0.0; 6], Some(&s6)),
-            Part::Geometric => first.hessian(&w, None),
+            Part::Geometric | Part::Residual => first.hessian(&w, None),
         };
         if reduced {
             // at most 14 reduced columns
@@ -1061,6 +1067,9 @@ fn element_local(
     let energy = stress(&e, sigma_out);
     for (c, f) in f_out.iter_mut().enumerate() {
         *f = (0..ne).map(|a| d[(a, c)] * sigma_out[a]).sum();
+    }
+    if part == Part::Residual {
+        return energy;
     }
     // K_k = Dᵀ S D + Σ σᵢ ∂²eᵢ/∂x²
     let nxk = xk.len();
@@ -1120,7 +1129,7 @@ fn split_at_starts<'a>(mut v: &'a mut [f64], starts: &[usize]) -> Vec<&'a mut [f
 /// Assemble at (x, μ, t): the KKT entries of the full system (order of [`Pattern`]) or, with
 /// `reduced`, of the reduced one ([`Reduction`]); `spare` is a buffer to reuse for them.
 #[allow(clippy::too_many_arguments)]
-fn assemble_values(
+pub(crate) fn assemble_values(
     model: &Model,
     su: &Setup,
     x: &[f64],
@@ -1426,6 +1435,9 @@ pub(crate) struct KktSolver {
     lower: Vec<f64>,
     /// Whether `values` (CSC) holds the current matrix.
     csc_current: bool,
+    /// The factorisation the last successful [`KktSolver::solve`] used: 1 `diag`, 2 `lu`
+    /// (0: none), for [`KktSolver::solve_again`].
+    used: u8,
 }
 
 impl KktSolver {
@@ -1519,6 +1531,7 @@ impl KktSolver {
             lower_src,
             lower,
             csc_current: false,
+            used: 0,
         })
     }
 
@@ -1562,6 +1575,7 @@ impl KktSolver {
             };
             rhs.copy_from_slice(&b);
             lu.solve(rhs);
+            self.used = if try_diag { 1 } else { 2 };
             if ratio >= MIN_PIVOT_RATIO {
                 return Ok(());
             }
@@ -1571,6 +1585,8 @@ impl KktSolver {
             }
             let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
             let (res, _) = crate::math::sparse_lu::csc_residual(cp, ri, v, rhs, &b);
+            // accurate for this right-hand side only: not kept for `solve_again`
+            self.used = 0;
             if norm2(&res) <= MAX_LINEAR_RESIDUAL * bn {
                 return Ok(());
             }
@@ -1581,12 +1597,33 @@ impl KktSolver {
         }
         let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
         self.have_pivots = false;
+        self.used = 0;
         if self.lu.factor(cp, ri, v).is_err() {
             return Err(());
         }
         self.have_pivots = true;
         rhs.copy_from_slice(&b);
         self.lu.solve(rhs);
+        self.used = 2;
+        Ok(())
+    }
+
+    /// Whether [`KktSolver::solve_again`] has a factorisation to use.
+    pub(crate) fn reusable(&self) -> bool {
+        self.used != 0
+    }
+
+    /// Solve with the factorisation of the last successful [`KktSolver::solve`] whose pivots
+    /// were all sound (a modified Newton iteration); `Err` when there is none.
+    pub(crate) fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), ()> {
+        match self.used {
+            1 => match &mut self.diag {
+                Some(d) => d.solve(rhs),
+                None => return Err(()),
+            },
+            2 => self.lu.solve(rhs),
+            _ => return Err(()),
+        }
         Ok(())
     }
 

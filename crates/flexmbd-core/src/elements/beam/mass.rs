@@ -22,7 +22,8 @@
 use super::Beam;
 use crate::elements::AccelerationField;
 use crate::math::inertia::{
-    d_rotated, lambda_block, lambda_velocity_force, rotated_tensor, second_rotated, unit,
+    d_rotated, lambda_block, lambda_body, lambda_velocity_force, rotated_tensor, second_rotated,
+    unit,
 };
 use crate::math::{cross, dot, rotate};
 use crate::section::BeamProps;
@@ -149,6 +150,62 @@ pub(crate) fn velocity_forces(b: &Beam, xk: &[f64], vk: &[f64]) -> Option<[f64; 
     Some(h)
 }
 
+/// The inertia forces M(x) ẍ + h(x, ẋ) of the beam at `xk` with rates `vk` and accelerations
+/// `ak`, without forming M: the Hermite terms' accelerations ÿⱼ = Jⱼ ẍ + cⱼ give
+/// ρA l0 Σᵢⱼ Hᵢⱼ Jᵢᵀ ÿⱼ, and each end's rotary inertia 4 Λᵀ I Λ λ̈ + 4 Λ(λ̇)ᵀ I ω_b
+/// ([`velocity_forces`]; equal to [`local_mass`] times ẍ for unit Euler parameters, where
+/// Rᵀ Λ̄ = Λ). `None` for a beam without mass data.
+pub(crate) fn inertia_forces(b: &Beam, xk: &[f64], vk: &[f64], ak: &[f64]) -> Option<[f64; 14]> {
+    let p = b.props.as_ref()?;
+    let ex = b.frame[0];
+    let ml = p.rho_a * b.l0;
+    let mut f = [0.0; 14];
+    let first_row = [0usize, 3, 7, 10];
+    let mut ydd = [[0.0; 3]; 4];
+    let mut jt = [[[0.0; 4]; 3]; 4];
+    for a in 0..4 {
+        let r0 = first_row[a];
+        if a % 2 == 0 {
+            ydd[a] = [ak[r0], ak[r0 + 1], ak[r0 + 2]];
+        } else {
+            let (l, ld, ldd) = (&xk[r0..r0 + 4], &vk[r0..r0 + 4], &ak[r0..r0 + 4]);
+            jt[a] = d_rotated(l, ex);
+            let c = second_rotated(l, ld, ex);
+            ydd[a] = std::array::from_fn(|k| {
+                b.l0 * ((0..4).map(|m| jt[a][k][m] * ldd[m]).sum::<f64>() + c[k])
+            });
+        }
+    }
+    for a in 0..4 {
+        let s: [f64; 3] =
+            std::array::from_fn(|k| ml * (0..4).map(|j| HERMITE[a][j] * ydd[j][k]).sum::<f64>());
+        let r0 = first_row[a];
+        if a % 2 == 0 {
+            for k in 0..3 {
+                f[r0 + k] += s[k];
+            }
+        } else {
+            for col in 0..4 {
+                f[r0 + col] += b.l0 * (0..3).map(|k| jt[a][k][col] * s[k]).sum::<f64>();
+            }
+        }
+    }
+    let identity = [1.0, 0.0, 0.0, 0.0];
+    let i_body = end_inertia(b, p, &identity);
+    for r0 in [3usize, 10] {
+        let (l, ld, ldd) = (&xk[r0..r0 + 4], &vk[r0..r0 + 4], &ak[r0..r0 + 4]);
+        let lb = lambda_body(l);
+        // 4 Λᵀ I (Λ λ̈)
+        let wd: [f64; 3] = std::array::from_fn(|r| (0..4).map(|c| lb[r][c] * ldd[c]).sum::<f64>());
+        let iw: [f64; 3] = std::array::from_fn(|r| dot(i_body[r], wd));
+        let h = lambda_velocity_force(l, ld, &i_body);
+        for c in 0..4 {
+            f[r0 + c] += 4.0 * (0..3).map(|r| lb[r][c] * iw[r]).sum::<f64>() + h[c];
+        }
+    }
+    Some(f)
+}
+
 /// The loads of an acceleration field on the beam's mass at the coordinates `xk` (module docs):
 /// (force, moment) at p and at q, global axes; `None` for a beam without mass data.
 pub(crate) fn field_loads(
@@ -200,6 +257,39 @@ fn col(d: &[[f64; 4]; 3], c: usize, l0: f64) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::elements::testing::Rng;
+
+    /// The combined inertia forces equal M ẍ + h with the mass matrix, for unit Euler
+    /// parameters.
+    #[test]
+    fn inertia_forces_equal_mass_matrix_times_acceleration_plus_velocity_forces() {
+        let mut b = Beam::new([0, 1], [0.0; 3], [0.7, 0.2, -0.1], None).unwrap();
+        b.set_props(BeamProps {
+            rho_a: 1.3,
+            rho_i: [0.4, 0.1, 0.3],
+            ..Default::default()
+        });
+        let mut rng = Rng(31);
+        for _ in 0..5 {
+            let mut x: [f64; 14] = std::array::from_fn(|_| rng.next());
+            for r0 in [3, 10] {
+                let n = (0..4).map(|k| x[r0 + k] * x[r0 + k]).sum::<f64>().sqrt();
+                (0..4).for_each(|k| x[r0 + k] /= n);
+            }
+            let v: [f64; 14] = std::array::from_fn(|_| rng.next());
+            let a: [f64; 14] = std::array::from_fn(|_| rng.next());
+            let m = local_mass(&b, &x, None, true).unwrap();
+            let h = velocity_forces(&b, &x, &v).unwrap();
+            let f = inertia_forces(&b, &x, &v, &a).unwrap();
+            for i in 0..14 {
+                let want: f64 = (0..14).map(|j| m[i][j] * a[j]).sum::<f64>() + h[i];
+                assert!(
+                    (f[i] - want).abs() < 1e-12 * (1.0 + want.abs()),
+                    "{i}: {} vs {want}",
+                    f[i]
+                );
+            }
+        }
+    }
 
     /// h = Ṁ ẋ − ½ ∂(ẋᵀ M ẋ)/∂x (Lagrange's equations of T = ½ ẋᵀ M(x) ẋ), with the derivatives
     /// of the mass matrix taken by central differences: an independent check of

@@ -248,6 +248,13 @@ impl ElementKind for Beam {
         }
         true
     }
+    fn inertia_forces(&self, xk: &[f64], vk: &[f64], ak: &[f64], out: &mut [f64]) -> bool {
+        let Some(f) = mass::inertia_forces(self, xk, vk, ak) else {
+            return false;
+        };
+        out.copy_from_slice(&f);
+        true
+    }
     fn velocity_forces(&self, xk: &[f64], vk: &[f64], out: &mut [f64]) -> bool {
         let Some(h) = mass::velocity_forces(self, xk, vk) else {
             return false;
