@@ -10,7 +10,8 @@
 //! assembled product cannot resolve the residual, and a plain solve loses up to 1e-5 of the
 //! compliance; through the deformations the refinement recovers it to about 1e-10.
 
-use super::{Problem, Shifted};
+use super::problem::Problem;
+use super::shifted::Shifted;
 use crate::dynamics::ModalError;
 use crate::model::Model;
 use crate::statics::StepResult;
