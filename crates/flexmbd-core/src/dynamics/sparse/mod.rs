@@ -104,22 +104,72 @@ pub(crate) fn sparse_modes(
     modes_of(&Problem::new(model, step), model, step, count)
 }
 
-/// The sparse problem of a model at a step, kept by [`sparse_modes_kept`] for further solves
+/// A static field δx (length nx) with the multipliers of every constraint row.
+pub(crate) type HeldResponse = (Vec<f64>, Vec<f64>);
+
+/// The sparse problem of a model at a step, kept by [`sparse_modes_held`] for further solves
 /// on the same matrices ([`SparseProblem::static_responses`]).
 pub(crate) struct SparseProblem(Problem);
 
-/// [`sparse_modes`], keeping the sparse problem for static solves with the same matrices.
-pub(crate) fn sparse_modes_kept(
+/// [`sparse_modes`], keeping the sparse problem for static solves with the same matrices, with
+/// constraint rows added after those of the Newton system (each
+/// row as (x index, coefficient) pairs of a vector in x, mapped onto the coordinate unknowns):
+/// for the state space, which frees held coordinates in a copy of the model and holds them
+/// again by these rows.
+pub(crate) fn sparse_modes_held(
     model: &Model,
     step: &StepResult,
     count: usize,
+    rows: &[Vec<f64>],
 ) -> Result<(SparseModes, SparseProblem), ModalError> {
-    let p = Problem::new(model, step);
+    let p = Problem::with_rows(model, step, rows);
     let sm = modes_of(&p, model, step, count)?;
     Ok((sm, SparseProblem(p)))
 }
 
 impl SparseProblem {
+    /// The first added constraint row ([`sparse_modes_held`]); the rows of the Newton system
+    /// come before it.
+    pub(crate) fn first_added_row(&self) -> usize {
+        self.0.lin.n()
+    }
+
+    /// The row of the system that holds deformation `e` (a rigid or input deformation).
+    pub(crate) fn deformation_row(&self, e: usize) -> Option<usize> {
+        self.0.lin.constraint_row(e)
+    }
+
+    /// For each list of constraint values (row, value): the solution of the linearised statics
+    /// without loads whose constrained quantities take these values, as δx (length nx) and the
+    /// multipliers of every constraint row (indexed from the first constraint row, nc).
+    pub(crate) fn held_responses(
+        &self,
+        model: &Model,
+        step: &StepResult,
+        values: &[Vec<(usize, f64)>],
+    ) -> Result<Vec<HeldResponse>, ModalError> {
+        let p = &self.0;
+        let rhs: Vec<Vec<f64>> = values
+            .iter()
+            .map(|vals| {
+                let mut b = vec![0.0; p.n];
+                for &(r, v) in vals {
+                    b[r] += v;
+                }
+                b
+            })
+            .collect();
+        Ok(saddle_solutions(p, model, step, &rhs)?
+            .into_iter()
+            .map(|z| (p.lin.to_x(model, &step.x, &z[..p.nc]), z[p.nc..].to_vec()))
+            .collect())
+    }
+
+    /// Number of coordinate unknowns (the constraint rows follow).
+    pub(crate) fn n_coords(&self) -> usize {
+        self.0.nc
+    }
+
     /// δx = K⁻¹ f of each load in x (module `sparse_static`).
     pub(crate) fn static_responses(
         &self,
@@ -345,7 +395,7 @@ fn modes_of(
 }
 
 mod static_solve;
-use static_solve::static_responses;
+use static_solve::{saddle_solutions, static_responses};
 
 #[cfg(test)]
 mod tests;

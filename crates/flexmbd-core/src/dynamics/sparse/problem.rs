@@ -31,6 +31,9 @@ pub(super) struct Problem {
     pub(super) m_ptr: Vec<usize>,
     pub(super) m_idx: Vec<usize>,
     pub(super) m_val: Vec<f64>,
+    /// Constraint rows added after those of the Newton system ([`Problem::with_rows`]), as
+    /// (row, coordinate, coefficient).
+    pub(super) added: Vec<(usize, usize, f64)>,
 }
 
 /// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
@@ -60,8 +63,28 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64]
 
 impl Problem {
     pub(super) fn new(model: &Model, step: &StepResult) -> Self {
+        Self::with_rows(model, step, &[])
+    }
+
+    /// The problem with constraint rows added after those of the Newton system: row j holds
+    /// the vector `rows[j]` in x (length nx) mapped onto the coordinate unknowns. The state space uses them to hold again
+    /// the coordinates it freed in a copy of the model, so that their multipliers are the
+    /// reactions and their right-hand sides the enforced motions.
+    pub(super) fn with_rows(model: &Model, step: &StepResult, rows: &[Vec<f64>]) -> Self {
         let mut lin = ReducedLinear::new(model, step);
-        let (n, nc) = (lin.n(), lin.n_coords());
+        let rows: Vec<Vec<(usize, f64)>> = rows
+            .iter()
+            .map(|w| {
+                let coords = lin.force_to_coords(&step.x, w);
+                coords
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(_, v)| *v != 0.0)
+                    .collect()
+            })
+            .collect();
+        let (n0, nc) = (lin.n(), lin.n_coords());
+        let n = n0 + rows.len();
         let x = &step.x;
         // element mass blocks, in the order of the element entries
         let ne = lin.vals.len();
@@ -161,6 +184,16 @@ impl Problem {
             .filter(|e| e.2 != 0.0)
             .map(|e| (e.0, e.1, e.2))
             .collect();
+        // the added constraint rows (stiffness entries, no mass), both triangles
+        let added: Vec<(usize, usize, f64)> = rows
+            .iter()
+            .enumerate()
+            .flat_map(|(j, row)| row.iter().map(move |&(c, v)| (n0 + j, c, v)))
+            .collect();
+        for &(r, c, v) in &added {
+            extra.push((r, c, v, 0.0));
+            extra.push((c, r, v, 0.0));
+        }
         // CSC: bucket the entries by column (element entries, node masses, the diagonal), sort
         // each column by row, sum duplicates
         let (n_extra, total) = (extra.len(), ne + extra.len() + n);
@@ -284,6 +317,7 @@ impl Problem {
             m_ptr,
             m_idx,
             m_val,
+            added,
         }
     }
 

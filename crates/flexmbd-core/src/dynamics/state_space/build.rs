@@ -4,54 +4,42 @@
 
 use super::lift::{held, held_output, motion_loads, output_row, unit_vector, ReactionRows};
 use super::{
-    check_options, Input, Motion, Output, OutputKind, Probe, StateSpace, StateSpaceError,
+    check_options, Input, Motion, Output, OutputKind, StateSpace, StateSpaceError,
     StateSpaceOptions,
 };
 use crate::dynamics::{EigenSolver, Reduced};
-use crate::model::{CoordKind, Model};
+use crate::model::Model;
 use crate::statics::StepResult;
 use faer::Mat;
 
 /// The model-specific parts of a state-space model, from which [`assemble`] builds A, B, C, D.
 pub(super) struct Parts {
     /// ω² of the kept modes.
-    lam: Vec<f64>,
+    pub(super) lam: Vec<f64>,
     /// Φᵀ Bq (kept modes × inputs).
-    modal_b: Mat<f64>,
+    pub(super) modal_b: Mat<f64>,
     /// Cx Φ (outputs × kept modes).
-    modal_c: Mat<f64>,
+    pub(super) modal_c: Mat<f64>,
     /// Static feedthrough of displacement outputs (outputs × inputs).
-    d_static: Mat<f64>,
+    pub(super) d_static: Mat<f64>,
     /// Quasi-static gains of the motion inputs (outputs × motions).
-    motion_gain: Mat<f64>,
-    warnings: Vec<String>,
-    ndof: usize,
-    massless: usize,
-    available: usize,
-    solver: EigenSolver,
+    pub(super) motion_gain: Mat<f64>,
+    pub(super) warnings: Vec<String>,
+    pub(super) ndof: usize,
+    pub(super) massless: usize,
+    pub(super) available: usize,
+    pub(super) solver: EigenSolver,
     /// Kind of every internal row of `modal_c`, `d_static`, `motion_gain`.
-    kinds: Vec<OutputKind>,
+    pub(super) kinds: Vec<OutputKind>,
     /// Every output as a signed sum of internal rows, plus a direct feedthrough of the force
     /// inputs (outputs × force inputs): a node or element output is one row; a reaction is
     /// t·f − (K t)·δx − (M t)·δẍ.
-    combine: Combine,
-    feed: Mat<f64>,
+    pub(super) combine: Combine,
+    pub(super) feed: Mat<f64>,
 }
 
 /// Every output as a signed sum of internal rows (see [`Parts::combine`]).
 pub(super) type Combine = Vec<Vec<(usize, f64)>>;
-
-/// One output per internal row, no feedthrough.
-pub(super) fn identity_rows(
-    outputs: &[Output],
-    n_force: usize,
-) -> (Vec<OutputKind>, Combine, Mat<f64>) {
-    (
-        outputs.iter().map(|o| o.kind).collect(),
-        (0..outputs.len()).map(|o| vec![(o, 1.0)]).collect(),
-        Mat::zeros(outputs.len(), n_force),
-    )
-}
 
 /// Warnings for inputs on held directions.
 pub(super) fn held_input_warnings(model: &Model, inputs: &[Input], warnings: &mut Vec<String>) {
@@ -63,101 +51,6 @@ pub(super) fn held_input_warnings(model: &Model, inputs: &[Input], warnings: &mu
             ));
         }
     }
-}
-
-/// The sparse state space (module docs): the lowest `count` modes by shift-invert Lanczos
-/// (mass-normalised shapes φ in x), Φᵀ Bq = φᵀ f and Cx Φ = w·φ directly in x. The static
-/// feedthrough of displacement outputs is the exact static response minus that of the kept
-/// modes, Cx K⁻¹ f − Σ (w·φ)(φ·f)/ω², from one sparse factorisation of the statics Newton
-/// matrix: with `static_correction`, and always when the model has massless directions
-/// (their instantaneous response; the sparse path cannot separate it from the dropped modes').
-pub(super) fn build_sparse(
-    model: &Model,
-    step: &StepResult,
-    inputs: &[Input],
-    outputs: &[Output],
-    count: usize,
-    opts: &StateSpaceOptions,
-) -> Result<StateSpace, StateSpaceError> {
-    let (sm, problem) = crate::dynamics::sparse::sparse_modes_kept(model, step, count)?;
-    let mut warnings = Vec::new();
-    let available = sm.ndof - sm.massless;
-    let n = sm.eigenvalues.len();
-    if count > n {
-        warnings.push(format!(
-            "{count} modes asked for: the model has {n} modes that carry mass; all are kept"
-        ));
-    }
-    held_input_warnings(model, inputs, &mut warnings);
-    for out in outputs {
-        if held_output(model, out) {
-            warnings.push(format!(
-                "output {} is a held direction (support or prescribed input): it is zero",
-                out.name(model)
-            ));
-        }
-    }
-    let f: Vec<Vec<f64>> = inputs
-        .iter()
-        .map(|i| unit_vector(model, step, i.node, i.dof))
-        .collect::<Result<_, _>>()?;
-    let w: Vec<Vec<f64>> = outputs
-        .iter()
-        .map(|o| output_row(model, step, o))
-        .collect::<Result<_, _>>()?;
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    let modal_b = Mat::from_fn(n, inputs.len(), |k, j| dot(&sm.shapes[k], &f[j]));
-    let modal_c = Mat::from_fn(outputs.len(), n, |o, k| dot(&w[o], &sm.shapes[k]));
-    let (no, ni) = (outputs.len(), inputs.len());
-    let mut d_static = Mat::zeros(no, ni);
-    let residual = opts.static_correction || sm.massless > 0;
-    if residual && outputs.iter().any(|o| o.kind == OutputKind::Disp) {
-        let dx = problem.static_responses(model, step, &f)?;
-        for (o, out) in outputs.iter().enumerate() {
-            if out.kind != OutputKind::Disp {
-                continue;
-            }
-            for j in 0..ni {
-                let modal: f64 = (0..n)
-                    .map(|k| modal_c[(o, k)] * modal_b[(k, j)] / sm.eigenvalues[k])
-                    .sum();
-                d_static[(o, j)] = dot(&w[o], &dx[j]) - modal;
-            }
-        }
-        if sm.massless > 0 && !opts.static_correction {
-            warnings.push(format!(
-                "the model has {} direction(s) without inertia: D carries their static response together with that of the dropped modes (as the static correction does), which the sparse path cannot separate",
-                sm.massless
-            ));
-        }
-    }
-    if sm.massless > 0 && outputs.iter().any(|o| o.kind != OutputKind::Disp) {
-        warnings.push(
-            "velocity and acceleration outputs miss the instantaneous response of the directions without inertia (proportional to the input's derivative)".into(),
-        );
-    }
-    let (kinds, combine, feed) = identity_rows(outputs, inputs.len());
-    Ok(assemble(
-        inputs,
-        &[],
-        outputs,
-        opts,
-        Parts {
-            lam: sm.eigenvalues,
-            modal_b,
-            modal_c,
-            d_static,
-            motion_gain: Mat::zeros(no, 0),
-            warnings,
-            ndof: sm.ndof,
-            massless: sm.massless,
-            available,
-            solver: EigenSolver::Sparse,
-            kinds,
-            combine,
-            feed,
-        },
-    ))
 }
 
 pub(super) fn build(
@@ -182,47 +75,14 @@ pub(super) fn build(
         }
     }
     let ndof = red.ndof();
-    // force outputs of rigid or prescribed deformations: constraint reactions
-    let mut reactions = Vec::new();
-    let mut reaction_of = vec![None; outputs.len()];
-    for (o, out) in outputs.iter().enumerate() {
-        if let Probe::Force { element, mode } = out.probe {
-            if out.is_reaction(model) {
-                if out.kind != OutputKind::Disp {
-                    return Err(StateSpaceError::ReactionRate {
-                        output: out.name(model),
-                    });
-                }
-                reaction_of[o] = Some(reactions.len());
-                reactions.push((out.name(model), model.elements[element].ie + mode));
-            }
-        }
-    }
-    // reactions at held node coordinates: the rows of a unit motion of the coordinate
-    let mut node_reactions: Vec<Motion> = Vec::new();
-    let mut node_reaction_of = vec![None; outputs.len()];
-    for (o, out) in outputs.iter().enumerate() {
-        if let Probe::Reaction { node, dof } = out.probe {
-            if out.kind != OutputKind::Disp {
-                return Err(StateSpaceError::ReactionRate {
-                    output: out.name(model),
-                });
-            }
-            let n = &model.nodes[node];
-            let Some(i) = n.x_index(dof) else {
-                return Err(StateSpaceError::NoRotation {
-                    node: n.name.clone(),
-                });
-            };
-            if model.partition.x[i] == CoordKind::Free {
-                return Err(StateSpaceError::ReactionNotHeld {
-                    output: out.name(model),
-                });
-            }
-            node_reaction_of[o] = Some(node_reactions.len());
-            node_reactions.push(Motion::Node { node, dof });
-        }
-    }
+    // constraint reactions: of rigid or prescribed deformations, and at held node
+    // coordinates (the rows of a unit motion of the coordinate)
+    let super::lift::Reactions {
+        deformations: reactions,
+        deformation_of: reaction_of,
+        nodes: node_reactions,
+        node_of: node_reaction_of,
+    } = super::lift::reactions(model, outputs)?;
     let all_motions: Vec<Motion> = motions.iter().chain(&node_reactions).copied().collect();
     let (mut mloads, rrows) = motion_loads(model, step, red, &all_motions, &reactions)?;
     let nr_rows: Vec<ReactionRows> = mloads

@@ -2,7 +2,7 @@
 //! t_m of an enforced motion lifted onto the rigid and prescribed deformations, its loads
 //! Zᵀ K t_m and Zᵀ M t_m, the rows of reactions, and the rows w of node and element outputs.
 
-use super::{Motion, Output, Probe, StateSpaceError};
+use super::{Motion, Output, OutputKind, Probe, StateSpaceError};
 use crate::dynamics::Reduced;
 use crate::elements::ElementKind;
 use crate::math::lambda_bar;
@@ -46,65 +46,20 @@ pub(super) fn motion_loads(
     if motions.is_empty() && reactions.is_empty() {
         return Ok((Vec::new(), Vec::new()));
     }
-    let mut free = model.clone();
-    let mut freed = Vec::new();
+    let (free, targets) = freed_model(model, step, motions)?;
     let role = crate::statics::roles(model);
     // rigid/prescribed deformation constraints (rows of G)
     let rows: Vec<usize> = (0..model.ne)
         .filter(|&i| role[i] != crate::statics::Role::Flexible)
         .collect();
     // unit directions t⁰_m in x before the lifting, and the row of G the motion drives
-    let mut dirs = Vec::with_capacity(motions.len());
-    for mo in motions {
-        let name = mo.name(model);
-        match *mo {
-            Motion::Node { node, dof } => {
-                let n = &model.nodes[node];
-                let Some(i) = n.x_index(dof) else {
-                    return Err(StateSpaceError::NoRotation {
-                        node: n.name.clone(),
-                    });
-                };
-                if model.partition.x[i] == CoordKind::Free {
-                    return Err(StateSpaceError::MotionNotHeld { input: name });
-                }
-                let own: Vec<usize> = match (dof.is_rotation(), n.ix_rot) {
-                    (true, Some(r)) => (r + 1..r + 4).collect(),
-                    _ => vec![i],
-                };
-                for j in own {
-                    free.partition.x[j] = CoordKind::Free;
-                    freed.push(j);
-                }
-                let mut t0 = unit_vector(model, step, node, dof)?;
-                if dof.is_rotation() {
-                    // ½ Λ̄ᵀ e_k (the output row is 2 Λ̄ᵀ e_k)
-                    t0.iter_mut().for_each(|v| *v *= 0.25);
-                }
-                dirs.push((t0, None));
-            }
-            Motion::Deformation { element, mode } => {
-                let entry = &model.elements[element];
-                if entry.element.is_rigid_body() {
-                    return Err(StateSpaceError::RigidBodyMotion { input: name });
-                }
-                let i = entry.ie + mode;
-                let Some(row) = rows.iter().position(|&r| r == i) else {
-                    return Err(StateSpaceError::DeformationNotHeld {
-                        input: name,
-                        mode: mode + 1,
-                        name: entry.element.mode_name(mode, &model.node_names()),
-                        kind: entry.element.type_name(),
-                        element: entry.name.clone(),
-                    });
-                };
-                dirs.push((vec![0.0; model.nx], Some(row)));
-            }
-        }
-    }
-    free.loads
-        .prescribed
-        .retain(|p| !matches!(p.target, crate::model::Target::Coordinate(i) if freed.contains(&i)));
+    let dirs: Vec<(Vec<f64>, Option<usize>)> = targets
+        .into_iter()
+        .map(|t| match t {
+            Target::Node { t0, .. } => (t0, None),
+            Target::Deformation(e) => (vec![0.0; model.nx], rows.iter().position(|&r| r == e)),
+        })
+        .collect();
     let nx = model.nx;
     let kx = linearize(&free, step).tangent_in_x(&free, &step.x);
     // the velocity basis of the free coordinates
@@ -208,6 +163,142 @@ pub(super) fn motion_loads(
         });
     }
     Ok((out, rr))
+}
+
+/// What a prescribed motion (or a reaction measured as one) moves: held node coordinates, with
+/// the unit direction t⁰ in x (e_i, or ½ Λ̄ᵀ e_k on λ for a rotation) and the coordinates a copy
+/// of the model frees for it; or a held deformation (its index in e).
+pub(super) enum Target {
+    /// A held node coordinate.
+    Node {
+        /// Unit direction in x before any lifting.
+        t0: Vec<f64>,
+        /// x indices freed in the copy of the model: the translation alone, or λ1..λ3.
+        own: Vec<usize>,
+    },
+    /// A held deformation (index in e).
+    Deformation(usize),
+}
+
+/// The checked targets of `motions`, and a copy of the model in which their node coordinates
+/// are free (without their prescribed values). K on the moved coordinates comes from the
+/// linearisation of that copy: a translation alone is freed, for a rotation all of λ1..λ3 of
+/// the node. This keeps the constraints and multipliers: λ0 is always free, so every
+/// rotational node already has its normalisation and multiplier.
+pub(super) fn freed_model(
+    model: &Model,
+    step: &StepResult,
+    motions: &[Motion],
+) -> Result<(Model, Vec<Target>), StateSpaceError> {
+    let mut free = model.clone();
+    let mut freed = Vec::new();
+    let role = crate::statics::roles(model);
+    let mut targets = Vec::with_capacity(motions.len());
+    for mo in motions {
+        let name = mo.name(model);
+        match *mo {
+            Motion::Node { node, dof } => {
+                let n = &model.nodes[node];
+                let Some(i) = n.x_index(dof) else {
+                    return Err(StateSpaceError::NoRotation {
+                        node: n.name.clone(),
+                    });
+                };
+                if model.partition.x[i] == CoordKind::Free {
+                    return Err(StateSpaceError::MotionNotHeld { input: name });
+                }
+                let own: Vec<usize> = match (dof.is_rotation(), n.ix_rot) {
+                    (true, Some(r)) => (r + 1..r + 4).collect(),
+                    _ => vec![i],
+                };
+                for &j in &own {
+                    free.partition.x[j] = CoordKind::Free;
+                    freed.push(j);
+                }
+                let mut t0 = unit_vector(model, step, node, dof)?;
+                if dof.is_rotation() {
+                    // ½ Λ̄ᵀ e_k (the output row is 2 Λ̄ᵀ e_k)
+                    t0.iter_mut().for_each(|v| *v *= 0.25);
+                }
+                targets.push(Target::Node { t0, own });
+            }
+            Motion::Deformation { element, mode } => {
+                let entry = &model.elements[element];
+                if entry.element.is_rigid_body() {
+                    return Err(StateSpaceError::RigidBodyMotion { input: name });
+                }
+                let i = entry.ie + mode;
+                if role[i] == crate::statics::Role::Flexible {
+                    return Err(StateSpaceError::DeformationNotHeld {
+                        input: name,
+                        mode: mode + 1,
+                        name: entry.element.mode_name(mode, &model.node_names()),
+                        kind: entry.element.type_name(),
+                        element: entry.name.clone(),
+                    });
+                }
+                targets.push(Target::Deformation(i));
+            }
+        }
+    }
+    free.loads
+        .prescribed
+        .retain(|p| !matches!(p.target, crate::model::Target::Coordinate(i) if freed.contains(&i)));
+    Ok((free, targets))
+}
+
+/// The reactions that the outputs measure: the forces of rigid or prescribed deformations
+/// ((name, index in e), with the output's place in that list) and those of held node
+/// coordinates (as the motions of those coordinates, with the output's place). Rates of
+/// reactions, and reactions of free coordinates, are errors.
+pub(super) struct Reactions {
+    pub(super) deformations: Vec<(String, usize)>,
+    pub(super) deformation_of: Vec<Option<usize>>,
+    pub(super) nodes: Vec<Motion>,
+    pub(super) node_of: Vec<Option<usize>>,
+}
+
+/// The [`Reactions`] of `outputs`.
+pub(super) fn reactions(model: &Model, outputs: &[Output]) -> Result<Reactions, StateSpaceError> {
+    let mut r = Reactions {
+        deformations: Vec::new(),
+        deformation_of: vec![None; outputs.len()],
+        nodes: Vec::new(),
+        node_of: vec![None; outputs.len()],
+    };
+    for (o, out) in outputs.iter().enumerate() {
+        let reaction = matches!(out.probe, Probe::Reaction { .. })
+            || (matches!(out.probe, Probe::Force { .. }) && out.is_reaction(model));
+        if reaction && out.kind != OutputKind::Disp {
+            return Err(StateSpaceError::ReactionRate {
+                output: out.name(model),
+            });
+        }
+        match out.probe {
+            Probe::Force { element, mode } if reaction => {
+                r.deformation_of[o] = Some(r.deformations.len());
+                r.deformations
+                    .push((out.name(model), model.elements[element].ie + mode));
+            }
+            Probe::Reaction { node, dof } => {
+                let n = &model.nodes[node];
+                let Some(i) = n.x_index(dof) else {
+                    return Err(StateSpaceError::NoRotation {
+                        node: n.name.clone(),
+                    });
+                };
+                if model.partition.x[i] == CoordKind::Free {
+                    return Err(StateSpaceError::ReactionNotHeld {
+                        output: out.name(model),
+                    });
+                }
+                r.node_of[o] = Some(r.nodes.len());
+                r.nodes.push(Motion::Node { node, dof });
+            }
+            _ => {}
+        }
+    }
+    Ok(r)
 }
 
 /// Force vector in x of a unit input; or the row of an output in x (same vector): for a

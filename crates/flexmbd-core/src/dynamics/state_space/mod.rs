@@ -59,6 +59,7 @@ mod build;
 mod error;
 mod lift;
 mod signals;
+mod sparse;
 mod system;
 
 pub use error::StateSpaceError;
@@ -72,9 +73,10 @@ use crate::model::Dof;
 use crate::model::Model;
 use crate::statics::linear::linearize;
 use crate::statics::StepResult;
-use build::{build, build_sparse};
+use build::build;
 #[cfg(test)]
 use faer::{c64, Mat};
+use sparse::build_sparse;
 
 /// Options of [`state_space`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -132,20 +134,13 @@ pub fn state_space_with_motions(
     let ndof = velocity_dof(model);
     if uses_sparse(model, opts) {
         check_options(inputs, motions, outputs, opts)?;
-        if let Some(m) = motions.first() {
-            return Err(StateSpaceError::SparseMotion {
-                input: m.name(model),
-                ndof,
-                limit: DENSE_STATE_SPACE_DOF,
-            });
-        }
         let Some(count) = opts.modes else {
             return Err(StateSpaceError::SparseNeedsModes {
                 ndof,
                 limit: DENSE_STATE_SPACE_DOF,
             });
         };
-        return build_sparse(model, step, inputs, outputs, count, opts);
+        return build_sparse(model, step, inputs, motions, outputs, count, opts);
     }
     let lin = linearize(model, step);
     let red = reduced_matrices_with(model, step, &lin)?;
@@ -247,6 +242,9 @@ mod sparse_tests;
 
 #[cfg(test)]
 mod element_output_tests;
+
+#[cfg(test)]
+mod parity_tests;
 
 #[cfg(test)]
 mod tests;
