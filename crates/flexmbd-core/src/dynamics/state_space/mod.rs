@@ -66,7 +66,7 @@ pub use error::StateSpaceError;
 pub use signals::{Input, InputInfo, Motion, Output, OutputKind, Probe};
 pub use system::{log_space, magnitude_phase, to_rows, StateSpace};
 
-use super::{reduced_matrices_with, velocity_dof, EigenSolver, Reduced};
+use super::{auto_solver, reduced_matrices_with, velocity_dof, EigenSolver, Reduced};
 use crate::elements::ElementKind;
 #[cfg(test)]
 use crate::model::Dof;
@@ -88,13 +88,15 @@ pub struct StateSpaceOptions {
     /// Add the residual static flexibility of the dropped modes to D (displacement outputs),
     /// so that a truncated model keeps the exact static gain.
     pub static_correction: bool,
-    /// Eigen solver: `Auto` is dense up to [`DENSE_STATE_SPACE_DOF`] degrees of freedom (all
-    /// modes, massless directions condensed exactly, motion inputs) and sparse above it (the
-    /// lowest `modes` only, which must then be given).
+    /// Eigen solver: `Auto` is the one rule of [`crate::dynamics::auto_solver`]: sparse (the
+    /// lowest `modes` only, which must then be given) for a large model, or for a truncated one
+    /// with the static correction on more than [`crate::dynamics::SPARSE_THRESHOLD`] degrees of
+    /// freedom; dense (all modes, massless directions condensed exactly) otherwise.
     pub solver: EigenSolver,
 }
 
-/// [`EigenSolver::Auto`] builds the state space densely up to this many degrees of freedom.
+/// [`EigenSolver::Auto`] builds a state space of all modes densely up to this many degrees of
+/// freedom ([`crate::dynamics::auto_solver`]).
 pub const DENSE_STATE_SPACE_DOF: usize = super::DENSE_FALLBACK_DOF;
 
 impl Default for StateSpaceOptions {
@@ -148,10 +150,14 @@ pub fn state_space_with_motions(
 }
 
 /// Whether [`state_space_with_motions`] takes the sparse path for this model and these
-/// options (the solver asked for; `Auto`: above [`DENSE_STATE_SPACE_DOF`] degrees of freedom).
+/// options (the solver asked for; `Auto`: [`crate::dynamics::auto_solver`], with the kept modes
+/// as the wanted ones when the static correction is on, else all modes).
 pub fn uses_sparse(model: &Model, opts: &StateSpaceOptions) -> bool {
     match opts.solver {
-        EigenSolver::Auto => velocity_dof(model) > DENSE_STATE_SPACE_DOF,
+        EigenSolver::Auto => {
+            let wanted = opts.modes.filter(|_| opts.static_correction);
+            auto_solver(velocity_dof(model), wanted) == EigenSolver::Sparse
+        }
         s => s == EigenSolver::Sparse,
     }
 }
