@@ -558,27 +558,10 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         static_correction: a.static_correction,
         solver: a.solver.options().solver,
     };
-    // the sparse path's requirements are input errors, found before the static solve
+    // the sparse path's requirement (the number of modes) is an input error, found before the
+    // static solve
     if uses_sparse(&model, &ss_opts) {
         let ndof = velocity_dof(&model);
-        let reaction = outputs.iter().find(|o| o.is_reaction(&model));
-        if let Some(o) = reaction {
-            return Err(BadInput(format!(
-                "--output {}: reactions (of supports, and the forces of rigid or prescribed deformations) are given by the dense state space only (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof})",
-                o.name(&model),
-                a.model.display()
-            ))
-            .into());
-        }
-        if let Some(m) = motions.first() {
-            return Err(BadInput(format!(
-                "--input {}: prescribed-motion inputs need the dense state space (at most {DENSE_STATE_SPACE_DOF} degrees of freedom; {} has {ndof}{}); use force or moment inputs",
-                m.name(&model),
-                a.model.display(),
-                if a.solver == SolverArg::Sparse { ", and --solver sparse was given" } else { "" }
-            ))
-            .into());
-        }
         if a.modes.is_none() {
             return Err(BadInput(format!(
                 "{} has {ndof} degrees of freedom{}: the sparse state space keeps the lowest modes only; give --modes N (e.g. --modes 20), with --static-correction for the exact static gain",

@@ -103,8 +103,7 @@ pub struct Modal {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum EigenSolver {
-    /// Dense below [`SPARSE_THRESHOLD`] degrees of freedom, or when more than a third of all
-    /// modes are asked for; sparse otherwise.
+    /// The one automatic rule, [`auto_solver`].
     #[default]
     Auto,
     /// All eigenpairs of the dense reduced matrices (minimal basis by SVD, static condensation
@@ -133,17 +132,41 @@ pub struct ModalOptions {
     pub solver: EigenSolver,
 }
 
-/// [`EigenSolver::Auto`] uses the sparse path above this many degrees of freedom (velocity
-/// coordinates of the free nodal coordinates), when at most a third of the modes are asked
-/// for. Measured on 2 cores (benches/strip_modes.rs, 6 modes of the steel strip): the two
-/// paths take the same time at about 24 degrees of freedom (0.3 ms); at 60 the sparse one is
-/// 3 times faster (0.6 ms against 1.9 ms), at 420 thirty-six times (3 ms against 116 ms).
-/// Below the threshold the dense path, which needs no iteration, costs under a millisecond.
+/// The sparse path pays off above this many degrees of freedom (velocity coordinates of the
+/// free nodal coordinates; [`auto_solver`]). Measured on 2 cores (benches/strip_modes.rs, 6
+/// modes of the steel strip): the two paths take the same time at about 24 degrees of freedom
+/// (0.3 ms); at 60 the sparse one is 3 times faster (0.6 ms against 1.9 ms), at 420 thirty-six
+/// times (3 ms against 116 ms). Below it the dense path, which needs no iteration, costs under
+/// a millisecond.
 pub const SPARSE_THRESHOLD: usize = 48;
 
-/// [`EigenSolver::Auto`] falls back to the dense path when the sparse one fails (repeated
-/// constraints, no convergence) on models with at most this many degrees of freedom.
+/// The largest model the automatic choice hands to the dense path when it needs all modes
+/// ([`auto_solver`]), and to which it falls back when the sparse path fails (repeated
+/// constraints, no convergence): O(n³) time and O(n²) memory stay below about a second and
+/// 100 MB there.
 pub const DENSE_FALLBACK_DOF: usize = 3000;
+
+/// The automatic choice of the eigen solver, the one rule of every linearised analysis (modes,
+/// sweeps, state spaces), for a model of `ndof` degrees of freedom ([`velocity_dof`]) of which
+/// `wanted` lowest modes are needed (`None`: all of them):
+///
+/// - sparse when the model has more than [`SPARSE_THRESHOLD`] degrees of freedom and at most a
+///   third of its modes are wanted (shift-invert Lanczos finds a few lowest modes in about
+///   linear time);
+/// - otherwise dense up to [`DENSE_FALLBACK_DOF`] degrees of freedom (all eigenpairs);
+/// - sparse above that (the dense matrices would not fit).
+///
+/// A state space needs all modes unless it keeps the lowest N with the static correction: only
+/// then is its truncated model the same on both paths (without the correction the dense path
+/// keeps the instantaneous response of the massless directions apart from the dropped modes,
+/// which the sparse path cannot).
+pub fn auto_solver(ndof: usize, wanted: Option<usize>) -> EigenSolver {
+    match wanted {
+        Some(c) if ndof > SPARSE_THRESHOLD && c.saturating_mul(3) <= ndof => EigenSolver::Sparse,
+        _ if ndof > DENSE_FALLBACK_DOF => EigenSolver::Sparse,
+        _ => EigenSolver::Dense,
+    }
+}
 
 /// Number of velocity coordinates of the free nodal coordinates (translations, and one per
 /// free rotation component): the degrees of freedom before the rigid and input constraints.
@@ -174,14 +197,7 @@ impl ModalOptions {
     /// The solver [`EigenSolver::Auto`] stands for, for `count` modes of `model`.
     pub fn resolve(&self, model: &Model, count: usize) -> EigenSolver {
         match self.solver {
-            EigenSolver::Auto => {
-                let n = velocity_dof(model);
-                if n > SPARSE_THRESHOLD && count.saturating_mul(3) <= n {
-                    EigenSolver::Sparse
-                } else {
-                    EigenSolver::Dense
-                }
-            }
+            EigenSolver::Auto => auto_solver(velocity_dof(model), Some(count)),
             s => s,
         }
     }

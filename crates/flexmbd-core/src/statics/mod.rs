@@ -2254,6 +2254,11 @@ impl ReducedLinear {
         !self.su.moments.is_empty()
     }
 
+    /// The row of the system that holds deformation `e` (a rigid or input deformation).
+    pub(crate) fn constraint_row(&self, e: usize) -> Option<usize> {
+        self.su.constraint[e].and_then(|k| self.su.red.map[self.su.nf + k])
+    }
+
     /// Size of the system (coordinates and kept constraints).
     pub(crate) fn n(&self) -> usize {
         self.su.red.n

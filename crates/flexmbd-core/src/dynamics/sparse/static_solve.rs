@@ -10,7 +10,8 @@
 //! assembled product cannot resolve the residual, and a plain solve loses up to 1e-5 of the
 //! compliance; through the deformations the refinement recovers it to about 1e-10.
 
-use super::{Problem, Shifted};
+use super::problem::Problem;
+use super::shifted::Shifted;
 use crate::dynamics::ModalError;
 use crate::model::Model;
 use crate::statics::StepResult;
@@ -42,6 +43,10 @@ fn saddle_times(p: &Problem, model: &Model, step: &StepResult, z: &[f64]) -> Vec
     for &(r, c, kv) in &p.extra_k {
         out[r] += kv * z[c];
     }
+    for &(r, c, v) in &p.added {
+        out[r] += v * z[c];
+        out[c] += v * z[r];
+    }
     out
 }
 
@@ -56,14 +61,35 @@ pub(super) fn static_responses(
     step: &StepResult,
     loads: &[Vec<f64>],
 ) -> Result<Vec<Vec<f64>>, ModalError> {
+    let rhs: Vec<Vec<f64>> = loads
+        .iter()
+        .map(|f| {
+            let mut b = p.lin.force_to_coords(&step.x, f);
+            b.resize(p.n, 0.0);
+            b
+        })
+        .collect();
+    Ok(saddle_solutions(p, model, step, &rhs)?
+        .iter()
+        .map(|z| p.lin.to_x(model, &step.x, &z[..p.nc]))
+        .collect())
+}
+
+/// The solutions z = [u; μ] of [K, Gᵀ; G, 0] z = b for right-hand sides of the full saddle
+/// system (coordinate loads, then constraint values), from one factorisation with iterative
+/// refinement. `Err(SparseSingular)` as [`static_responses`].
+pub(super) fn saddle_solutions(
+    p: &Problem,
+    model: &Model,
+    step: &StepResult,
+    rhs: &[Vec<f64>],
+) -> Result<Vec<Vec<f64>>, ModalError> {
     let mut op = Shifted::new(p);
     if !op.factor(p, 0.0, true) {
         return Err(ModalError::SparseSingular);
     }
-    let mut out = Vec::with_capacity(loads.len());
-    for f in loads {
-        let mut b = p.lin.force_to_coords(&step.x, f);
-        b.resize(p.n, 0.0);
+    let mut out = Vec::with_capacity(rhs.len());
+    for b in rhs {
         let mut z = b.clone();
         op.solve(&mut z);
         let mut last = f64::INFINITY;
@@ -85,7 +111,7 @@ pub(super) fn static_responses(
         if z.iter().any(|v| !v.is_finite()) {
             return Err(ModalError::SparseSingular);
         }
-        out.push(p.lin.to_x(model, &step.x, &z[..p.nc]));
+        out.push(z);
     }
     Ok(out)
 }

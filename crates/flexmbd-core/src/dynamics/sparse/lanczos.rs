@@ -1,0 +1,295 @@
+//! Krylov–Schur restarted Lanczos in the M inner product, with the Sturm check that no
+//! eigenvalue was missed (module docs of `sparse`).
+
+use super::basis::{basis_combine, basis_dots, basis_subtract, dot, projected_eigen_largest};
+use super::problem::Problem;
+use super::shifted::{Rng, Shifted};
+use super::TOL;
+use crate::dynamics::ModalError;
+use faer::{Mat, MatRef};
+
+/// A basis with the products of M: columns of `v` and `mv` = M `v`.
+pub(super) struct Basis<'a> {
+    v: MatRef<'a, f64>,
+    mv: MatRef<'a, f64>,
+    /// Number of columns in use.
+    j: usize,
+}
+
+/// M-inner-product Gram–Schmidt of `w` against the bases (classical Gram–Schmidt with one
+/// reorthogonalisation); the coefficients against the first basis go to `h` (length
+/// `main.j`), and the M-norm of the result is returned, with `mw` = M w on return. One
+/// product with M, at the end: the coefficients are the products of w with the stored M vᵢ.
+/// `scratch` holds at least as many entries as the larger basis has columns.
+pub(super) fn orthogonalise(
+    p: &Problem,
+    main: &Basis<'_>,
+    locked: Option<&Basis<'_>>,
+    w: &mut [f64],
+    mw: &mut [f64],
+    h: &mut [f64],
+    scratch: &mut [f64],
+) -> f64 {
+    h.iter_mut().for_each(|x| *x = 0.0);
+    for _pass in 0..2 {
+        for (b, is_main) in [(Some(main), true), (locked, false)] {
+            let Some(b) = b else { continue };
+            if b.j == 0 {
+                continue;
+            }
+            let c = &mut scratch[..b.j];
+            basis_dots(b.mv, w, c);
+            basis_subtract(b.v, c, w);
+            if is_main {
+                h.iter_mut().zip(c.iter()).for_each(|(a, x)| *a += x);
+            }
+        }
+    }
+    p.m_times(w, mw);
+    let norm2 = dot(w, mw);
+    norm2.max(0.0).sqrt()
+}
+
+/// Converged Ritz pairs of one Krylov–Schur run: θ (descending) and vectors (columns).
+pub(super) struct Run {
+    theta: Vec<f64>,
+    x: Mat<f64>,
+    applications: usize,
+}
+
+/// Krylov–Schur (thick-restart Lanczos) for the `nev` largest θ of the operator, M-orthogonal
+/// to `locked` (M-orthonormal columns). Fewer pairs are returned when the reachable space is
+/// smaller (all of them exact then). `Err(applications)` when `max_applications` was reached.
+pub(super) fn krylov_schur(
+    p: &Problem,
+    op: &mut Shifted,
+    nev: usize,
+    locked: &Mat<f64>,
+    seed: u64,
+    max_applications: usize,
+) -> Result<Run, usize> {
+    let nc = p.nc;
+    let mmax = (2 * nev + 10).max(nev + 20).min(nc);
+    let mut v = Mat::<f64>::zeros(nc, mmax + 1);
+    let mut mv = Mat::<f64>::zeros(nc, mmax + 1);
+    let mut h = Mat::<f64>::zeros(mmax, mmax);
+    let mut w = vec![0.0; nc];
+    let mut mw = vec![0.0; nc];
+    // Gram–Schmidt coefficients and their scratch (the larger of the two bases)
+    let mut hc = vec![0.0; mmax + 1];
+    let mut scratch = vec![0.0; (mmax + 1).max(locked.ncols())];
+    let mut start_scratch = vec![0.0; 2 * (mmax + 1) + locked.ncols()];
+    let mut rng = Rng(seed);
+    let mut applications = 0;
+    let mut ml = Mat::<f64>::zeros(nc, locked.ncols());
+    for c in 0..locked.ncols() {
+        p.m_times(locked.col_as_slice(c), ml.col_as_slice_mut(c));
+    }
+    let lk = Basis {
+        v: locked.as_ref(),
+        mv: ml.as_ref(),
+        j: locked.ncols(),
+    };
+    let lk = (lk.j > 0).then_some(&lk);
+    // a start vector from the operator's range, M-orthogonal to the first j basis vectors,
+    // normalised into column j; false when the reachable space is exhausted
+    let mut new_start = |v: &mut Mat<f64>,
+                         mv: &mut Mat<f64>,
+                         j: usize,
+                         w: &mut Vec<f64>,
+                         mw: &mut Vec<f64>,
+                         op: &mut Shifted,
+                         applications: &mut usize|
+     -> bool {
+        for _ in 0..3 {
+            // the random vector in mw (overwritten by M w below)
+            mw.iter_mut().for_each(|x| *x = rng.next());
+            op.apply(p, mw, w);
+            *applications += 1;
+            p.m_times(w, mw);
+            let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
+            let main = Basis {
+                v: v.as_ref(),
+                mv: mv.as_ref(),
+                j,
+            };
+            let (h, rest) = start_scratch.split_at_mut(j);
+            let after = orthogonalise(p, &main, lk, w, mw, h, rest);
+            if before > 0.0 && after > 1e-8 * before.sqrt() {
+                for (dst, src) in [(&mut *v, &*w), (&mut *mv, &*mw)] {
+                    dst.col_as_slice_mut(j)
+                        .iter_mut()
+                        .zip(src.iter())
+                        .for_each(|(a, b)| *a = b / after);
+                }
+                return true;
+            }
+        }
+        false
+    };
+    if !new_start(&mut v, &mut mv, 0, &mut w, &mut mw, op, &mut applications) {
+        return Ok(Run {
+            theta: Vec::new(),
+            x: Mat::zeros(nc, 0),
+            applications,
+        });
+    }
+    let mut k = 0; // size of the kept (restarted) decomposition
+    loop {
+        // expand from k to mmax: S V_m = V_m H_m + β v_{m+1} e_mᵀ
+        let mut beta = 0.0;
+        let mut j = k;
+        let mut exhausted = false;
+        while j < mmax {
+            op.apply_mv(p, mv.col_as_slice(j), &mut w);
+            applications += 1;
+            let main = Basis {
+                v: v.as_ref(),
+                mv: mv.as_ref(),
+                j: j + 1,
+            };
+            let hc = &mut hc[..j + 1];
+            let b = orthogonalise(p, &main, lk, &mut w, &mut mw, hc, &mut scratch);
+            for (i, c) in hc.iter().enumerate() {
+                h[(i, j)] = *c;
+            }
+            let scale = hc.iter().fold(0.0f64, |a, c| a.max(c.abs()));
+            j += 1;
+            if b > 1e-12 * scale && b > 0.0 {
+                beta = b;
+                for (dst, src) in [(&mut v, &w), (&mut mv, &mw)] {
+                    dst.col_as_slice_mut(j)
+                        .iter_mut()
+                        .zip(src.iter())
+                        .for_each(|(a, c)| *a = c / b);
+                }
+            } else {
+                // an invariant subspace: continue with a new direction (coupling zero)
+                beta = 0.0;
+                if j < mmax
+                    && !new_start(&mut v, &mut mv, j, &mut w, &mut mw, op, &mut applications)
+                {
+                    exhausted = true;
+                    break;
+                }
+            }
+        }
+        let m = j;
+        // Ritz pairs of the symmetric projected matrix (its upper triangle was computed)
+        let hs = h.as_ref().submatrix(0, 0, m, m).transpose();
+        // wanted: the largest θ (the eigenvalues nearest above the shift); the vectors of the
+        // `want` largest (converged) or of the `keep` largest (restart), largest first
+        let want = nev.min(m);
+        let keep = if m >= 2 {
+            (nev + (mmax - nev) / 2).clamp(1, m - 1)
+        } else {
+            1
+        };
+        let (s, y) =
+            projected_eigen_largest(hs, want.max(keep).min(m)).map_err(|_| applications)?;
+        // column c of y belongs to θ = s[m − 1 − c]
+        let converged = |c: usize| {
+            let t = s[m - 1 - c];
+            (beta * y[(m - 1, c)]).abs() <= TOL * t.abs() && t != 0.0
+        };
+        let conv = (0..want).take_while(|&c| converged(c)).count();
+        if conv == want || exhausted || beta == 0.0 {
+            return Ok(Run {
+                theta: (0..want).map(|c| s[m - 1 - c]).collect(),
+                x: basis_combine(v.subcols(0, m), y.subcols(0, want)),
+                applications,
+            });
+        }
+        if applications >= max_applications {
+            return Err(applications);
+        }
+        // thick restart: the best `keep` Ritz vectors, then the residual vector
+        let ysel = y.subcols(0, keep);
+        for basis in [&mut v, &mut mv] {
+            let vk = basis_combine(basis.subcols(0, m), ysel);
+            for c in 0..keep {
+                basis
+                    .col_as_slice_mut(c)
+                    .copy_from_slice(vk.col_as_slice(c));
+            }
+            let resid = basis.col_as_slice(m).to_vec();
+            basis.col_as_slice_mut(keep).copy_from_slice(&resid);
+        }
+        h.fill(0.0);
+        for c in 0..keep {
+            // the coupling of the kept vectors to the residual vector (β times the last row of
+            // their Ritz vectors) is computed again by the next orthogonalisation
+            h[(c, c)] = s[m - 1 - c];
+        }
+        k = keep;
+    }
+}
+
+/// Krylov–Schur runs at the current shift until the `want` largest θ have converged and the
+/// Sturm check (inertia just above the last of them) finds no eigenvalue missed; a missed one
+/// (the second copy of a multiple eigenvalue) is found by a further run deflated against the
+/// vectors found. Returns the Ritz vectors, their θ and the operator applications used.
+pub(super) fn lanczos_runs(
+    p: &Problem,
+    op: &mut Shifted,
+    want: usize,
+    max_applications: usize,
+) -> Result<(Mat<f64>, Vec<f64>, usize), ModalError> {
+    let nc = p.nc;
+    let sigma = op.sigma;
+    let mut found: Mat<f64> = Mat::zeros(nc, 0);
+    let mut thetas: Vec<f64> = Vec::new();
+    let mut applications = 0;
+    for run in 0..8u64 {
+        let need = want.saturating_sub(thetas.len()).max(1);
+        let r = krylov_schur(
+            p,
+            op,
+            need,
+            &found,
+            0x5DEE_CE66_D1CE_4E5B ^ (run + 1).wrapping_mul(0x9E37_79B9),
+            max_applications.saturating_sub(applications),
+        )
+        .map_err(|a| ModalError::NotConverged {
+            found: thetas.len(),
+            wanted: want,
+            applications: applications + a,
+        })?;
+        applications += r.applications;
+        if r.theta.is_empty() {
+            break;
+        }
+        let old = found.ncols();
+        let mut all = Mat::<f64>::zeros(nc, old + r.x.ncols());
+        for c in 0..old {
+            all.col_as_slice_mut(c)
+                .copy_from_slice(found.col_as_slice(c));
+        }
+        for c in 0..r.x.ncols() {
+            all.col_as_slice_mut(old + c)
+                .copy_from_slice(r.x.col_as_slice(c));
+        }
+        found = all;
+        thetas.extend(&r.theta);
+        if thetas.len() < want {
+            continue;
+        }
+        let mut lam: Vec<f64> = thetas.iter().map(|&t| sigma + 1.0 / t).collect();
+        lam.sort_by(f64::total_cmp);
+        let last = lam[want - 1];
+        let scale = lam.iter().fold(sigma.abs(), |a, l| a.max(l.abs()));
+        let check = last + 1e-6 * scale.max(f64::MIN_POSITIVE);
+        match op.count_below(p, check) {
+            Some(below) if below > lam.iter().filter(|&&l| l < check).count() => continue,
+            _ => break,
+        }
+    }
+    if thetas.is_empty() {
+        return Err(ModalError::NotConverged {
+            found: 0,
+            wanted: want,
+            applications,
+        });
+    }
+    Ok((found, thetas, applications))
+}

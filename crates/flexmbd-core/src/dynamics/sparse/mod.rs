@@ -1,0 +1,401 @@
+//! The sparse eigen path for large models (docs/dynamics.md, "Large models").
+//!
+//! The same eigenproblem as the dense path, (K_m + K_g) v = ω² M v on the minimal coordinates,
+//! solved without any dense matrix of the size of the model:
+//!
+//! - **Coordinates**: the reduced unknowns of the statics Newton system
+//!   ([`crate::statics::ReducedLinear`]): free translations, three rotation increments δ per
+//!   rotational node (angular velocity ω = 2δ, so these are velocity coordinates), the Euler
+//!   parameters of partly held rotational nodes, and one multiplier per kept constraint (rigid
+//!   and input deformations, normalisations of partly held nodes). The stiffness is the Newton
+//!   matrix of statics at the state: K = K_m + K_g with the pre-stress, the constraint forces,
+//!   the normalisation terms and the load stiffness of moments, exactly as in the dense path.
+//!   The mass is assembled element by element in the same coordinates (Tᵀ M_e T).
+//! - **Constraints** stay in the saddle-point form: the shift-invert operator solves
+//!   `[K − σM, Gᵀ; G, 0] [u; μ] = [M v; 0]`, so every vector it returns satisfies G u = 0, and
+//!   the Lanczos vectors stay in the constrained space without a null-space basis.
+//! - **Factorisation**: the project's own sparse L D Lᵀ (`math::sparse_lu`) with diagonal
+//!   pivots, in an AMD order of the coordinates with every constraint row placed right after the
+//!   last coordinate it couples (so that its pivot exists); Sylvester's law of inertia then
+//!   counts the eigenvalues below the shift (negative pivots minus constraints). When L D Lᵀ
+//!   breaks down (a massless rigid part, say), LU with partial pivoting is used instead, without
+//!   the inertia count.
+//! - **Shift**: σ = 0 when K is positive definite on the constrained space (the inertia says
+//!   so); otherwise (zero-frequency motions, a buckled state) σ < 0 is lowered in steps until
+//!   no eigenvalue lies below it. So the wanted eigenvalues are the largest θ = 1/(λ − σ). A
+//!   shift at which the operator amplifies some directions far more than the last wanted mode
+//!   (zero-frequency modes, or a small σ that only just regularises a massless part) is
+//!   replaced after a first pass by one a tenth of the wanted range below the lowest
+//!   eigenvalue.
+//! - **Massless directions** need no special treatment: the operator maps everything onto
+//!   vectors whose massless part follows the massive part quasi-statically, which is the static
+//!   condensation of the dense path; the start vector is passed through the operator first, and
+//!   every converged vector is purified by one more application. Infinite eigenvalues never
+//!   appear (they are θ = 0).
+//! - **Eigen iteration**: Krylov–Schur restarted Lanczos (Stewart 2001) in the M inner product
+//!   with full reorthogonalisation (classical Gram–Schmidt, twice), converged when the residual
+//!   of every wanted Ritz pair is below [`TOL`] |θ|. A **Sturm check** (the inertia at a shift
+//!   just above the last wanted eigenvalue) then confirms that no eigenvalue was missed (a
+//!   multiple eigenvalue, which a single-vector Lanczos may find only once); missed ones are
+//!   found by further runs deflated against the modes found.
+//! - **Projected eigenproblem**: the Ritz pairs of the (at most a few dozen) projected matrix
+//!   come from the project's own small symmetric solver ([`crate::math::small_eigen`]:
+//!   Householder tridiagonalisation, implicit QL, only the eigenvectors of the wanted and kept
+//!   Ritz values formed), faer's beyond [`SMALL_EIGEN_MAX`]; a general solver's fixed costs
+//!   exceed the whole iteration on small models.
+//! - **Result**: the Ritz vectors (M-orthonormal by the reorthogonalisation; purified and
+//!   orthonormalised again when there are massless directions), and as eigenvalues their
+//!   Rayleigh quotients with the strain energy evaluated through the element deformations
+//!   ([`crate::statics::ReducedLinear::material_energy2`]): on fine meshes the stiffness
+//!   entries exceed the stiffness of a smooth mode by many orders of magnitude, and both the
+//!   factorisation (σ + 1/θ) and the product uᵀ K u lose the lowest eigenvalues to round-off.
+
+mod basis;
+mod lanczos;
+mod problem;
+mod shifted;
+
+use super::ModalError;
+use crate::linalg::EigenError;
+use crate::model::Model;
+use crate::statics::StepResult;
+#[cfg(test)]
+use basis::projected_eigen_largest;
+use basis::{projected_eigen, PAR_MIN};
+use faer::Mat;
+use lanczos::lanczos_runs;
+use problem::Problem;
+use rayon::prelude::*;
+use shifted::Shifted;
+
+/// Convergence tolerance of a Ritz pair (θ, x) of the shift-invert operator S:
+/// ‖S x − θ x‖_M ≤ TOL |θ|.
+pub const TOL: f64 = 1e-10;
+
+/// Largest number of operator applications per wanted mode (plus a constant) before the
+/// iteration gives up.
+const MAX_APPLICATIONS_PER_MODE: usize = 60;
+
+/// The result of the sparse path: eigenvalues ascending and mass-normalised shapes in x.
+pub(crate) struct SparseModes {
+    /// ω², ascending.
+    pub eigenvalues: Vec<f64>,
+    /// Shapes δx (length nx), δxᵀ M δx = 1.
+    pub shapes: Vec<Vec<f64>>,
+    /// Number of minimal coordinates (coordinates minus constraints).
+    pub ndof: usize,
+    /// Directions without inertia (infinite eigenvalues of the pencil).
+    pub massless: usize,
+    /// Kinetic energy split of every mode: per node (translation, rotation), the rows of the
+    /// node in uᵀ M u (the same split as in x: the rotation increments of a node map onto its
+    /// own Euler parameters only).
+    pub kinetic: Vec<NodeKinetic>,
+}
+
+/// Kinetic energy of one mode per node: (translation, rotation).
+type NodeKinetic = Vec<(f64, f64)>;
+
+/// The lowest `count` eigenpairs on the sparse path.
+pub(crate) fn sparse_modes(
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+) -> Result<SparseModes, ModalError> {
+    modes_of(&Problem::new(model, step), model, step, count)
+}
+
+/// A static field δx (length nx) with the multipliers of every constraint row.
+pub(crate) type HeldResponse = (Vec<f64>, Vec<f64>);
+
+/// The sparse problem of a model at a step, kept by [`sparse_modes_held`] for further solves
+/// on the same matrices ([`SparseProblem::static_responses`]).
+pub(crate) struct SparseProblem(Problem);
+
+/// [`sparse_modes`], keeping the sparse problem for static solves with the same matrices, with
+/// constraint rows added after those of the Newton system (each
+/// row as (x index, coefficient) pairs of a vector in x, mapped onto the coordinate unknowns):
+/// for the state space, which frees held coordinates in a copy of the model and holds them
+/// again by these rows.
+pub(crate) fn sparse_modes_held(
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+    rows: &[Vec<f64>],
+) -> Result<(SparseModes, SparseProblem), ModalError> {
+    let p = Problem::with_rows(model, step, rows);
+    let sm = modes_of(&p, model, step, count)?;
+    Ok((sm, SparseProblem(p)))
+}
+
+impl SparseProblem {
+    /// The first added constraint row ([`sparse_modes_held`]); the rows of the Newton system
+    /// come before it.
+    pub(crate) fn first_added_row(&self) -> usize {
+        self.0.lin.n()
+    }
+
+    /// The row of the system that holds deformation `e` (a rigid or input deformation).
+    pub(crate) fn deformation_row(&self, e: usize) -> Option<usize> {
+        self.0.lin.constraint_row(e)
+    }
+
+    /// For each list of constraint values (row, value): the solution of the linearised statics
+    /// without loads whose constrained quantities take these values, as δx (length nx) and the
+    /// multipliers of every constraint row (indexed from the first constraint row, nc).
+    pub(crate) fn held_responses(
+        &self,
+        model: &Model,
+        step: &StepResult,
+        values: &[Vec<(usize, f64)>],
+    ) -> Result<Vec<HeldResponse>, ModalError> {
+        let p = &self.0;
+        let rhs: Vec<Vec<f64>> = values
+            .iter()
+            .map(|vals| {
+                let mut b = vec![0.0; p.n];
+                for &(r, v) in vals {
+                    b[r] += v;
+                }
+                b
+            })
+            .collect();
+        Ok(saddle_solutions(p, model, step, &rhs)?
+            .into_iter()
+            .map(|z| (p.lin.to_x(model, &step.x, &z[..p.nc]), z[p.nc..].to_vec()))
+            .collect())
+    }
+
+    /// Number of coordinate unknowns (the constraint rows follow).
+    pub(crate) fn n_coords(&self) -> usize {
+        self.0.nc
+    }
+
+    /// δx = K⁻¹ f of each load in x (module `sparse_static`).
+    pub(crate) fn static_responses(
+        &self,
+        model: &Model,
+        step: &StepResult,
+        loads: &[Vec<f64>],
+    ) -> Result<Vec<Vec<f64>>, ModalError> {
+        static_responses(&self.0, model, step, loads)
+    }
+}
+
+/// The lowest `count` eigenpairs of the problem `p` of `model` at `step`.
+fn modes_of(
+    p: &Problem,
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+) -> Result<SparseModes, ModalError> {
+    let nc = p.nc;
+    let n_constraints = p.n - nc;
+    if nc < n_constraints {
+        // more constraints than coordinates: some repeat others (the dense path removes them)
+        return Err(ModalError::SparseSingular);
+    }
+    if nc == n_constraints {
+        return Err(ModalError::NoDof);
+    }
+    if p.m_val.iter().all(|&v| v == 0.0) {
+        return Err(ModalError::NoMass);
+    }
+    let ndof = nc - n_constraints;
+    let mut op = Shifted::new(p);
+    // scale of the eigenvalues: the largest Rayleigh quotient of a unit coordinate
+    let (kd, md) = p.diagonals();
+    let lambda_ref = kd
+        .iter()
+        .zip(&md)
+        .filter(|(_, &m)| m > 0.0)
+        .map(|(&k, &m)| k.abs() / m)
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    // shift: 0 when K is positive definite on the constrained space, else lowered until no
+    // eigenvalue lies below it (inertia), starting just above the round-off level
+    let mut shifts = vec![0.0];
+    let floor = f64::EPSILON * lambda_ref / nc as f64;
+    shifts.extend((0..12).map(|i| -floor * 100f64.powi(i)));
+    let mut chosen = None;
+    for &s in &shifts {
+        if op.factor(p, s, false) && op.below == Some(0) {
+            chosen = Some(s);
+            break;
+        }
+    }
+    if chosen.is_none() {
+        // no L D Lᵀ without eigenvalues below the shift: LU, without the inertia check
+        for &s in &shifts {
+            if op.factor(p, s, true) {
+                chosen = Some(s);
+                break;
+            }
+        }
+    }
+    let Some(mut sigma) = chosen else {
+        let names: Vec<String> = super::massless_nodes(model, &step.x)
+            .iter()
+            .map(|&i| model.nodes[i].name.clone())
+            .collect();
+        if !names.is_empty() {
+            return Err(ModalError::MasslessMechanism {
+                nodes: names.join(", "),
+            });
+        }
+        return Err(ModalError::SparseSingular);
+    };
+    // massless directions: the finite eigenvalues all lie below a shift far above them
+    let massless = match op.count_below(p, 1e8 * lambda_ref) {
+        Some(finite) if finite <= ndof => ndof - finite,
+        _ => md.iter().filter(|&&m| m <= 0.0).count().min(ndof),
+    };
+    let n_finite = ndof - massless;
+    let want = count.min(n_finite);
+    if want == 0 {
+        return Ok(SparseModes {
+            eigenvalues: Vec::new(),
+            shapes: Vec::new(),
+            ndof,
+            massless,
+            kinetic: Vec::new(),
+        });
+    }
+    let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
+    let (mut found, mut thetas, mut applications) =
+        lanczos_runs(p, &mut op, want, max_applications)?;
+    // A shift that makes the operator amplify some directions far more than the wanted modes
+    // costs these digits when they are orthogonalised against those directions: a shift far
+    // closer to the lowest eigenvalue than to the last wanted one (zero-frequency motions, an
+    // unstable mode), or a small negative shift that only just regularises a matrix singular
+    // in directions the constraints remove (a massless or stiffness-free part of a rigid
+    // body). Then shift again, clearly below the lowest eigenvalue (the inertia confirms it).
+    let mut lam: Vec<f64> = thetas.iter().map(|&t| sigma + 1.0 / t).collect();
+    lam.sort_by(f64::total_cmp);
+    let (l1, lk) = (lam[0], lam[lam.len().min(want) - 1]);
+    let dominated = lk - sigma > 1e6 * (l1 - sigma);
+    let barely_regular = sigma < 0.0 && -sigma < 1e-3 * (l1 - sigma);
+    if dominated || barely_regular {
+        let s2 = (l1 - 0.1 * (lk - l1)).min(-0.5 * l1.abs());
+        if op.factor(p, s2, false) && op.below == Some(0) {
+            let budget = max_applications.saturating_sub(applications).max(1);
+            let (f2, t2, a2) = lanczos_runs(p, &mut op, want, budget)?;
+            (found, thetas, sigma, applications) = (f2, t2, s2, applications + a2);
+        } else if !op.factor(p, sigma, true) {
+            return Err(ModalError::SparseSingular);
+        }
+    }
+    debug_assert!(applications <= 2 * max_applications);
+    // the lowest `want` by θ; purified by one more application when there are massless
+    // directions (their components then follow the massive ones exactly)
+    let mut order: Vec<usize> = (0..thetas.len()).collect();
+    order.sort_by(|&a, &b| (sigma + 1.0 / thetas[a]).total_cmp(&(sigma + 1.0 / thetas[b])));
+    order.truncate(want);
+    let nf = order.len();
+    let mut y = Mat::<f64>::zeros(nc, nf);
+    for (c, &i) in order.iter().enumerate() {
+        if massless > 0 {
+            let xc = found.col_as_slice(i).to_vec();
+            op.apply(p, &xc, y.col_as_slice_mut(c));
+        } else {
+            y.col_as_slice_mut(c).copy_from_slice(found.col_as_slice(i));
+        }
+    }
+    // M-orthonormal: the Ritz vectors are (full reorthogonalisation); purified ones are made so
+    // again (Löwdin: Y (YᵀMY)^-½, the nearest M-orthonormal set)
+    let q = if massless > 0 {
+        let mut my = Mat::<f64>::zeros(nc, nf);
+        for c in 0..nf {
+            p.m_times(y.col_as_slice(c), my.col_as_slice_mut(c));
+        }
+        let g = y.transpose() * &my;
+        let g = Mat::from_fn(nf, nf, |a, b| 0.5 * (g[(a, b)] + g[(b, a)]));
+        let (gs, gu) = projected_eigen(g.as_ref())?;
+        if (0..nf).any(|i| gs[i].is_nan() || gs[i] <= 0.0) {
+            return Err(ModalError::Eigen(EigenError::NotPositiveDefinite {
+                what: "projected mass",
+                index: 0,
+                hint: "the converged modes are linearly dependent",
+            }));
+        }
+        let inv_sqrt = Mat::from_fn(nf, nf, |a, b| {
+            (0..nf)
+                .map(|k| gu[(a, k)] * gu[(b, k)] / gs[k].sqrt())
+                .sum::<f64>()
+        });
+        &y * &inv_sqrt
+    } else {
+        y
+    };
+    let shapes: Vec<Vec<f64>> = if nc < PAR_MIN {
+        (0..nf)
+            .map(|k| p.lin.to_x(model, &step.x, q.col_as_slice(k)))
+            .collect()
+    } else {
+        (0..nf)
+            .into_par_iter()
+            .map(|k| p.lin.to_x(model, &step.x, q.col_as_slice(k)))
+            .collect()
+    };
+    // eigenvalues: Rayleigh quotients, the stiffness through the element deformations
+    let e2 = p.lin.material_energy2(model, &step.x, &shapes);
+    let mut g2 = vec![0.0; nf];
+    if p.lin.geo.iter().any(|&v| v != 0.0) {
+        let mut e = 0;
+        p.lin.for_each_entry(|r, c| {
+            let gv = p.lin.geo[e];
+            if gv != 0.0 {
+                for (k, g) in g2.iter_mut().enumerate() {
+                    *g += gv * q[(r, k)] * q[(c, k)];
+                }
+            }
+            e += 1;
+        });
+    }
+    for &(r, c, kv) in &p.extra_k {
+        for (k, g) in g2.iter_mut().enumerate() {
+            *g += kv * q[(r, k)] * q[(c, k)];
+        }
+    }
+    let mut modes: Vec<(f64, Vec<f64>, NodeKinetic)> = Vec::with_capacity(nf);
+    let mut mu = vec![0.0; nc];
+    for (k, shape) in shapes.into_iter().enumerate() {
+        let u = q.col_as_slice(k);
+        let g2 = g2[k];
+        p.m_times(u, &mut mu);
+        let m2: f64 = u.iter().zip(&mu).map(|(a, b)| a * b).sum();
+        let lam = (e2[k] + g2) / m2;
+        let mut kinetic = vec![(0.0, 0.0); model.nodes.len()];
+        for (m, (&node, (a, b))) in p.group.iter().zip(u.iter().zip(&mu)).enumerate() {
+            if let Some(t) = kinetic.get_mut(node) {
+                if p.lin.is_translation(m) {
+                    t.0 += a * b;
+                } else {
+                    t.1 += a * b;
+                }
+            }
+        }
+        modes.push((lam, shape, kinetic));
+    }
+    modes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut eigenvalues = Vec::with_capacity(nf);
+    let mut shapes = Vec::with_capacity(nf);
+    let mut kinetic = Vec::with_capacity(nf);
+    for (l, s, t) in modes {
+        eigenvalues.push(l);
+        shapes.push(s);
+        kinetic.push(t);
+    }
+    Ok(SparseModes {
+        eigenvalues,
+        shapes,
+        ndof,
+        massless,
+        kinetic,
+    })
+}
+
+mod static_solve;
+use static_solve::{saddle_solutions, static_responses};
+
+#[cfg(test)]
+mod tests;

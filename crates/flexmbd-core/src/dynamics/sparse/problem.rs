@@ -1,0 +1,410 @@
+//! The sparse problem: the statics Newton matrix [K, Gᵀ; G, 0] at the state with the mass
+//! and the centrifugal softening in the same reduced coordinates, in CSC form, and the
+//! fill-reducing saddle-point order of its factorisation.
+
+use super::basis::PAR_MIN;
+use crate::elements::ElementKind;
+use crate::math::sparse_lu::{amd_order, sort_small};
+use crate::model::Model;
+use crate::statics::{ReducedLinear, StepResult};
+use rayon::prelude::*;
+
+/// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
+pub(super) struct Problem {
+    pub(super) lin: ReducedLinear,
+    /// Stiffness entries outside the element pattern (softening of point masses), for the
+    /// Rayleigh quotients.
+    pub(super) extra_k: Vec<(usize, usize, f64)>,
+    /// The node of every coordinate.
+    pub(super) group: Vec<usize>,
+    /// Size of the saddle-point system.
+    pub(super) n: usize,
+    /// Number of coordinates (the first `nc` unknowns).
+    pub(super) nc: usize,
+    /// CSC structure of the saddle-point matrix (rows sorted, every diagonal entry present).
+    pub(super) col_ptr: Vec<usize>,
+    pub(super) row_idx: Vec<usize>,
+    /// K and M values on that structure (M zero in the constraint rows and columns).
+    pub(super) k: Vec<f64>,
+    pub(super) m: Vec<f64>,
+    /// The coordinate block of M (CSC, symmetric, non-zero entries only), for M v.
+    pub(super) m_ptr: Vec<usize>,
+    pub(super) m_idx: Vec<usize>,
+    pub(super) m_val: Vec<f64>,
+    /// Constraint rows added after those of the Newton system ([`Problem::with_rows`]), as
+    /// (row, coordinate, coefficient).
+    pub(super) added: Vec<(usize, usize, f64)>,
+}
+
+/// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
+/// j (gather form, parallel over columns).
+pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64], out: &mut [f64]) {
+    const CHUNK: usize = 4096;
+    if out.len() < PAR_MIN {
+        for (j, y) in out.iter_mut().enumerate() {
+            let (lo, hi) = (ptr[j], ptr[j + 1]);
+            *y = idx[lo..hi]
+                .iter()
+                .zip(&val[lo..hi])
+                .map(|(&i, &a)| a * v[i])
+                .sum();
+        }
+        return;
+    }
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            for (o, y) in chunk.iter_mut().enumerate() {
+                let j = c * CHUNK + o;
+                *y = (ptr[j]..ptr[j + 1]).map(|p| val[p] * v[idx[p]]).sum();
+            }
+        });
+}
+
+impl Problem {
+    pub(super) fn new(model: &Model, step: &StepResult) -> Self {
+        Self::with_rows(model, step, &[])
+    }
+
+    /// The problem with constraint rows added after those of the Newton system: row j holds
+    /// the vector `rows[j]` in x (length nx) mapped onto the coordinate unknowns. The state space uses them to hold again
+    /// the coordinates it freed in a copy of the model, so that their multipliers are the
+    /// reactions and their right-hand sides the enforced motions.
+    pub(super) fn with_rows(model: &Model, step: &StepResult, rows: &[Vec<f64>]) -> Self {
+        let mut lin = ReducedLinear::new(model, step);
+        let rows: Vec<Vec<(usize, f64)>> = rows
+            .iter()
+            .map(|w| {
+                let coords = lin.force_to_coords(&step.x, w);
+                coords
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(_, v)| *v != 0.0)
+                    .collect()
+            })
+            .collect();
+        let (n0, nc) = (lin.n(), lin.n_coords());
+        let n = n0 + rows.len();
+        let x = &step.x;
+        // element mass blocks, in the order of the element entries
+        let ne = lin.vals.len();
+        let mut m_el = vec![0.0; ne];
+        let ranges: Vec<(usize, std::ops::Range<usize>)> = (0..model.elements.len())
+            .map(|el| (el, lin.element_entries(el)))
+            .collect();
+        {
+            // split m_el at the element ranges (ascending, disjoint) and fill in parallel
+            let mut pieces: Vec<(usize, &mut [f64])> = Vec::with_capacity(ranges.len());
+            let mut rest: &mut [f64] = &mut m_el;
+            let mut offset = 0;
+            for (el, r) in &ranges {
+                let (_, tail) = rest.split_at_mut(r.start - offset);
+                let (piece, tail) = tail.split_at_mut(r.end - r.start);
+                pieces.push((*el, piece));
+                rest = tail;
+                offset = r.end;
+            }
+            let fill = |(el, out): (usize, &mut [f64])| {
+                let entry = &model.elements[el];
+                let n = entry.xmap.len();
+                // a beam's 14 coordinates on the stack, larger elements on the heap
+                let (mut xk_s, mut me_s) = ([0.0; 14], [0.0; 14 * 14]);
+                let (mut xk_h, mut me_h) = (Vec::new(), Vec::new());
+                let (xk, me) = if n <= 14 {
+                    (&mut xk_s[..n], &mut me_s[..n * n])
+                } else {
+                    xk_h.resize(n, 0.0);
+                    me_h.resize(n * n, 0.0);
+                    (&mut xk_h[..], &mut me_h[..])
+                };
+                xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
+                if entry.element.mass(xk, None, true, me) {
+                    lin.element_block(model, el, x, &|a, c| me[a * n + c], out);
+                }
+            };
+            if pieces.len() < 256 {
+                pieces.into_iter().for_each(fill);
+            } else {
+                pieces.into_par_iter().with_min_len(64).for_each(fill);
+            }
+        }
+        // centrifugal softening of a steady rotation (model::Spin): −Ω² M_P on the elements, on
+        // the element pattern, counted with the geometric part (it enters the Rayleigh quotients)
+        let w = model.loads.spin.map(|sp| sp.projector());
+        if let Some(w) = &w {
+            for (el, r) in &ranges {
+                let entry = &model.elements[*el];
+                let n = entry.xmap.len();
+                let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
+                let mut ms = vec![0.0; n * n];
+                if entry.element.mass(&xk, Some(w), false, &mut ms) {
+                    let mut soft = vec![0.0; r.end - r.start];
+                    lin.element_block(model, *el, x, &|a, c| -ms[a * n + c], &mut soft);
+                    for (i, v) in r.clone().zip(soft) {
+                        lin.vals[i] += v;
+                        lin.geo[i] += v;
+                    }
+                }
+            }
+        }
+        // node masses: point masses (with their softening) and inertia tensors, as
+        // (row, column, K value, M value)
+        let mut extra: Vec<(usize, usize, f64, f64)> = Vec::new();
+        for &(node, mass) in &model.loads.point_masses {
+            let ip = model.nodes[node].ix_pos;
+            for a in 0..3 {
+                let Some(i) = lin.coord_index(ip + a) else {
+                    continue;
+                };
+                for c in 0..3 {
+                    let Some(j) = lin.coord_index(ip + c) else {
+                        continue;
+                    };
+                    let kv = w.map_or(0.0, |w| -mass * w[a][c]);
+                    let mv = if a == c { mass } else { 0.0 };
+                    if kv != 0.0 || mv != 0.0 {
+                        extra.push((i, j, kv, mv));
+                    }
+                }
+            }
+        }
+        for (node, tensor) in &model.loads.inertias {
+            let Some(r) = model.nodes[*node].ix_rot else {
+                continue;
+            };
+            let blk = crate::math::inertia::node_inertia_block(&x[r..r + 4], tensor);
+            extra.extend(
+                lin.lambda_block(x, r, &blk)
+                    .into_iter()
+                    .map(|(i, j, v)| (i, j, 0.0, v)),
+            );
+        }
+        let extra_k: Vec<(usize, usize, f64)> = extra
+            .iter()
+            .filter(|e| e.2 != 0.0)
+            .map(|e| (e.0, e.1, e.2))
+            .collect();
+        // the added constraint rows (stiffness entries, no mass), both triangles
+        let added: Vec<(usize, usize, f64)> = rows
+            .iter()
+            .enumerate()
+            .flat_map(|(j, row)| row.iter().map(move |&(c, v)| (n0 + j, c, v)))
+            .collect();
+        for &(r, c, v) in &added {
+            extra.push((r, c, v, 0.0));
+            extra.push((c, r, v, 0.0));
+        }
+        // CSC: bucket the entries by column (element entries, node masses, the diagonal), sort
+        // each column by row, sum duplicates
+        let (n_extra, total) = (extra.len(), ne + extra.len() + n);
+        let mut count = vec![0usize; n + 1];
+        lin.for_each_entry(|_, c| count[c + 1] += 1);
+        for &(_, c, _, _) in &extra {
+            count[c + 1] += 1;
+        }
+        for c in 0..n {
+            count[c + 1] += 1;
+        }
+        for c in 0..n {
+            count[c + 1] += count[c];
+        }
+        let mut fill = count.clone();
+        let mut by_col = vec![(0u32, 0u32); total];
+        let mut i = 0u32;
+        lin.for_each_entry(|r, c| {
+            by_col[fill[c]] = (r as u32, i);
+            fill[c] += 1;
+            i += 1;
+        });
+        for &(r, c, _, _) in &extra {
+            by_col[fill[c]] = (r as u32, i);
+            fill[c] += 1;
+            i += 1;
+        }
+        for c in 0..n {
+            by_col[fill[c]] = (c as u32, i);
+            fill[c] += 1;
+            i += 1;
+        }
+        let values = |i: usize| -> (f64, f64) {
+            if i < ne {
+                (lin.vals[i], m_el[i])
+            } else if i < ne + n_extra {
+                (extra[i - ne].2, extra[i - ne].3)
+            } else {
+                (0.0, 0.0)
+            }
+        };
+        // sort each column by row; the number of distinct entries sizes the arrays exactly
+        let mut nnz = 0;
+        for c in 0..n {
+            let list = &mut by_col[count[c]..count[c + 1]];
+            sort_small(list);
+            nnz += 1 + list.windows(2).filter(|w| w[0].0 != w[1].0).count();
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let (mut row_idx, mut k, mut m) = (
+            Vec::with_capacity(nnz),
+            Vec::with_capacity(nnz),
+            Vec::with_capacity(nnz),
+        );
+        for c in 0..n {
+            let list = &by_col[count[c]..count[c + 1]];
+            for (q, &(r, i)) in list.iter().enumerate() {
+                let (kv, mv) = values(i as usize);
+                if q > 0 && list[q - 1].0 == r {
+                    *k.last_mut().expect("previous entry") += kv;
+                    *m.last_mut().expect("previous entry") += mv;
+                } else {
+                    row_idx.push(r as usize);
+                    k.push(kv);
+                    m.push(mv);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        // the load stiffness of moments is not symmetric: its symmetric part, as the dense path
+        // (the pattern is symmetric, rows sorted)
+        if lin.has_moment_loads() {
+            let orig = k.clone();
+            for c in 0..n {
+                for q in col_ptr[c]..col_ptr[c + 1] {
+                    let r = row_idx[q];
+                    if r > c {
+                        let t = col_ptr[r]
+                            + row_idx[col_ptr[r]..col_ptr[r + 1]]
+                                .binary_search(&c)
+                                .expect("symmetric pattern");
+                        let v = 0.5 * (orig[q] + orig[t]);
+                        k[q] = v;
+                        k[t] = v;
+                    }
+                }
+            }
+        }
+        // the coordinate block of M (non-zero entries)
+        let block = |vals: &[f64]| {
+            let nnz = (0..col_ptr[nc])
+                .filter(|&p| row_idx[p] < nc && vals[p] != 0.0)
+                .count();
+            let mut ptr = Vec::with_capacity(nc + 1);
+            ptr.push(0);
+            let (mut idx, mut val) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+            for c in 0..nc {
+                for p in col_ptr[c]..col_ptr[c + 1] {
+                    if row_idx[p] < nc && vals[p] != 0.0 {
+                        idx.push(row_idx[p]);
+                        val.push(vals[p]);
+                    }
+                }
+                ptr.push(idx.len());
+            }
+            (ptr, idx, val)
+        };
+        let (m_ptr, m_idx, m_val) = block(&m);
+        let group = lin.coord_nodes(model);
+        Self {
+            lin,
+            extra_k,
+            group,
+            n,
+            nc,
+            col_ptr,
+            row_idx,
+            k,
+            m,
+            m_ptr,
+            m_idx,
+            m_val,
+            added,
+        }
+    }
+
+    pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
+        csc_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
+    }
+
+    /// Diagonal entries of K and M of the coordinates.
+    pub(super) fn diagonals(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut kd = vec![0.0; self.nc];
+        let mut md = vec![0.0; self.nc];
+        for c in 0..self.nc {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                if self.row_idx[p] == c {
+                    kd[c] = self.k[p];
+                    md[c] = self.m[p];
+                }
+            }
+        }
+        (kd, md)
+    }
+
+    /// Fill-reducing order for L D Lᵀ with diagonal pivots: AMD on the graph of the nodes (the
+    /// unknowns of a node share their couplings, so this is AMD on the coordinate block with
+    /// its supervariables found in advance, and far cheaper), each node's coordinates together;
+    /// each constraint row placed right after the last coordinate it couples, so that its pivot
+    /// (minus a Schur complement of the coordinates) exists.
+    pub(super) fn saddle_order(&self, group: &[usize]) -> Result<Vec<usize>, String> {
+        let (n, nc) = (self.n, self.nc);
+        // groups numbered 0..ng in order of first appearance
+        let mut gid = vec![usize::MAX; group.iter().copied().max().map_or(0, |g| g + 1)];
+        let mut members: Vec<Vec<usize>> = Vec::new();
+        for (c, &g) in group.iter().enumerate() {
+            if gid[g] == usize::MAX {
+                gid[g] = members.len();
+                members.push(Vec::new());
+            }
+            members[gid[g]].push(c);
+        }
+        let ng = members.len();
+        // the graph of the groups (CSC, rows sorted, diagonal included)
+        let (mut ptr, mut idx) = (vec![0usize], Vec::new());
+        let mut mark = vec![usize::MAX; ng];
+        for (g, cols) in members.iter().enumerate() {
+            let start = idx.len();
+            for &c in cols {
+                for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                    let r = self.row_idx[p];
+                    if r < nc {
+                        let h = gid[group[r]];
+                        if mark[h] != g {
+                            mark[h] = g;
+                            idx.push(h);
+                        }
+                    }
+                }
+            }
+            sort_small(&mut idx[start..]);
+            ptr.push(idx.len());
+        }
+        let (q, _) = amd_order(ng, &ptr, &idx)?;
+        // coordinates in group order; position of each coordinate
+        let mut coords = Vec::with_capacity(nc);
+        for &g in &q {
+            coords.extend_from_slice(&members[g]);
+        }
+        let mut pos = vec![0usize; nc];
+        for (k, &c) in coords.iter().enumerate() {
+            pos[c] = k;
+        }
+        // each constraint after the latest of its coordinates
+        let mut after: Vec<Vec<usize>> = vec![Vec::new(); nc + 1];
+        for c in nc..n {
+            let last = (self.col_ptr[c]..self.col_ptr[c + 1])
+                .map(|p| self.row_idx[p])
+                .filter(|&r| r < nc)
+                .map(|r| pos[r] + 1)
+                .max()
+                .unwrap_or(0);
+            after[last].push(c);
+        }
+        let mut order = Vec::with_capacity(n);
+        order.extend_from_slice(&after[0]);
+        for (k, &col) in coords.iter().enumerate() {
+            order.push(col);
+            order.extend_from_slice(&after[k + 1]);
+        }
+        Ok(order)
+    }
+}

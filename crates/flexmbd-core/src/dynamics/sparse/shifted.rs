@@ -1,0 +1,157 @@
+//! The factorisation of the shifted saddle-point matrix A(σ) = [K − σM, Gᵀ; G, 0]: L D Lᵀ
+//! with diagonal pivots and its inertia (eigenvalues below a shift), LU as the fall-back, and
+//! the shift-invert operator.
+
+use super::problem::Problem;
+use crate::math::sparse_lu::{csc_residual, SparseLu};
+
+/// Accepted componentwise backward error of a solve with a new factorisation.
+pub(super) const MAX_BACKWARD_ERROR: f64 = 1e-9;
+
+/// Deterministic pseudo-random numbers in (−1, 1) (xorshift64*), for start vectors.
+pub(super) struct Rng(pub(super) u64);
+impl Rng {
+    pub(super) fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let v = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (v >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// A factorisation of the shifted saddle-point matrix A(σ) = [K − σM, Gᵀ; G, 0].
+pub(super) struct Shifted {
+    /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused), and the
+    /// CSC positions of the lower triangle it reads.
+    pub(super) sym: Option<(SparseLu, Vec<usize>)>,
+    /// LU with partial pivoting (created when L D Lᵀ fails).
+    pub(super) lu: Option<SparseLu>,
+    /// A copy of the L D Lᵀ for the inertia counts at other shifts ([`Shifted::count_below`]).
+    pub(super) counter: Option<SparseLu>,
+    /// Which factorisation holds A(σ): true L D Lᵀ, false LU.
+    pub(super) use_sym: bool,
+    pub(super) sigma: f64,
+    /// Number of eigenvalues below σ (from the inertia), when L D Lᵀ holds A(σ).
+    pub(super) below: Option<usize>,
+    /// Values of A(σ).
+    pub(super) vals: Vec<f64>,
+    pub(super) rhs: Vec<f64>,
+    /// The lower triangle handed to the L D Lᵀ refactorisations (reused).
+    pub(super) lower: Vec<f64>,
+}
+
+impl Shifted {
+    pub(super) fn new(p: &Problem) -> Self {
+        let sym = p.saddle_order(&p.group).ok().and_then(|order| {
+            let mut lu = SparseLu::with_order(p.n, order).ok()?;
+            if !lu.set_diagonal_pivots(&p.col_ptr, &p.row_idx) {
+                return None;
+            }
+            lu.set_pivot_tolerance(0.0);
+            let slots = lu.lower_layout(&p.col_ptr, &p.row_idx);
+            Some((lu, slots))
+        });
+        Self {
+            sym,
+            lu: None,
+            counter: None,
+            use_sym: false,
+            sigma: f64::NAN,
+            below: None,
+            vals: vec![0.0; p.k.len()],
+            rhs: vec![0.0; p.n],
+            lower: Vec::new(),
+        }
+    }
+
+    /// Factor A(σ); `allow_lu`: fall back to LU when L D Lᵀ fails. Checks the accuracy of a
+    /// trial solve. Returns false when A(σ) could not be factored accurately.
+    pub(super) fn factor(&mut self, p: &Problem, sigma: f64, allow_lu: bool) -> bool {
+        self.sigma = sigma;
+        self.below = None;
+        for (v, (k, m)) in self.vals.iter_mut().zip(p.k.iter().zip(&p.m)) {
+            *v = k - sigma * m;
+        }
+        let n_constraints = p.n - p.nc;
+        if let Some((lu, slots)) = &mut self.sym {
+            self.lower.clear();
+            self.lower.extend(slots.iter().map(|&s| self.vals[s]));
+            if lu.refactor_symmetric(&self.lower).is_ok() {
+                self.use_sym = true;
+                if self.accurate(p) {
+                    let neg = self.sym.as_ref().map_or(0, |s| s.0.negative_pivots());
+                    self.below = neg.checked_sub(n_constraints);
+                    return true;
+                }
+            }
+        }
+        if !allow_lu {
+            return false;
+        }
+        if self.lu.is_none() {
+            self.lu = SparseLu::new(p.n, &p.col_ptr, &p.row_idx).ok();
+        }
+        let Some(lu) = &mut self.lu else {
+            return false;
+        };
+        if lu.factor(&p.col_ptr, &p.row_idx, &self.vals).is_err() {
+            return false;
+        }
+        self.use_sym = false;
+        self.accurate(p)
+    }
+
+    /// Backward error of a solve with a pseudo-random right-hand side.
+    pub(super) fn accurate(&mut self, p: &Problem) -> bool {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let b: Vec<f64> = (0..p.n).map(|_| rng.next()).collect();
+        let mut z = b.clone();
+        self.solve(&mut z);
+        z.iter().all(|v| v.is_finite())
+            && csc_residual(&p.col_ptr, &p.row_idx, &self.vals, &z, &b).1 <= MAX_BACKWARD_ERROR
+    }
+
+    pub(super) fn solve(&mut self, b: &mut [f64]) {
+        if self.use_sym {
+            if let Some((lu, _)) = &mut self.sym {
+                lu.solve(b);
+            }
+        } else if let Some(lu) = &mut self.lu {
+            lu.solve(b);
+        }
+    }
+
+    /// The shift-invert operator on coordinates: u = first nc of A(σ)⁻¹ [M v; 0].
+    pub(super) fn apply(&mut self, p: &Problem, v: &[f64], out: &mut [f64]) {
+        let mut rhs = std::mem::take(&mut self.rhs);
+        p.m_times(v, &mut rhs[..p.nc]);
+        rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
+        self.solve(&mut rhs);
+        out.copy_from_slice(&rhs[..p.nc]);
+        self.rhs = rhs;
+    }
+
+    /// The operator for a vector whose product `mv` = M v is known.
+    pub(super) fn apply_mv(&mut self, p: &Problem, mv: &[f64], out: &mut [f64]) {
+        let mut rhs = std::mem::take(&mut self.rhs);
+        rhs[..p.nc].copy_from_slice(mv);
+        rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
+        self.solve(&mut rhs);
+        out.copy_from_slice(&rhs[..p.nc]);
+        self.rhs = rhs;
+    }
+
+    /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it (the
+    /// factorisation at σ is kept: a copy of the symbolic structure is used, made once and
+    /// refactored at every count).
+    pub(super) fn count_below(&mut self, p: &Problem, s: f64) -> Option<usize> {
+        let (lu, slots) = self.sym.as_ref()?;
+        self.lower.clear();
+        self.lower
+            .extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
+        let counter = self.counter.get_or_insert_with(|| lu.clone());
+        counter.refactor_symmetric(&self.lower).ok()?;
+        counter.negative_pivots().checked_sub(p.n - p.nc)
+    }
+}

@@ -1,0 +1,309 @@
+//! LU with partial pivoting of [`SparseLu`]: the left-looking Gilbert–Peierls factorisation,
+//! the refactorisation with the recorded pivot order, and the triangular solves.
+
+use super::{sort_columns, LuFailure, SparseLu, DIAG_TOL, PIVOT_TOL};
+
+impl SparseLu {
+    /// Factor with partial pivoting (records the pivot order and the structure of L and U).
+    pub fn factor(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        val: &[f64],
+    ) -> Result<(), LuFailure> {
+        let n = self.n;
+        self.factored = false;
+        self.symmetric_factors = false;
+        self.diagonal_structure = false;
+        self.pinv.iter_mut().for_each(|p| *p = usize::MAX);
+        self.mark.iter_mut().for_each(|m| *m = usize::MAX);
+        self.l_idx.clear();
+        self.l_val.clear();
+        self.u_idx.clear();
+        self.u_val.clear();
+        self.l_ptr[0] = 0;
+        self.u_ptr[0] = 0;
+        let x = &mut self.work;
+        for k in 0..n {
+            let col = self.q[k];
+            let (lo, hi) = (col_ptr[col], col_ptr[col + 1]);
+            // rows reachable from the column's pattern in the graph of L (rows of A numbering),
+            // in topological order (reverse DFS post-order)
+            self.reach.clear();
+            for &r in &row_idx[lo..hi] {
+                if self.mark[r] != k {
+                    dfs(
+                        r,
+                        k,
+                        &self.pinv,
+                        &self.l_ptr,
+                        &self.l_idx,
+                        &mut self.mark,
+                        &mut self.stack,
+                        &mut self.pstack,
+                        &mut self.reach,
+                    );
+                }
+            }
+            for p in lo..hi {
+                x[row_idx[p]] += val[p];
+            }
+            // reach holds post-order: process in reverse
+            for &r in self.reach.iter().rev() {
+                let s = self.pinv[r];
+                if s == usize::MAX {
+                    continue;
+                }
+                let u = x[r];
+                for p in self.l_ptr[s]..self.l_ptr[s + 1] {
+                    // L rows are still in A numbering during the factorisation
+                    x[self.l_idx[p]] -= self.l_val[p] * u;
+                }
+            }
+            // pivot: the largest candidate
+            let (mut piv, mut piv_abs) = (usize::MAX, -1.0);
+            for &r in &self.reach {
+                if self.pinv[r] == usize::MAX {
+                    let a = x[r].abs();
+                    if a > piv_abs || a.is_nan() {
+                        piv = r;
+                        piv_abs = a;
+                    }
+                }
+            }
+            if self.diag_pref && piv != usize::MAX {
+                // the diagonal entry (row q[k]) if it is large enough
+                let r = col;
+                if self.pinv[r] == usize::MAX
+                    && self.mark[r] == k
+                    && x[r].abs() >= DIAG_TOL * piv_abs
+                {
+                    piv = r;
+                    piv_abs = x[r].abs();
+                }
+            }
+            if piv == usize::MAX || piv_abs == 0.0 || !piv_abs.is_finite() {
+                for &r in &self.reach {
+                    x[r] = 0.0;
+                }
+                return Err(LuFailure::Singular);
+            }
+            let d = x[piv];
+            self.u_diag[k] = d;
+            self.pinv[piv] = k;
+            for &r in &self.reach {
+                let s = self.pinv[r];
+                if r != piv && s == usize::MAX {
+                    self.l_idx.push(r);
+                    self.l_val.push(x[r] / d);
+                } else if r != piv {
+                    self.u_idx.push(s);
+                    self.u_val.push(x[r]);
+                }
+                x[r] = 0.0;
+            }
+            self.l_ptr[k + 1] = self.l_idx.len();
+            self.u_ptr[k + 1] = self.u_idx.len();
+        }
+        // L rows to step numbering; U columns sorted by step (valid elimination order)
+        for r in self.l_idx.iter_mut() {
+            *r = self.pinv[*r];
+        }
+        sort_columns(&self.u_ptr, &mut self.u_idx, &mut self.u_val);
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Factor a matrix of the same structure with the pivot order of the last [`factor`]
+    /// (see the module docs). Returns the smallest |pivot| / max |column entry| met.
+    ///
+    /// [`factor`]: SparseLu::factor
+    pub fn refactor(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        val: &[f64],
+    ) -> Result<f64, LuFailure> {
+        if !(self.factored || self.symmetric_factors) {
+            return Err(LuFailure::PivotTooSmall);
+        }
+        self.factored = false;
+        self.symmetric_factors = false;
+        self.u_val.resize(self.u_idx.len(), 0.0);
+        let n = self.n;
+        let x = &mut self.work;
+        let mut min_ratio: f64 = 1.0;
+        for k in 0..n {
+            let col = self.q[k];
+            for p in col_ptr[col]..col_ptr[col + 1] {
+                x[self.pinv[row_idx[p]]] += val[p];
+            }
+            let (ulo, uhi) = (self.u_ptr[k], self.u_ptr[k + 1]);
+            for p in ulo..uhi {
+                let s = self.u_idx[p];
+                let u = x[s];
+                x[s] = 0.0;
+                self.u_val[p] = u;
+                let (llo, lhi) = (self.l_ptr[s], self.l_ptr[s + 1]);
+                for (&i, &l) in self.l_idx[llo..lhi].iter().zip(&self.l_val[llo..lhi]) {
+                    x[i] -= l * u;
+                }
+            }
+            let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
+            let (d, ok) = pivot_step(
+                x,
+                k,
+                &self.l_idx[llo..lhi],
+                &mut self.l_val[llo..lhi],
+                PIVOT_TOL,
+                &mut min_ratio,
+            );
+            self.u_diag[k] = d;
+            if !ok {
+                // the work vector is clean: only column k was scattered, and it is cleared
+                return Err(LuFailure::PivotTooSmall);
+            }
+        }
+        self.factored = true;
+        Ok(min_ratio)
+    }
+
+    /// Solve A z = b in place (`b` becomes z), after a successful factorisation.
+    pub fn solve(&mut self, b: &mut [f64]) {
+        assert!(
+            self.symmetric_factors || (self.factored && self.u_val.len() == self.u_idx.len()),
+            "solve without a factorisation"
+        );
+        let n = self.n;
+        let y = &mut self.work[..n];
+        for (&pi, &bi) in self.pinv[..n].iter().zip(b.iter()) {
+            y[pi] = bi;
+        }
+        // the entries of column k of L as slices (the same operations in the same order as
+        // indexing them one by one, without the bounds checks)
+        let (l_ptr, l_idx, l_val) = (&self.l_ptr, &self.l_idx, &self.l_val);
+        let column = |k: usize| {
+            let (lo, hi) = (l_ptr[k], l_ptr[k + 1]);
+            l_idx[lo..hi].iter().zip(&l_val[lo..hi])
+        };
+        for k in 0..n {
+            let v = y[k];
+            if v != 0.0 {
+                for (&i, &l) in column(k) {
+                    y[i] -= l * v;
+                }
+            }
+        }
+        if self.symmetric_factors {
+            // L D Lᵀ: U = D Lᵀ
+            for k in (0..n).rev() {
+                let mut v = y[k] / self.u_diag[k];
+                for (&i, &l) in column(k) {
+                    v -= l * y[i];
+                }
+                y[k] = v;
+            }
+        } else {
+            for k in (0..n).rev() {
+                let v = y[k] / self.u_diag[k];
+                y[k] = v;
+                if v != 0.0 {
+                    for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                        y[self.u_idx[p]] -= self.u_val[p] * v;
+                    }
+                }
+            }
+        }
+        for (&qk, yk) in self.q[..n].iter().zip(y.iter_mut()) {
+            b[qk] = *yk;
+            *yk = 0.0;
+        }
+    }
+}
+
+/// The pivot of step k of a refactorisation, from the work vector `x` after the updates of
+/// column k: the pivot d = x[k] and, scaled by 1/d, the entries of column k of L (`l_idx`: rows
+/// in step numbering, values into `l_val`); clears those entries of `x`. Lowers `min_ratio` to
+/// |d| / max |column entry| and returns d with whether that ratio is at least `tol` (and d is
+/// non-zero, everything finite).
+#[inline(always)]
+pub(super) fn pivot_step(
+    x: &mut [f64],
+    k: usize,
+    l_idx: &[usize],
+    l_val: &mut [f64],
+    tol: f64,
+    min_ratio: &mut f64,
+) -> (f64, bool) {
+    let d = x[k];
+    x[k] = 0.0;
+    let mut cmax: f64 = 0.0;
+    for &i in l_idx {
+        cmax = cmax.max(x[i].abs());
+    }
+    let ok = d.abs() >= tol * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
+    if d.abs() < *min_ratio * cmax {
+        *min_ratio = d.abs() / cmax;
+    }
+    let inv = 1.0 / d;
+    for (&i, l) in l_idx.iter().zip(l_val) {
+        *l = x[i] * inv;
+        x[i] = 0.0;
+    }
+    (d, ok)
+}
+
+/// Depth-first search from row `r` in the graph of L (column s = pinv[row] lists the rows it
+/// updates); appends the visited rows to `reach` in post-order. Marks with `k`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn dfs(
+    r: usize,
+    k: usize,
+    pinv: &[usize],
+    l_ptr: &[usize],
+    l_idx: &[usize],
+    mark: &mut [usize],
+    stack: &mut Vec<usize>,
+    pstack: &mut Vec<usize>,
+    reach: &mut Vec<usize>,
+) {
+    stack.clear();
+    pstack.clear();
+    stack.push(r);
+    mark[r] = k;
+    let start = |row: usize| -> usize {
+        let s = pinv[row];
+        if s == usize::MAX {
+            usize::MAX
+        } else {
+            l_ptr[s]
+        }
+    };
+    pstack.push(start(r));
+    while let Some(&row) = stack.last() {
+        let s = pinv[row];
+        let top = pstack.len() - 1;
+        let mut descended = false;
+        if s != usize::MAX {
+            let end = l_ptr[s + 1];
+            let mut p = pstack[top];
+            while p < end {
+                let child = l_idx[p];
+                p += 1;
+                if mark[child] != k {
+                    mark[child] = k;
+                    pstack[top] = p;
+                    stack.push(child);
+                    pstack.push(start(child));
+                    descended = true;
+                    break;
+                }
+            }
+        }
+        if !descended {
+            stack.pop();
+            pstack.pop();
+            reach.push(row);
+        }
+    }
+}

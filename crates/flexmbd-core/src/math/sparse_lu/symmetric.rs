@@ -1,0 +1,228 @@
+//! The symmetric strategy of [`SparseLu`]: all pivots on the diagonal (the structure of a
+//! Cholesky factorisation) and L D Lᵀ refactorisation with an inertia count.
+
+use super::lu::pivot_step;
+use super::{sort_columns, sort_small, LuFailure, SparseLu};
+
+impl SparseLu {
+    /// Symmetric strategy: set up the pivot order "all pivots on the diagonal" and its
+    /// structure (that of a Cholesky factorisation), for [`refactor`] to take the values.
+    /// It is the order that factor chooses for a column diagonally dominant matrix.
+    ///
+    /// [`refactor`]: SparseLu::refactor
+    pub fn set_diagonal_pivots(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> bool {
+        if !self.diag_pref {
+            return false;
+        }
+        let n = self.n;
+        let symmetric_pattern = (0..n).all(|j| {
+            row_idx[col_ptr[j]..col_ptr[j + 1]].iter().all(|&i| {
+                row_idx[col_ptr[i]..col_ptr[i + 1]]
+                    .binary_search(&j)
+                    .is_ok()
+            })
+        });
+        if symmetric_pattern {
+            self.symbolic_cholesky(col_ptr, row_idx);
+            self.diagonal_structure = true;
+            return true;
+        }
+        let mut v = vec![1.0; col_ptr[n]];
+        for j in 0..n {
+            let (lo, hi) = (col_ptr[j], col_ptr[j + 1]);
+            for p in lo..hi {
+                if row_idx[p] == j {
+                    v[p] = (hi - lo + 1) as f64;
+                }
+            }
+        }
+        let r = self.factor(col_ptr, row_idx, &v);
+        if r.is_err() || (0..n).any(|k| self.pinv[self.q[k]] != k) {
+            return false;
+        }
+        // L columns by ascending row (for the symmetric refactorisation)
+        sort_columns(&self.l_ptr, &mut self.l_idx, &mut self.l_val);
+        self.diagonal_structure = true;
+        true
+    }
+
+    /// The structure of L and U for diagonal pivots of a structurally symmetric matrix: that
+    /// of its Cholesky factor, from the elimination tree (row subtrees, as CSparse's
+    /// `cs_schol`/`cs_ereach`), in time proportional to the nonzeros of L.
+    fn symbolic_cholesky(&mut self, col_ptr: &[usize], row_idx: &[usize]) {
+        const NONE: usize = usize::MAX;
+        let n = self.n;
+        for k in 0..n {
+            self.pinv[self.q[k]] = k;
+        }
+        // elimination tree of the permuted matrix
+        let mut parent = vec![NONE; n];
+        let mut ancestor = vec![NONE; n];
+        for k in 0..n {
+            let col = self.q[k];
+            for &r in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+                let mut i = self.pinv[r];
+                while i != NONE && i < k {
+                    let next = ancestor[i];
+                    ancestor[i] = k;
+                    if next == NONE {
+                        parent[i] = k;
+                    }
+                    i = next;
+                }
+            }
+        }
+        // row k of L (= column k of U): the nodes on the paths from the entries of row k of
+        // the lower triangle up the tree to k
+        let mark = &mut self.mark;
+        mark.iter_mut().for_each(|m| *m = NONE);
+        self.u_idx.clear();
+        self.u_ptr[0] = 0;
+        let mut l_count = vec![0usize; n];
+        for k in 0..n {
+            mark[k] = k;
+            let start = self.u_idx.len();
+            let col = self.q[k];
+            for &r in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+                let mut i = self.pinv[r];
+                if i >= k {
+                    continue;
+                }
+                while mark[i] != k {
+                    mark[i] = k;
+                    self.u_idx.push(i);
+                    l_count[i] += 1;
+                    i = parent[i];
+                    debug_assert!(i != NONE);
+                }
+            }
+            sort_small(&mut self.u_idx[start..]);
+            self.u_ptr[k + 1] = self.u_idx.len();
+        }
+        // columns of L (rows ascending: k increases)
+        self.l_ptr[0] = 0;
+        for j in 0..n {
+            self.l_ptr[j + 1] = self.l_ptr[j] + l_count[j];
+        }
+        let mut fill = self.l_ptr[..n].to_vec();
+        self.l_idx.clear();
+        self.l_idx.resize(self.l_ptr[n], 0);
+        for k in 0..n {
+            for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                let j = self.u_idx[p];
+                self.l_idx[fill[j]] = k;
+                fill[j] += 1;
+            }
+        }
+        self.l_val.clear();
+        self.l_val.resize(self.l_idx.len(), 0.0);
+        // U's values are made by `refactor` (L D Lᵀ does not store U)
+        self.u_val.clear();
+        self.u_diag.iter_mut().for_each(|d| *d = 1.0);
+        self.factored = true;
+        self.symmetric_factors = false;
+    }
+
+    /// After [`set_diagonal_pivots`]: the layout of the lower triangle of A in pivot order that
+    /// [`refactor_symmetric`] reads (sequentially, half of A). Returns, for each of its entries,
+    /// the position of that entry in the CSC arrays of A.
+    ///
+    /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
+    /// [`refactor_symmetric`]: SparseLu::refactor_symmetric
+    pub fn lower_layout(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+        let n = self.n;
+        // entries on or below the diagonal, to size the arrays exactly
+        let count = (0..n)
+            .map(|k| {
+                let col = self.q[k];
+                row_idx[col_ptr[col]..col_ptr[col + 1]]
+                    .iter()
+                    .filter(|&&r| self.pinv[r] >= k)
+                    .count()
+            })
+            .sum();
+        self.lower_ptr.clear();
+        self.lower_row.clear();
+        self.lower_ptr.reserve_exact(n + 1);
+        self.lower_row.reserve_exact(count);
+        self.lower_ptr.push(0);
+        let mut slot = Vec::with_capacity(count);
+        for k in 0..n {
+            let col = self.q[k];
+            for p in col_ptr[col]..col_ptr[col + 1] {
+                let s = self.pinv[row_idx[p]];
+                if s >= k {
+                    self.lower_row.push(s as u32);
+                    slot.push(p);
+                }
+            }
+            self.lower_ptr.push(self.lower_row.len());
+        }
+        slot
+    }
+
+    /// L D Lᵀ refactorisation of a symmetric matrix with the diagonal pivot order of
+    /// [`set_diagonal_pivots`], from the values of its lower triangle in the layout of
+    /// [`lower_layout`]: the same arithmetic as [`refactor`] restricted to the lower triangle,
+    /// about half of it. Returns the smallest |pivot| / max |column entry| met, or 1 when every
+    /// pivot is positive: the matrix is then positive definite and L D Lᵀ without pivoting is
+    /// backward stable whatever the pivot sizes (as Cholesky).
+    ///
+    /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
+    /// [`lower_layout`]: SparseLu::lower_layout
+    /// [`refactor`]: SparseLu::refactor
+    pub fn refactor_symmetric(&mut self, lower: &[f64]) -> Result<f64, LuFailure> {
+        if !self.diagonal_structure || !self.diag_pref || lower.len() != self.lower_row.len() {
+            return Err(LuFailure::PivotTooSmall);
+        }
+        self.factored = false;
+        self.symmetric_factors = false;
+        let n = self.n;
+        let x = &mut self.work;
+        self.next.clear();
+        self.next.extend_from_slice(&self.l_ptr[..n]);
+        let mut min_ratio: f64 = 1.0;
+        let mut all_positive = true;
+        let pivot_tol = self.pivot_tol;
+        self.n_negative = 0;
+        for k in 0..n {
+            let (alo, ahi) = (self.lower_ptr[k], self.lower_ptr[k + 1]);
+            for (&s, &a) in self.lower_row[alo..ahi].iter().zip(&lower[alo..ahi]) {
+                x[s as usize] += a;
+            }
+            for p in self.u_ptr[k]..self.u_ptr[k + 1] {
+                let s = self.u_idx[p];
+                // L(:, s) from row k on (its columns are sorted by row)
+                let start = self.next[s];
+                let end = self.l_ptr[s + 1];
+                debug_assert_eq!(self.l_idx[start], k);
+                let u = self.u_diag[s] * self.l_val[start];
+                x[k] -= self.l_val[start] * u;
+                for (&i, &l) in self.l_idx[start + 1..end]
+                    .iter()
+                    .zip(&self.l_val[start + 1..end])
+                {
+                    x[i] -= l * u;
+                }
+                self.next[s] = start + 1;
+            }
+            let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
+            let (d, ok) = pivot_step(
+                x,
+                k,
+                &self.l_idx[llo..lhi],
+                &mut self.l_val[llo..lhi],
+                pivot_tol,
+                &mut min_ratio,
+            );
+            all_positive &= d > 0.0;
+            self.n_negative += usize::from(d < 0.0);
+            self.u_diag[k] = d;
+            if !ok {
+                return Err(LuFailure::PivotTooSmall);
+            }
+        }
+        self.symmetric_factors = true;
+        Ok(if all_positive { 1.0 } else { min_ratio })
+    }
+}

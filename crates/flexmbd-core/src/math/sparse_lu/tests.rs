@@ -1,0 +1,136 @@
+//! Unit tests of the sparse LU and L D Lᵀ.
+
+use super::*;
+
+/// Dense test matrix to CSC.
+fn csc(a: &[Vec<f64>]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let n = a.len();
+    let (mut cp, mut ri, mut v) = (vec![0], vec![], vec![]);
+    for j in 0..n {
+        for (i, row) in a.iter().enumerate() {
+            if row[j] != 0.0 {
+                ri.push(i);
+                v.push(row[j]);
+            }
+        }
+        cp.push(ri.len());
+    }
+    (cp, ri, v)
+}
+
+/// A x for A in CSC form.
+fn csc_mul(cp: &[usize], ri: &[usize], v: &[f64], x: &[f64]) -> Vec<f64> {
+    let mut b = vec![0.0; x.len()];
+    for (j, xj) in x.iter().enumerate() {
+        for p in cp[j]..cp[j + 1] {
+            b[ri[p]] += v[p] * xj;
+        }
+    }
+    b
+}
+
+#[test]
+fn factor_and_refactor_solve_random_sparse_systems() {
+    let mut rng = crate::elements::testing::Rng(42);
+    for n in [1, 2, 5, 17, 60] {
+        // random sparse pattern with a zero diagonal in places (needs pivoting)
+        let mut a = vec![vec![0.0; n]; n];
+        for (i, row) in a.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                if (i + 2 * j) % 3 == 0 || rng.next() > 0.8 || (i + 1) % n == j {
+                    *v = rng.next();
+                }
+            }
+            row[(i + 1) % n] += 2.0;
+        }
+        let (cp, ri, v) = csc(&a);
+        let mut lu = SparseLu::new(n, &cp, &ri).unwrap();
+        for pass in 0..3 {
+            // perturbed values, same structure
+            let v2: Vec<f64> = v
+                .iter()
+                .map(|x| x * (1.0 + 0.01 * pass as f64 * rng.next()))
+                .collect();
+            let refactored = pass > 0 && lu.refactor(&cp, &ri, &v2).is_ok();
+            if !refactored {
+                lu.factor(&cp, &ri, &v2).unwrap();
+            }
+            let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+            let mut b = csc_mul(&cp, &ri, &v2, &xs);
+            lu.solve(&mut b);
+            for i in 0..n {
+                assert!(
+                    (b[i] - xs[i]).abs() < 1e-9,
+                    "n {n} pass {pass}: {} vs {}",
+                    b[i],
+                    xs[i]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn symmetric_refactor_solves_symmetric_indefinite_systems() {
+    let mut rng = crate::elements::testing::Rng(7);
+    for n in [1, 3, 8, 40, 90] {
+        // symmetric pattern with a full diagonal, values symmetric and indefinite
+        let mut a = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            for j in 0..i {
+                if (i * 7 + j * 3) % 5 == 0 || i == j + 1 {
+                    let v = rng.next();
+                    a[i][j] = v;
+                    a[j][i] = v;
+                }
+            }
+            a[i][i] = if i % 3 == 0 { -4.0 } else { 4.0 } + rng.next();
+        }
+        let (cp, ri, _) = csc(&a);
+        let mut lu = SparseLu::new(n, &cp, &ri).unwrap();
+        assert!(lu.symmetric() && lu.set_diagonal_pivots(&cp, &ri));
+        let slots = lu.lower_layout(&cp, &ri);
+        for pass in 0..3 {
+            let mut a2 = a.clone();
+            for (i, row) in a2.iter_mut().enumerate() {
+                row[i] *= 1.0 + 0.1 * pass as f64;
+            }
+            let (_, _, v2) = csc(&a2);
+            let lower: Vec<f64> = slots.iter().map(|&p| v2[p]).collect();
+            lu.refactor_symmetric(&lower).unwrap();
+            let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+            let mut b = csc_mul(&cp, &ri, &v2, &xs);
+            lu.solve(&mut b);
+            for i in 0..n {
+                assert!((b[i] - xs[i]).abs() < 1e-10, "n {n}: {} vs {}", b[i], xs[i]);
+            }
+            // the LU refactorisation with the same pivots agrees
+            lu.refactor(&cp, &ri, &v2).unwrap();
+            let mut b2 = csc_mul(&cp, &ri, &v2, &xs);
+            lu.solve(&mut b2);
+            for i in 0..n {
+                assert!((b2[i] - xs[i]).abs() < 1e-10);
+            }
+        }
+    }
+}
+
+#[test]
+fn refactor_detects_a_pivot_that_became_small() {
+    // [[2, 1], [1, 1]]: pivot 2 on row 0; then [[1e-6, 1], [1, 1]] needs the other row
+    let (cp, ri, v) = csc(&[vec![2.0, 1.0], vec![1.0, 1.0]]);
+    let mut lu = SparseLu::new(2, &cp, &ri).unwrap();
+    lu.factor(&cp, &ri, &v).unwrap();
+    let (_, _, v2) = csc(&[vec![1e-6, 1.0], vec![1.0, 1.0]]);
+    assert!(lu.refactor(&cp, &ri, &v2).unwrap() < 1e-5);
+    lu.factor(&cp, &ri, &v2).unwrap();
+    let mut b = vec![1.0 + 1e-6, 2.0];
+    lu.solve(&mut b);
+    assert!(
+        (b[0] - 1.0).abs() < 1e-12 && (b[1] - 1.0).abs() < 1e-12,
+        "{b:?}"
+    );
+    // singular
+    let (_, _, v3) = csc(&[vec![1.0, 1.0], vec![1.0, 1.0]]);
+    assert_eq!(lu.factor(&cp, &ri, &v3), Err(LuFailure::Singular));
+}
