@@ -49,6 +49,20 @@ pub struct SimOptionArgs {
 }
 
 impl SimOptionArgs {
+    /// The first option given, as it is spelled (for a command that does not simulate).
+    pub fn first_given(&self) -> Option<&'static str> {
+        [
+            (self.t_end.is_some(), "--t-end"),
+            (self.dt.is_some(), "--dt"),
+            (self.fixed_step, "--fixed-step"),
+            (self.rho_inf.is_some(), "--rho-inf"),
+            (self.tolerance.is_some(), "--tolerance"),
+            (self.output_step.is_some(), "--output-step"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+
     /// The integrator options: these arguments over the model file's `[simulate]` settings.
     pub fn options(&self, path: &Path, file: &SimulateSettings) -> Result<SimOptions, BadInput> {
         let mut set = file.clone();

@@ -1,9 +1,11 @@
-//! The visual outputs of a simulation: `flexmbd simulate --vtk DIR` (a ParaView time series),
-//! with the output-folder safety and a run that stops. The numbers checked come from the model's geometry, the
+//! The visual outputs of a simulation: `flexmbd simulate --vtk DIR` (a ParaView time series)
+//! and `flexmbd view --analysis simulate` (the animated HTML report), with the output-folder
+//! safety and a run that stops. The numbers checked come from the model's geometry, the
 //! options given and the physics of a rigid bar pendulum, not from flexmbd's own results.
 
 mod common;
 use common::*;
+use serde_json::Value;
 use std::path::Path;
 
 /// examples/pendulum.toml: a bar of length L between `pin` and `tip`, 1 kg (ρA = 1 kg/m over
@@ -240,4 +242,175 @@ fn a_stopped_run_writes_its_vtk_series_up_to_the_stop() {
     }
     assert!(last.0 <= t_stop + 1e-15 && last.0 > rest.last().unwrap().0);
     assert!(t_stop < 1.0);
+}
+
+/// The page's data (the JSON block).
+fn page_data(html: &str) -> Value {
+    let open = r#"<script type="application/json" id="flexmbd-data">"#;
+    let start = html.find(open).expect("data block") + open.len();
+    let end = start + html[start..].find("</script>").expect("end of data");
+    serde_json::from_str(&html[start..end]).expect("data is JSON")
+}
+
+fn f64s(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn html_view_of_the_pendulum_swinging() {
+    let dir = Temp::new("sim_view");
+    let page = dir.path("pendulum.html");
+    let out = run(&[
+        "view".as_ref(),
+        example("pendulum.toml").as_os_str(),
+        "--analysis".as_ref(),
+        "simulate".as_ref(),
+        "--t-end".as_ref(),
+        "0.5".as_ref(),
+        "--output-step".as_ref(),
+        "0.01".as_ref(),
+        "-o".as_ref(),
+        page.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains("function simAdvance("), "the playback script");
+    let d = page_data(&html);
+    assert_eq!(d["analysis"], "simulate");
+    let frames = d["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 51);
+    let sim = &d["simulation"];
+    let times = f64s(&sim["times"]);
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - 0.01 * k as f64).abs() < 1e-12, "{k}: {t}");
+    }
+    assert_eq!(sim["t_end"], 0.5);
+    assert!(sim["stopped"].is_null());
+    let m = pendulum();
+    let tip = sim["tip"].as_u64().unwrap() as usize;
+    assert_eq!(d["nodes"][tip]["name"], "tip", "the node that moves most");
+    let (pin0, tip0) = (reference(&m, "pin"), reference(&m, "tip"));
+    let length = dist(pin0, tip0);
+    let pos = |k: usize, i: usize| vec3(&f64s(&frames[k]["x"]), i);
+    assert!(dist(pos(0, tip), tip0) < 1e-6, "t = 0: the drawn position");
+    let (kinetic, strain) = (f64s(&sim["kinetic"]), f64s(&sim["strain"]));
+    assert_eq!(kinetic[0], 0.0);
+    for k in 0..frames.len() {
+        let q = pos(k, tip);
+        // positions are f32 in the page
+        assert!((dist(q, pin0) - length).abs() < 1e-5, "frame {k}");
+        // energy of a rigid 1 kg bar: T = m g Δh_centre = m g Δz_tip / 2
+        let t_expected = 1.0 * G * (tip0[2] - q[2]) / 2.0;
+        assert!(
+            (kinetic[k] + strain[k] - t_expected).abs() < 1e-3 * t_expected.max(0.1),
+            "frame {k}: T + U = {} J, rigid bar {t_expected} J",
+            kinetic[k] + strain[k]
+        );
+    }
+    assert!(pos(50, tip)[2] < -0.5, "the tip has swung down");
+    // fields per frame: the stress resultants and the node speed (zero at the start)
+    let fields = d["fields"].as_array().unwrap();
+    let speed = fields.iter().find(|f| f["key"] == "speed").expect("speed");
+    assert_eq!(speed["per"], "frame");
+    assert_eq!(speed["values"].as_array().unwrap().len(), 51);
+    assert!(speed["values"][0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|v| v.as_f64() == Some(0.0)));
+    assert!(fields.iter().any(|f| f["key"] == "sigma1"));
+    assert!(d["animations"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn view_simulate_options_and_a_stopped_run() {
+    let dir = Temp::new("sim_view_bad");
+    let page = dir.path("x.html");
+    let fails = |args: &[&std::ffi::OsStr], parts: &[&str]| {
+        let out = run(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        for p in parts {
+            assert!(err.contains(p), "{args:?}: {err}");
+        }
+        assert!(!page.exists());
+    };
+    let ex = example("pendulum.toml");
+    // a simulation option without --analysis simulate
+    fails(
+        &[
+            "view".as_ref(),
+            ex.as_os_str(),
+            "--t-end".as_ref(),
+            "0.5".as_ref(),
+            "-o".as_ref(),
+            page.as_os_str(),
+        ],
+        &["--t-end", "--analysis simulate"],
+    );
+    fails(
+        &[
+            "view".as_ref(),
+            ex.as_os_str(),
+            "--analysis".as_ref(),
+            "simulate".as_ref(),
+            "--t-end".as_ref(),
+            "-1".as_ref(),
+            "-o".as_ref(),
+            page.as_os_str(),
+        ],
+        &["--t-end"],
+    );
+    // no end time anywhere
+    let text = std::fs::read_to_string(&ex)
+        .unwrap()
+        .replace("t_end = 4.0", "");
+    let no_end = dir.write("no_end.toml", text.as_bytes());
+    fails(
+        &[
+            "view".as_ref(),
+            no_end.as_os_str(),
+            "--analysis".as_ref(),
+            "simulate".as_ref(),
+            "-o".as_ref(),
+            page.as_os_str(),
+        ],
+        &["no end time", "--t-end"],
+    );
+
+    // a run that stops: the page shows the frames up to then, exit 1
+    let model = dir.write("crush.toml", CRUSH);
+    let out = run(&[
+        "view".as_ref(),
+        model.as_os_str(),
+        "--analysis".as_ref(),
+        "simulate".as_ref(),
+        "-o".as_ref(),
+        page.as_os_str(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("stopped"));
+    let d = page_data(&std::fs::read_to_string(&page).unwrap());
+    assert!(d["frames"].as_array().unwrap().len() >= 10);
+    let stopped = d["simulation"]["stopped"].as_str().expect("the stop");
+    assert!(stopped.contains("stopped"), "{stopped}");
+    assert_eq!(d["simulation"]["t_end"], 1.0);
+    assert!(d["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|n| n.as_str().unwrap().contains("stopped")));
 }

@@ -22,6 +22,9 @@ use flexmbd_core::model::{CoordKind, DefKind, Dof, Model, Partition};
 use flexmbd_core::statics::{StaticSolution, StepResult};
 use serde::{Deserialize, Serialize};
 
+mod simulate;
+pub use simulate::{simulate_view_data, ViewSimulation, MAX_VIEW_FRAMES, MAX_VIEW_NODE_FRAMES};
+
 /// Version of the vendored three.js (`assets/viewer/vendor/three/VENDORED.md`).
 pub const THREE_VERSION: &str = "0.170.0";
 
@@ -69,7 +72,7 @@ pub struct ViewData {
     pub title: String,
     /// Model file.
     pub file: String,
-    /// `check`, `static` or `modes`.
+    /// `check`, `static`, `modes` or `simulate`.
     pub analysis: String,
     /// Model size: diagonal of the bounding box of the reference nodes [m].
     pub size: f64,
@@ -92,6 +95,9 @@ pub struct ViewData {
     pub info: Vec<(String, String)>,
     /// Remarks (e.g. why the classification was skipped).
     pub notes: Vec<String>,
+    /// The time history of a simulation (its frames are the output times).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simulation: Option<ViewSimulation>,
 }
 
 /// A node.
@@ -348,6 +354,7 @@ pub fn view_data(
         summary: classification.map(summary),
         info: Vec::new(),
         notes: Vec::new(),
+        simulation: None,
     };
     match results {
         ViewResults::Check => {
@@ -429,6 +436,7 @@ pub fn view_data(
 /// The page: one self-contained HTML document.
 pub fn view_html(data: &ViewData) -> Result<String, ViewError> {
     check_data(data)?;
+    simulate::check_simulation(data)?;
     let json = script_json(&serde_json::to_string(data)?);
     let title = if data.title.is_empty() {
         data.file.clone()
@@ -443,7 +451,10 @@ pub fn view_html(data: &ViewData) -> Result<String, ViewError> {
             ("DATA", json),
             ("THREE", script_text(THREE_JS)),
             ("ORBIT", script_text(ORBIT_JS)),
-            ("VIEWER", script_text(VIEWER_JS)),
+            (
+                "VIEWER",
+                script_text(&format!("{VIEWER_JS}\n{}", simulate::SIMULATE_JS)),
+            ),
             ("THREE_VERSION", html_escape(THREE_VERSION)),
             ("THREE_LICENSE", html_escape(THREE_LICENSE)),
         ],
