@@ -7,7 +7,7 @@
 // The frames are the output times of the run. Playback runs a clock in simulated time at
 // `speed` simulated seconds per second of wall time and shows the last frame at or before it
 // (looping at the end); the time slider picks a frame and pauses. The default speed plays the
-// whole run in about 5 s. The energy plot shows the kinetic energy T, the strain energy U, the
+// frames in about 5 s. The energy plot shows the kinetic energy T, the strain energy U, the
 // net work put in W = W_ext + W_prescribed − W_dissipated and the energy balance error over
 // time, with a cursor at the shown time; a click on the plot jumps to that time.
 //
@@ -39,10 +39,11 @@ function simFrameAt(t) {
   return lo;
 }
 
-/** log10 of the default speed: the whole run in SIM_PLAY_SECONDS. */
+/** log10 of the default speed: the frames (of a stopped run too) in SIM_PLAY_SECONDS. */
 function simDefaultSpeed() {
   const T = simTimes();
-  const span = Math.max(T[T.length - 1] - T[0], DATA.simulation.t_end > 0 ? DATA.simulation.t_end : 0);
+  let span = T[T.length - 1] - T[0];
+  if (!(span > 0)) span = DATA.simulation.t_end;
   return span > 0 ? Math.log10(span / SIM_PLAY_SECONDS) : 0;
 }
 
@@ -117,7 +118,7 @@ function simSync() {
   set('rng-time', 'value', String(state.frame));
   set('time-val', 'textContent', 't = ' + fmt(T[state.frame]) + ' s (output ' + state.frame + ' of ' + (T.length - 1) + ')');
   set('rng-speed', 'value', String(state.simSpeed));
-  set('speed-val', 'textContent', '×' + fmt(Math.pow(10, state.simSpeed)));
+  set('speed-val', 'textContent', '×' + String(Number(Math.pow(10, state.simSpeed).toPrecision(2))));
   const field = DATA.fields.find((x) => x.key === state.color);
   if (field && field.per === 'frame') set('color-note', 'textContent', 'colour range over all output times');
   simDrawEnergy();
