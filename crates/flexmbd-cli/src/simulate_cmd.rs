@@ -1,9 +1,12 @@
 //! `flexmbd simulate`: parse the arguments, one core call, the writers.
 
 use crate::{emit, load_file, outputs, progress, BadInput};
-use flexmbd_core::simulation::{simulate, SimFailure, Stopped};
+use flexmbd_core::simulation::{simulate, Excitation, SimFailure, SimOptions, Simulation, Stopped};
+use flexmbd_core::Model;
+use flexmbd_io::model_toml::simulate::SimulateSettings;
 use flexmbd_io::sim_report::{sim_json, sim_text, write_sim_csv};
-use std::path::PathBuf;
+use flexmbd_io::vtk::{pvd, sim_grid};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// The files of `simulate --csv DIR`.
@@ -13,11 +16,16 @@ pub const SIM_CSV: &[outputs::Pattern] = &[
     outputs::Pattern::exact("elements.csv"),
 ];
 
-/// Arguments of `flexmbd simulate`.
-#[derive(clap::Args)]
-pub struct SimulateArgs {
-    /// Model file (.toml, or a SPACAR .dat file).
-    model: PathBuf,
+/// The files of `simulate --vtk DIR`.
+pub const SIM_VTK: &[outputs::Pattern] = &[
+    outputs::Pattern::numbered("sim_", ".vtu"),
+    outputs::Pattern::exact("simulate.pvd"),
+];
+
+/// The integrator options of the command line (shared by `simulate` and `view --analysis
+/// simulate`); each overrides the model's `[simulate]`.
+#[derive(clap::Args, Default)]
+pub struct SimOptionArgs {
     /// End time [s] (overrides [simulate] t_end).
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     t_end: Option<f64>,
@@ -38,12 +46,77 @@ pub struct SimulateArgs {
     /// Output interval [s] (default t_end/100).
     #[arg(long, value_name = "DT", allow_negative_numbers = true)]
     output_step: Option<f64>,
+}
+
+impl SimOptionArgs {
+    /// The first option given, as it is spelled (for a command that does not simulate).
+    pub fn first_given(&self) -> Option<&'static str> {
+        [
+            (self.t_end.is_some(), "--t-end"),
+            (self.dt.is_some(), "--dt"),
+            (self.fixed_step, "--fixed-step"),
+            (self.rho_inf.is_some(), "--rho-inf"),
+            (self.tolerance.is_some(), "--tolerance"),
+            (self.output_step.is_some(), "--output-step"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+
+    /// The integrator options: these arguments over the model file's `[simulate]` settings.
+    pub fn options(&self, path: &Path, file: &SimulateSettings) -> Result<SimOptions, BadInput> {
+        let mut set = file.clone();
+        let t_end = positive("--t-end", self.t_end)?;
+        if let Some(v) = positive("--dt", self.dt)? {
+            set.dt = Some(v);
+        }
+        if self.fixed_step {
+            set.fixed_step = Some(true);
+        }
+        if let Some(r) = self.rho_inf {
+            if !(0.0..=1.0).contains(&r) {
+                return Err(BadInput(format!("--rho-inf must lie in [0, 1], found {r}")));
+            }
+            set.rho_inf = Some(r);
+        }
+        if let Some(t) = &self.tolerance {
+            if !(t[0].is_finite() && t[0] > 0.0 && t[1].is_finite() && t[1] >= 0.0) {
+                return Err(BadInput(format!(
+                    "--tolerance ABS REL needs ABS > 0 and REL >= 0, found {} {}",
+                    t[0], t[1]
+                )));
+            }
+            set.tolerance = Some([t[0], t[1]]);
+        }
+        if let Some(v) = positive("--output-step", self.output_step)? {
+            set.output_step = Some(v);
+        }
+        set.options(t_end).ok_or_else(|| {
+            BadInput(format!(
+                "{}: no end time: give --t-end T or `t_end` in [simulate]",
+                path.display()
+            ))
+        })
+    }
+}
+
+/// Arguments of `flexmbd simulate`.
+#[derive(clap::Args)]
+pub struct SimulateArgs {
+    /// Model file (.toml, or a SPACAR .dat file).
+    model: PathBuf,
+    #[command(flatten)]
+    options: SimOptionArgs,
     /// Print JSON instead of tables.
     #[arg(long)]
     json: bool,
     /// Also write energy.csv, nodes.csv and elements.csv into this directory.
     #[arg(long, value_name = "DIR")]
     csv: Option<PathBuf>,
+    /// Also write ParaView files into this directory: sim_KKKK.vtu per output time and the
+    /// collection simulate.pvd (time step = t).
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<PathBuf>,
 }
 
 fn positive(name: &str, v: Option<f64>) -> Result<Option<f64>, BadInput> {
@@ -55,60 +128,69 @@ fn positive(name: &str, v: Option<f64>) -> Result<Option<f64>, BadInput> {
     }
 }
 
+/// Run the simulation with a progress bar: the frames, and how it stopped if it did not reach
+/// the end (its frames up to then are returned). A run that could not start is an error.
+pub fn run_simulation(
+    model: &Model,
+    excitation: &Excitation,
+    opts: &SimOptions,
+) -> anyhow::Result<(Simulation, Option<Stopped>)> {
+    let bar = progress::time_bar(opts.t_end);
+    let started = std::time::Instant::now();
+    let result = simulate(model, excitation, opts, &mut |p| {
+        progress::time_tick(&bar, p.t, p.t_end, p.steps, started);
+    });
+    bar.finish_and_clear();
+    match result {
+        Ok(sim) => Ok((sim, None)),
+        Err(SimFailure::NotStarted(e)) => Err(anyhow::Error::new(e).context("simulation failed")),
+        Err(SimFailure::Stopped(s)) => Ok(((*s.partial).clone(), Some(s))),
+    }
+}
+
+/// Report a stopped run on stderr; exit code 1.
+pub fn stopped_exit(stopped: Option<Stopped>) -> ExitCode {
+    match stopped {
+        None => ExitCode::SUCCESS,
+        Some(s) => {
+            eprintln!(
+                "error: {}",
+                flexmbd_io::error::printable(&format!(
+                    "simulation stopped: {s} (the results up to then are written)"
+                ))
+            );
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Write `sim_KKKK.vtu` per frame and `simulate.pvd` into `dir` (prepared before).
+fn write_vtk(dir: &Path, model: &Model, sim: &Simulation) -> anyhow::Result<()> {
+    let mut entries = Vec::with_capacity(sim.frames.len());
+    for (k, f) in sim.frames.iter().enumerate() {
+        let name = format!("sim_{k:04}.vtu");
+        let p = dir.join(&name);
+        outputs::write_file(&p, &sim_grid(model, f).to_vtu())?;
+        entries.push((f.t, name));
+    }
+    let p = dir.join("simulate.pvd");
+    outputs::write_file(&p, &pvd(&entries))?;
+    Ok(())
+}
+
 /// Run `flexmbd simulate`.
 pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     let path = a.model.as_path();
     if let Some(dir) = &a.csv {
         outputs::check_dir(dir, "--csv", SIM_CSV, &[path])?;
     }
+    if let Some(dir) = &a.vtk {
+        outputs::check_dir(dir, "--vtk", SIM_VTK, &[path])?;
+    }
     let file = load_file(path)?;
-    let mut set = file.simulate.clone();
-    let t_end = positive("--t-end", a.t_end)?;
-    if let Some(v) = positive("--dt", a.dt)? {
-        set.dt = Some(v);
-    }
-    if a.fixed_step {
-        set.fixed_step = Some(true);
-    }
-    if let Some(r) = a.rho_inf {
-        if !(0.0..=1.0).contains(&r) {
-            return Err(BadInput(format!("--rho-inf must lie in [0, 1], found {r}")).into());
-        }
-        set.rho_inf = Some(r);
-    }
-    if let Some(t) = &a.tolerance {
-        if !(t[0].is_finite() && t[0] > 0.0 && t[1].is_finite() && t[1] >= 0.0) {
-            return Err(BadInput(format!(
-                "--tolerance ABS REL needs ABS > 0 and REL >= 0, found {} {}",
-                t[0], t[1]
-            ))
-            .into());
-        }
-        set.tolerance = Some([t[0], t[1]]);
-    }
-    if let Some(v) = positive("--output-step", a.output_step)? {
-        set.output_step = Some(v);
-    }
-    let opts = set.options(t_end).ok_or_else(|| {
-        BadInput(format!(
-            "{}: no end time: give --t-end T or `t_end` in [simulate]",
-            path.display()
-        ))
-    })?;
+    let opts = a.options.options(path, &file.simulate)?;
     let model = &file.model;
-    let bar = progress::time_bar(opts.t_end);
-    let started = std::time::Instant::now();
-    let result = simulate(model, &set.excitation, &opts, &mut |p| {
-        progress::time_tick(&bar, p.t, p.t_end, p.steps, started);
-    });
-    bar.finish_and_clear();
-    let (sim, stopped): (_, Option<Stopped>) = match result {
-        Ok(sim) => (sim, None),
-        Err(SimFailure::NotStarted(e)) => {
-            return Err(anyhow::Error::new(e).context("simulation failed"));
-        }
-        Err(SimFailure::Stopped(s)) => ((*s.partial).clone(), Some(s)),
-    };
+    let (sim, stopped) = run_simulation(model, &file.simulate.excitation, &opts)?;
     let fname = path.display().to_string();
     if let Some(dir) = &a.csv {
         outputs::prepare_dir(dir, "--csv", SIM_CSV, &[path])?;
@@ -119,6 +201,10 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
             ))
         })?;
     }
+    if let Some(dir) = &a.vtk {
+        outputs::prepare_dir(dir, "--vtk", SIM_VTK, &[path])?;
+        write_vtk(dir, model, &sim)?;
+    }
     if a.json {
         emit(
             &(serde_json::to_string_pretty(&sim_json(model, &fname, &sim, stopped.as_ref()))?
@@ -127,16 +213,5 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     } else {
         emit(&sim_text(model, &fname, &sim, stopped.as_ref()))?;
     }
-    match stopped {
-        None => Ok(ExitCode::SUCCESS),
-        Some(s) => {
-            eprintln!(
-                "error: {}",
-                flexmbd_io::error::printable(&format!(
-                    "simulation stopped: {s} (the results up to then are written)"
-                ))
-            );
-            Ok(ExitCode::from(1))
-        }
-    }
+    Ok(stopped_exit(stopped))
 }

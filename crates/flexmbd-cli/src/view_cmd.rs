@@ -1,13 +1,15 @@
 //! `flexmbd view`: one self-contained HTML file with a 3D view of the model and the results of
 //! an analysis (docs/visualisation.md).
 
-use crate::output_cmd::Analysis;
-use crate::{emit, load_with_settings, outputs, progress, BadInput};
+use crate::simulate_cmd::{run_simulation, stopped_exit, SimOptionArgs};
+use crate::{emit, load_file, outputs, progress, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::modes;
 use flexmbd_core::kinematics::{columns, rows, CheckOptions};
 use flexmbd_core::Model;
-use flexmbd_io::html_view::{view_data, view_html, Classification, ViewResults};
+use flexmbd_io::html_view::{
+    simulate_view_data, view_data, view_html, Classification, ViewResults,
+};
 use flexmbd_io::report::generalised_names;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -15,6 +17,19 @@ use std::process::ExitCode;
 /// Largest Dcc (rows × columns) classified for a static or modal view; `check` always
 /// classifies.
 const MAX_DCC_ENTRIES: usize = 1_000_000;
+
+/// What a report shows.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Analysis {
+    /// Kinematic analysis: the reference geometry with its motions and self-stress states.
+    Check,
+    /// Nonlinear statics: every load step.
+    Static,
+    /// Natural modes about the static state.
+    Modes,
+    /// Time simulation: the motion over the output times, with stresses and energies.
+    Simulate,
+}
 
 /// Arguments of `flexmbd view`.
 #[derive(clap::Args)]
@@ -45,6 +60,8 @@ pub struct ViewArgs {
     /// Choose generalised coordinates automatically (one per motion) before classifying.
     #[arg(long)]
     auto: bool,
+    #[command(flatten, next_help_heading = "Time simulation (--analysis simulate)")]
+    sim: SimOptionArgs,
 }
 
 /// The classification with its owned parts.
@@ -84,8 +101,18 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     if matches!(args.analysis, Analysis::Modes) && args.count == 0 {
         return Err(BadInput("--count must be at least 1".into()).into());
     }
+    if let (false, Some(flag)) = (
+        matches!(args.analysis, Analysis::Simulate),
+        args.sim.first_given(),
+    ) {
+        return Err(BadInput(format!("{flag} is an option of --analysis simulate")).into());
+    }
     outputs::check_file(&args.output, "-o", &[&args.model])?;
-    let (model, settings) = load_with_settings(&args.model)?;
+    let flexmbd_io::ModelFile {
+        model,
+        settings,
+        simulate: sim_settings,
+    } = load_file(&args.model)?;
     let file = args.model.display().to_string();
     let mut notes = Vec::new();
 
@@ -93,7 +120,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     // dense SVD takes a moment
     let classified = match args.analysis {
         Analysis::Check => Some(classify(&model, &opts, &args)?),
-        Analysis::Static | Analysis::Modes => {
+        Analysis::Static | Analysis::Modes | Analysis::Simulate => {
             let x = model.x0();
             let (m, n) = (
                 rows(&model, &model.partition).len(),
@@ -122,8 +149,23 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         rank_tol: opts.rank_tol,
     });
 
+    let mut stopped = None;
     let mut data = match args.analysis {
         Analysis::Check => view_data(&model, &file, classification.as_ref(), &ViewResults::Check),
+        Analysis::Simulate => {
+            let opts = args.sim.options(&args.model, &sim_settings)?;
+            let (sim, stop) = run_simulation(&model, &sim_settings.excitation, &opts)?;
+            let data = simulate_view_data(
+                &model,
+                &file,
+                classification.as_ref(),
+                &sim,
+                opts.t_end,
+                stop.as_ref(),
+            );
+            stopped = stop;
+            data
+        }
         Analysis::Static | Analysis::Modes => {
             let mut sopts = crate::dynamics_cmd::static_options(&settings, args.steps)?;
             sopts.line_search = settings.line_search;
@@ -172,5 +214,5 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         args.output.display(),
         html.len()
     ))?;
-    Ok(ExitCode::SUCCESS)
+    Ok(stopped_exit(stopped))
 }

@@ -15,6 +15,10 @@ the first of chromium, chromium-browser, google-chrome on PATH) from a file:// U
 - animation: the motion of the 12-truss at phase 0.25 and 0.75 (opposite extremes) gives
   different pictures, while phase 0 and 0.5 (both the reference configuration) give the same
   picture; the same for a mode, and two load steps of a static run differ;
+- a simulation (the pendulum of examples/pendulum.toml, `--analysis simulate`): one frame per
+  output time, the time shown, the drawn tip at the model's geometry at t = 0 and, at t = 0.5 s,
+  where an independent integration of the rigid bar's equation θ'' = −(3g/2L) sin θ puts it;
+  the time slider moves the tip, playing advances the time, the pictures at two times differ;
 - every control (selectors, sliders, buttons, views, clicks on the canvas, keys) works without
   error, in a copy of each report with a small script added that operates them;
 - a broken page (invalid data) is reported as an error, so the checks above can fail.
@@ -22,6 +26,7 @@ the first of chromium, chromium-browser, google-chrome on PATH) from a file:// U
 Only the Python standard library is used (the PNG decoder is below). Screenshots are kept in
 OUTDIR for a look.
 """
+import math
 import os
 import re
 import shutil
@@ -273,6 +278,14 @@ EXERCISE = """<script>
       var v = []; for (var k = 0; k <= Number(el.max); k++) v.push(String(k)); return v;
     });
     each('rng-phase', 'input', function () { return ['0.1', '0.6']; });
+    each('rng-time', 'input', function (el) { return ['0', String(Math.floor(Number(el.max) / 2)), el.max]; });
+    each('rng-speed', 'input', function (el) { return [el.min, el.max]; });
+    var energy = document.getElementById('sim-energy');
+    if (energy) {
+      var er = energy.getBoundingClientRect();
+      energy.dispatchEvent(new MouseEvent('click', { bubbles: true, clientX: er.left + 0.6 * er.width, clientY: er.top + er.height / 2 }));
+      n++;
+    }
     each('rng-amp', 'input', function () { return ['2', '0.5']; });
     ['chk-ghost', 'chk-ghost', 'btn-play', 'btn-prev', 'btn-next', 'btn-play'].forEach(function (id) {
       var el = document.getElementById(id); if (el) { el.click(); n++; }
@@ -303,8 +316,9 @@ EXERCISE = """<script>
 """
 
 
-def exercise(page, out, profile):
-    """Work every control of a copy of the page; no error may appear."""
+def exercise(page, out, profile, clicks_select=True):
+    """Work every control of a copy of the page; no error may appear. With clicks_select, some
+    click on the canvas must select an element."""
     with open(page, encoding="utf-8") as f:
         text = f.read()
     copy = os.path.join(out, "exercise_" + os.path.basename(page))
@@ -319,11 +333,130 @@ def exercise(page, out, profile):
     else:
         sel = re.search(r'data-selected="(\d+)"', dom)
         hits = int(sel.group(1)) if sel else 0
-        if hits == 0:
+        if hits == 0 and clicks_select:
             fail(f"{os.path.basename(page)}: no click on the canvas selected an element")
         else:
             ok(f"{os.path.basename(page)}: {n} control actions without error;"
                f" {hits} of 45 clicks on the canvas selected an element")
+
+
+# Injected into a copy of a simulation report: lets it play for a second of (virtual) time and
+# records the frame reached, then moves the time slider to the first and the last output time
+# and records the drawn tip position (status data-tip) and time after each move.
+SLIDE = """<script>
+(function () {
+  function go() {
+    var st = document.getElementById('status');
+    if (!st || st.getAttribute('data-state') === 'loading') { setTimeout(go, 50); return; }
+    var body = document.body;
+    setTimeout(function () {
+      body.setAttribute('data-played-to', st.getAttribute('data-frame'));
+      var r = document.getElementById('rng-time');
+      function slide(v, tag, next) {
+        r.value = v;
+        r.dispatchEvent(new Event('input', { bubbles: true }));
+        setTimeout(function () {
+          body.setAttribute('data-tip-' + tag, st.getAttribute('data-tip'));
+          body.setAttribute('data-time-' + tag, st.getAttribute('data-time'));
+          if (next) next();
+        }, 300);
+      }
+      slide('0', 'first', function () { slide(r.max, 'last', function () { body.setAttribute('data-slid', '1'); }); });
+    }, 1000);
+  }
+  go();
+})();
+</script>
+"""
+
+
+def pendulum_reference():
+    """From examples/pendulum.toml's geometry and gravity: the pin, the tip at t = 0, the bar's
+    length and g."""
+    import tomllib
+    with open(os.path.join(ROOT, "examples", "pendulum.toml"), "rb") as f:
+        m = tomllib.load(f)
+    pin, tip = m["nodes"]["pin"], m["nodes"]["tip"]
+    g = -m["static"]["gravity"][2]
+    length = math.dist(pin, tip)
+    return pin, tip, length, g
+
+
+def rigid_bar_tip(t_end, steps=20000):
+    """The tip of a uniform rigid bar pinned at one end at time t_end, released from rest at the
+    file's position: θ'' = −(3g/2L) sin θ (θ from the downward vertical, in the x-z plane), by
+    the classical Runge–Kutta method."""
+    pin, tip, length, g = pendulum_reference()
+    theta = math.atan2(tip[0] - pin[0], -(tip[2] - pin[2]))
+    omega, k, h = 0.0, 1.5 * g / length, t_end / steps
+    f = lambda th, om: (om, -k * math.sin(th))
+    for _ in range(steps):
+        a1 = f(theta, omega)
+        a2 = f(theta + h / 2 * a1[0], omega + h / 2 * a1[1])
+        a3 = f(theta + h / 2 * a2[0], omega + h / 2 * a2[1])
+        a4 = f(theta + h * a3[0], omega + h * a3[1])
+        theta += h / 6 * (a1[0] + 2 * a2[0] + 2 * a3[0] + a4[0])
+        omega += h / 6 * (a1[1] + 2 * a2[1] + 2 * a3[1] + a4[1])
+    return [pin[0] + length * math.sin(theta), pin[1], pin[2] - length * math.cos(theta)]
+
+
+def near(tag, got, expected, tol):
+    """A position "x,y,z" (a status attribute) within tol of expected."""
+    try:
+        p = [float(v) for v in got.split(",")]
+    except (AttributeError, ValueError):
+        fail(f"{tag}: no position ({got!r})")
+        return
+    d = math.dist(p, expected)
+    if d > tol:
+        fail(f"{tag}: {p}, expected {expected} (off by {d:.2e})")
+    else:
+        ok(f"{tag}: {[round(v, 4) for v in p]} within {d:.1e} of {[round(v, 4) for v in expected]}")
+
+
+def simulation_checks(page, out, profile):
+    """The pendulum report: frames, times, the drawn tip at two times, slider and playback."""
+    pin, tip0, length, g = pendulum_reference()
+    tip_end = rigid_bar_tip(0.5)
+    a = open_page(page, "paused=1&step=0", out, profile, {
+        "data-frames": "51", "data-animations": "0", "data-time": "0", "data-frame": "0",
+        "data-fields": lambda v: v is not None and {"sigma1", "speed"} <= set(v.split())})
+    near("pendulum t = 0: drawn tip at the model's tip", a.get("data-tip"), tip0, 1e-6)
+    b = open_page(page, "paused=1&step=50", out, profile, {
+        "data-time": lambda v: v is not None and abs(float(v) - 0.5) < 1e-12})
+    near("pendulum t = 0.5 s: drawn tip where the rigid bar's equation puts it",
+         b.get("data-tip"), tip_end, 2e-3 * length)
+    r = canvas_rect(a)
+    first = shot(page, "paused=1&step=0", out, profile, "pendulum_t0", r)
+    mid = shot(page, "paused=1&step=25", out, profile, "pendulum_t025", r)
+    last = shot(page, "paused=1&step=50", out, profile, "pendulum_t050", r)
+    if first and mid and last:
+        not_blank("pendulum t = 0.25 s", mid, min_off=0.005, min_colours=8)
+        moves("pendulum t = 0 vs t = 0.5 s", first, last)
+        moves("pendulum t = 0.25 vs t = 0.5 s", mid, last)
+    # the slider, and playing
+    with open(page, encoding="utf-8") as f:
+        text = f.read()
+    copy = os.path.join(out, "slide_" + os.path.basename(page))
+    with open(copy, "w", encoding="utf-8") as f:
+        f.write(text.replace("</body>", SLIDE + "</body>", 1))
+    dom, console = browse(copy, "", out, profile)
+    attrs, errors, etext, title = status(dom)
+    body = dict(re.findall(r'(data-[\w-]+)="([^"]*)"', re.search(r'<body (data-errors="[^>]*)>', dom).group(1)))
+    if errors != 0 or console or body.get("data-slid") != "1":
+        fail(f"{os.path.basename(copy)}: errors {errors}: {etext or title} {console} {body}")
+        return
+    played = int(body.get("data-played-to", "0"))
+    if played > 0:
+        ok(f"pendulum: playing reached output {played} after a second")
+    else:
+        fail(f"pendulum: playing did not advance ({body})")
+    near("pendulum slider at the first output: tip", body.get("data-tip-first"), tip0, 1e-6)
+    near("pendulum slider at the last output: tip", body.get("data-tip-last"), tip_end, 2e-3 * length)
+    if body.get("data-time-first") != "0" or abs(float(body.get("data-time-last", "nan")) - 0.5) > 1e-12:
+        fail(f"pendulum slider: times {body.get('data-time-first')}, {body.get('data-time-last')}")
+    else:
+        ok("pendulum slider: t = 0 and t = 0.5 s shown")
 
 
 def flexmbd():
@@ -362,6 +495,8 @@ def run(out, profile):
     six = view(out, "folded_sheet_guide_6", "folded_sheet_guide_6")
     stroke = view(out, "parallel_leaf_stroke", "parallel_leaf_stroke", "--analysis", "static", "--steps", "8")
     modes = view(out, "paper_dynamic_6_sheets", "paper_dynamic_6_sheets", "--analysis", "modes", "--count", "4")
+    sim = view(out, "pendulum_simulate", "pendulum", "--analysis", "simulate", "--t-end", "0.5",
+               "--output-step", "0.01")
 
     # 12-truss: one motion, one self-stress, Table 1 row 2; the motion animates
     a = open_page(twelve, "item=0&phase=0.25&paused=1", out, profile, {
@@ -410,9 +545,14 @@ def run(out, profile):
         not_blank("paper_dynamic_6_sheets mode 1", m25)
         moves("paper_dynamic_6_sheets mode 1, phase 0.25 vs 0.75", m25, m75)
 
+    # simulation: frames at the output times, the tip over time, slider and playback
+    simulation_checks(sim, out, profile)
+
     # every control once, on every report
     for page in (twelve, six, stroke, modes):
         exercise(page, out, profile)
+    # the pendulum is one thin bar, which a 9 × 5 grid of clicks can miss
+    exercise(sim, out, profile, clicks_select=False)
 
     # a broken page must be reported: the checks above can fail
     with open(twelve, encoding="utf-8") as f:

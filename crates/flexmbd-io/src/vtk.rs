@@ -13,6 +13,7 @@ use flexmbd_core::dynamics::Mode;
 use flexmbd_core::elements::{Element, ElementKind};
 use flexmbd_core::kinematics::ConstraintAnalysis;
 use flexmbd_core::model::{Dof, Model};
+use flexmbd_core::simulation::Frame;
 use flexmbd_core::statics::StepResult;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -384,6 +385,21 @@ pub fn step_grid(model: &Model, step: &StepResult) -> Grid {
         1,
         els.iter().map(|e| e.max_stress.unwrap_or(0.0)).collect(),
     ));
+    g
+}
+
+/// One output time of a simulation: the fields of [`step_grid`] (deformed positions,
+/// `displacement`, `rotation`, `e`, `sigma`, `max_stress`) plus the point vectors `velocity`
+/// [m/s] and `angular_velocity` [rad/s] (global axes; zero where the node does not rotate).
+pub fn sim_grid(model: &Model, frame: &Frame) -> Grid {
+    let mut g = step_grid(model, &frame.as_step());
+    let (v, w): (Vec<[f64; 3]>, Vec<[f64; 3]>) = frame
+        .node_velocities(model)
+        .into_iter()
+        .map(|(v, w)| (v, w.unwrap_or([0.0; 3])))
+        .unzip();
+    g.add_point_field(Field::real("velocity", 3, v.concat()));
+    g.add_point_field(Field::real("angular_velocity", 3, w.concat()));
     g
 }
 

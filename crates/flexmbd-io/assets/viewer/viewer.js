@@ -13,6 +13,9 @@
 // URL hash parameters (for a fixed picture, e.g. in tests):
 //   item=K (animation, 0-based; none: no animation)  phase=P (0..1)  paused=1  step=K (frame)
 //   color=KEY (a field key, or type)  amp=A (amplitude factor)  view=iso|x|y|z
+//
+// A simulation (DATA.simulation) is played over its output times by simulate.js, appended to
+// this file in the page: the functions sim* there are called below.
 
 const DATA = JSON.parse(document.getElementById('flexmbd-data').textContent);
 const NN = DATA.nodes.length;
@@ -622,6 +625,7 @@ async function main() {
       mk.mesh.position.set(p[0] + o[0], p[1] + o[1], p[2] + o[2]);
     }
     ghost.visible = state.ghost && (state.item >= 0 || state.frame > 0);
+    if (DATA.simulation) simDrawn(S);
     needGeometry = false;
     needRender = true;
   }
@@ -651,12 +655,17 @@ async function main() {
   controls.addEventListener('change', requestRender);
 
   // --- panel, colour bar, heading
-  buildPanel({ setView, onChange });
+  buildPanel({ setView, onChange, flush });
   function onChange(what) {
     if (what.geometry) needGeometry = true;
     if (what.color) needColor = true;
     updateHeading();
     syncPanel();
+  }
+  /** Rebuild what changed now, not at the next animation frame (the time slider). */
+  function flush() {
+    if (needGeometry) updateGeometry();
+    if (needColor) updateColors();
   }
 
   // --- picking
@@ -737,6 +746,15 @@ async function main() {
         state.phase = (state.phase + dt * state.speed) % 1;
         needGeometry = true;
         syncPhase();
+      } else if (DATA.simulation) {
+        const k = simAdvance(dt);
+        if (k !== state.frame) {
+          state.frame = k;
+          needGeometry = true;
+          if (currentField() && currentField().per === 'frame') needColor = true;
+          updateHeading();
+          syncPanel();
+        }
       } else if (DATA.frames.length > 1) {
         stepClock += dt;
         if (stepClock > 0.25) {
@@ -764,7 +782,9 @@ async function main() {
 
 function updateHeading() {
   const parts = [];
-  if (DATA.frames.length > 1) {
+  if (DATA.simulation) {
+    parts.push(simHeading());
+  } else if (DATA.frames.length > 1) {
     const f = DATA.frames[state.frame];
     parts.push(f.label + ' of ' + (DATA.frames.length - 1) + (f.load_factor !== null ? ', load factor ' + fmt(f.load_factor) : ''));
   }
@@ -831,7 +851,9 @@ function controlsHtml() {
     h += '<div class="row"><input type="checkbox" id="chk-ghost"><label for="chk-ghost">show the ' + (DATA.analysis === 'check' ? 'reference' : 'static') + ' configuration</label></div>';
     h += '<div class="note">amplitude 1: largest translation 10 % of the model size, or largest rotation 0.35 rad if that comes first</div>';
   }
-  if (DATA.frames.length > 1) {
+  if (DATA.simulation) {
+    h += simControlsHtml();
+  } else if (DATA.frames.length > 1) {
     h += '<h2>Load steps</h2>';
     h += '<div class="row"><button id="btn-prev">◀</button><input type="range" id="rng-step" min="0" max="' + (DATA.frames.length - 1) + '" step="1"><button id="btn-next">▶</button></div>';
     h += '<div id="step-label" class="mono"></div>';
@@ -903,6 +925,7 @@ function buildPanel(hooks) {
   bind('btn-next', 'click', () => { state.frame = Math.min(DATA.frames.length - 1, state.frame + 1); hooks.onChange({ geometry: true, color: true }); });
   bind('sel-color', 'change', (e) => { state.color = e.target.value; hooks.onChange({ color: true }); });
   for (const b of P.querySelectorAll('button[data-view]')) b.addEventListener('click', () => hooks.setView(b.getAttribute('data-view')));
+  if (DATA.simulation) simBind(hooks);
   const tb = document.getElementById('toolbar');
   tb.innerHTML = '<button data-view="iso">iso</button><button data-view="x">x</button><button data-view="y">y</button><button data-view="z">z</button>';
   for (const b of tb.querySelectorAll('button')) b.addEventListener('click', () => hooks.setView(b.getAttribute('data-view')));
@@ -934,6 +957,7 @@ function syncPanel() {
   else if (field && field.key.startsWith('self_stress')) note = 'largest entry of each element in the state (unit length, sign of the stress resultant); grey: the element carries none of it';
   else if (field && field.per === 'frame') note = 'colour range over all load steps';
   set('color-note', 'textContent', note);
+  if (DATA.simulation) simSync();
   if (state.selected >= 0) showSelection(state.selected);
 }
 

@@ -30,7 +30,7 @@ pub struct ViewData {
     pub title: String,
     /// Model file.
     pub file: String,
-    /// `check`, `static` or `modes`.
+    /// `check`, `static`, `modes` or `simulate`.
     pub analysis: String,
     /// Model size: diagonal of the bounding box of the reference nodes [m].
     pub size: f64,
@@ -53,6 +53,9 @@ pub struct ViewData {
     pub info: Vec<(String, String)>,
     /// Remarks (e.g. why the classification was skipped).
     pub notes: Vec<String>,
+    /// The time history of a simulation (its frames are the output times).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simulation: Option<super::ViewSimulation>,
 }
 
 /// A node.

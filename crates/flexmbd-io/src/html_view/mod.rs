@@ -16,11 +16,13 @@ mod document;
 mod geometry;
 mod page;
 mod results;
+mod simulate;
 
 pub use document::*;
 pub use geometry::{beam_section, MIN_DIAMETER, MIN_THICKNESS, NOMINAL_SHEET_WIDTH};
 pub use page::{html_escape, script_json, script_text, view_html, THREE_VERSION};
 pub use results::{animation_scale, significant, ANIMATION_ROTATION, ANIMATION_TRANSLATION};
+pub use simulate::{simulate_view_data, ViewSimulation, MAX_VIEW_FRAMES, MAX_VIEW_NODE_FRAMES};
 
 use crate::vtk::model_size;
 use flexmbd_core::model::Model;
@@ -65,6 +67,7 @@ pub fn view_data(
         summary: classification.map(summary),
         info: Vec::new(),
         notes: Vec::new(),
+        simulation: None,
     };
     match results {
         ViewResults::Check => {

@@ -17,6 +17,7 @@ pub(super) const THREE_LICENSE: &str = include_str!("../../assets/viewer/vendor/
 /// The page: one self-contained HTML document.
 pub fn view_html(data: &ViewData) -> Result<String, ViewError> {
     check_data(data)?;
+    super::simulate::check_simulation(data)?;
     let json = script_json(&serde_json::to_string(data)?);
     let title = if data.title.is_empty() {
         data.file.clone()
@@ -31,7 +32,10 @@ pub fn view_html(data: &ViewData) -> Result<String, ViewError> {
             ("DATA", json),
             ("THREE", script_text(THREE_JS)),
             ("ORBIT", script_text(ORBIT_JS)),
-            ("VIEWER", script_text(VIEWER_JS)),
+            (
+                "VIEWER",
+                script_text(&format!("{VIEWER_JS}\n{}", super::simulate::SIMULATE_JS)),
+            ),
             ("THREE_VERSION", html_escape(THREE_VERSION)),
             ("THREE_LICENSE", html_escape(THREE_LICENSE)),
         ],
