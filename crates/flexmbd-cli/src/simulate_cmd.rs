@@ -1,6 +1,6 @@
 //! `flexmbd simulate`: parse the arguments, one core call, the writers.
 
-use crate::{emit, load_file, outputs, progress, BadInput};
+use crate::{emit, load_sim_file, outputs, progress, BadInput};
 use flexmbd_core::simulation::{simulate, SimFailure, Stopped};
 use flexmbd_io::sim_report::{sim_json, sim_text, write_sim_csv};
 use std::path::PathBuf;
@@ -61,7 +61,7 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(dir) = &a.csv {
         outputs::check_dir(dir, "--csv", SIM_CSV, &[path])?;
     }
-    let file = load_file(path)?;
+    let file = load_sim_file(path)?;
     let mut set = file.simulate.clone();
     let t_end = positive("--t-end", a.t_end)?;
     if let Some(v) = positive("--dt", a.dt)? {
@@ -91,7 +91,7 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     }
     let opts = set.options(t_end).ok_or_else(|| {
         BadInput(format!(
-            "{}: no end time: give --t-end T or `t_end` in [simulate]",
+            "{}: no end time: give --t-end T, or `t_end` in [simulate] (TOML) or TIMESTEP (SPACAR)",
             path.display()
         ))
     })?;
