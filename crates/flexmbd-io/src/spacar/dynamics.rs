@@ -28,7 +28,7 @@ use crate::model_toml::simulate::SimulateSettings;
 use crate::toml_writer::{InertiaEntry, LoadEntry, ModelSpec, PrescribeEntry, PrescribeTarget};
 use flexmbd_core::model::Dof;
 use flexmbd_core::simulation::{SimOptions, Start, TimeFunction};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 
 /// The model spec of a time simulation, its settings and what the mapping approximates.
 pub(super) struct Dynamic {
@@ -39,6 +39,35 @@ pub(super) struct Dynamic {
     pub settings: SimulateSettings,
     /// Warnings, in line order.
     pub warnings: Vec<Warning>,
+}
+
+/// The dynamic degrees of freedom: `DYNE` (element, mode) and `DYNX` (node, coordinate), in
+/// sets built once, so that the mapping stays linear in the size of the file.
+struct Dofs {
+    dyne: HashSet<(u32, u32)>,
+    dynx: HashSet<(u32, u32)>,
+}
+
+impl Dofs {
+    fn new(m: &SpacarModel) -> Self {
+        let dyne = m
+            .dyne
+            .iter()
+            .flat_map(|l| l.modes.iter().map(move |&k| (l.element, k)))
+            .collect();
+        let mut dynx = HashSet::new();
+        for l in &m.dynx {
+            let all: &[u32] = match m.node_kinds.get(&l.node) {
+                Some(NodeKind::Rotational) => &[2, 3, 4],
+                Some(NodeKind::Translational) => &[1, 2, 3],
+                _ => &[],
+            };
+            for &c in l.coords.as_deref().unwrap_or(all) {
+                dynx.insert((l.node, c));
+            }
+        }
+        Self { dyne, dynx }
+    }
 }
 
 /// Problems that stop the mapping; the one on the earliest line is reported.
@@ -88,10 +117,11 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Dynamic, InputError> {
         p.warn(it.line, format!("ITERSTEP {}: load-step settings of a static analysis, not used by the time simulation (its step size follows TIMESTEP and ERROR)", fmt_values(&it.values)));
     }
     let t_end = settings.t_end;
+    let dofs = Dofs::new(m);
     masses(m, &map, &mut spec, &mut p);
-    damping_and_start(m, &mut p);
+    damping_and_start(m, &dofs, &mut p);
     let loads = loads(m, &map, t_end, &mut spec, &mut p);
-    let prescribed = inputs(m, &map, t_end, steps, &mut spec, &mut p);
+    let prescribed = inputs(m, &map, &dofs, (t_end, steps), &mut spec, &mut p);
     settings.excitation.loads = loads;
     settings.excitation.prescribed = prescribed;
 
@@ -207,7 +237,7 @@ fn masses(m: &SpacarModel, map: &NodeMap, spec: &mut ModelSpec, p: &mut Problems
 }
 
 /// Element damping and initial conditions: errors unless zero.
-fn damping_and_start(m: &SpacarModel, p: &mut Problems) {
+fn damping_and_start(m: &SpacarModel, dofs: &Dofs, p: &mut Problems) {
     for v in m
         .edamp
         .iter()
@@ -236,11 +266,7 @@ fn damping_and_start(m: &SpacarModel, p: &mut Problems) {
         }
     }
     for v in &m.inpute_values {
-        let dyne = m
-            .dyne
-            .iter()
-            .any(|l| l.element == v.element && l.modes.contains(&v.mode));
-        if dyne && v.value != 0.0 {
+        if dofs.dyne.contains(&(v.element, v.mode)) && v.value != 0.0 {
             p.fatal(v.line, format!("INPUTE {} {}: an initial value {} of a dynamic degree of freedom (DYNE): flexmbd starts a simulation from the reference configuration (deformation zero)", v.element, v.mode, fmt_num(v.value)));
         }
     }
@@ -343,19 +369,11 @@ impl Motion {
 fn inputs(
     m: &SpacarModel,
     map: &NodeMap,
-    t_end: Option<f64>,
-    steps: Option<usize>,
+    dofs: &Dofs,
+    (t_end, steps): (Option<f64>, Option<usize>),
     spec: &mut ModelSpec,
     p: &mut Problems,
 ) -> Vec<TimeFunction> {
-    let dynx = |node: u32, c: u32| {
-        m.dynx.iter().any(|l| {
-            l.node == node
-                && l.coords
-                    .as_deref()
-                    .map_or(m.node_kinds.contains_key(&node), |cs| cs.contains(&c))
-        })
-    };
     let mut coords: BTreeMap<(u32, u32), Motion> = BTreeMap::new();
     for v in &m.inputx_values {
         coords.entry((v.node, v.coord)).or_default().initial = Some((v.value, v.rates, v.line));
@@ -384,7 +402,7 @@ fn inputs(
             _ => 0.0,
         };
         let (x0, [v0, a0]) = mo.initial.map_or((reference, [0.0; 2]), |i| (i.0, i.1));
-        if dynx(node, c) {
+        if dofs.dynx.contains(&(node, c)) {
             // an initial condition of a dynamic degree of freedom
             if x0 != reference || v0 != 0.0 || a0 != 0.0 {
                 p.fatal(line, format!("INPUTX {node} {c}: the coordinate is a dynamic degree of freedom (DYNX); an initial value {} with rate {} is not supported: flexmbd starts a simulation from the reference configuration ({}) at rest", fmt_num(x0), fmt_num(v0), fmt_num(reference)));
@@ -475,10 +493,7 @@ fn inputs(
     }
     for (&(el, mode), mo) in &defs {
         let line = mo.line();
-        if m.dyne
-            .iter()
-            .any(|l| l.element == el && l.modes.contains(&mode))
-        {
+        if dofs.dyne.contains(&(el, mode)) {
             if let Some((_, l)) = mo.increment {
                 p.warn(l, format!("DELINPE {el} {mode}: the deformation is a dynamic degree of freedom (DYNE), an unknown of the motion; the increment is ignored"));
             }
