@@ -310,7 +310,7 @@ fn loads(
             } else {
                 let Some(t) = t_end else {
                     if m.timestep.is_none() {
-                        p.fatal(v.line, format!("DELXF {}: a load increment, spread over the time steps, needs the end time of TIMESTEP, which the file does not give", v.node));
+                        p.fatal(v.line, format!("DELXF {}: a load increment, spread over the time steps, needs the end time of TIMESTEP, which the file does not give (add a line `TIMESTEP t_end n` after HALT)", v.node));
                     } // else: TIMESTEP is wrong, an error at its line
                     continue;
                 };
@@ -360,7 +360,7 @@ impl Motion {
         match (self.increment, t_end) {
             (Some((d, _)), Some(t)) => Ok(v0 + d / t),
             (None, _) if v0 == 0.0 => Ok(0.0),
-            _ => Err("needs the end time of TIMESTEP, which the file does not give"),
+            _ => Err("needs the end time of TIMESTEP, which the file does not give (add a line `TIMESTEP t_end n` after HALT)"),
         }
     }
 }
