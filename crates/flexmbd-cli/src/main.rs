@@ -234,14 +234,7 @@ fn load_file(path: &Path) -> anyhow::Result<flexmbd_io::ModelFile> {
         Some("dat") => {
             let m = read_spacar(path)?;
             let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
-            for w in &warnings {
-                eprintln!(
-                    "warning: {}:{}: {}",
-                    m.file,
-                    w.line,
-                    flexmbd_io::error::printable(&w.message)
-                );
-            }
+            print_warnings(&m, &warnings);
             Ok(file)
         }
         _ => Err(BadInput(format!(
@@ -249,6 +242,33 @@ fn load_file(path: &Path) -> anyhow::Result<flexmbd_io::ModelFile> {
             path.display()
         ))
         .into()),
+    }
+}
+
+/// Read a model file for `flexmbd simulate`: a SPACAR file with its time-simulation data
+/// (mode 1: `TIMESTEP`, `ERROR`, loads and inputs as functions of time; docs/spacar-import.md
+/// §7), a TOML file as for every command.
+fn load_sim_file(path: &Path) -> anyhow::Result<flexmbd_io::ModelFile> {
+    if extension(path).as_deref() != Some("dat") {
+        return load_file(path);
+    }
+    let m = read_spacar(path)?;
+    let (file, warnings) = m
+        .to_dynamic_model_file()
+        .map_err(|e| BadInput(e.to_string()))?;
+    print_warnings(&m, &warnings);
+    Ok(file)
+}
+
+/// The warnings of a SPACAR mapping on stderr, `warning: file:line: …`.
+fn print_warnings(m: &flexmbd_io::SpacarModel, warnings: &[flexmbd_io::spacar::Warning]) {
+    for w in warnings {
+        eprintln!(
+            "warning: {}:{}: {}",
+            m.file,
+            w.line,
+            flexmbd_io::error::printable(&w.message)
+        );
     }
 }
 

@@ -1,6 +1,6 @@
 //! `flexmbd simulate`: parse the arguments, one core call, the writers.
 
-use crate::{emit, load_file, outputs, progress, BadInput};
+use crate::{emit, load_sim_file, outputs, progress, BadInput};
 use flexmbd_core::simulation::{simulate, Excitation, SimFailure, SimOptions, Simulation, Stopped};
 use flexmbd_core::Model;
 use flexmbd_io::model_toml::simulate::SimulateSettings;
@@ -93,7 +93,7 @@ impl SimOptionArgs {
         }
         set.options(t_end).ok_or_else(|| {
             BadInput(format!(
-                "{}: no end time: give --t-end T or `t_end` in [simulate]",
+                "{}: no end time: give --t-end T, or `t_end` in [simulate] (TOML) or TIMESTEP (SPACAR)",
                 path.display()
             ))
         })
@@ -187,7 +187,7 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(dir) = &a.vtk {
         outputs::check_dir(dir, "--vtk", SIM_VTK, &[path])?;
     }
-    let file = load_file(path)?;
+    let file = load_sim_file(path)?;
     let opts = a.options.options(path, &file.simulate)?;
     let model = &file.model;
     let (sim, stopped) = run_simulation(model, &file.simulate.excitation, &opts)?;

@@ -112,7 +112,11 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         model,
         settings,
         simulate: sim_settings,
-    } = load_file(&args.model)?;
+    } = if matches!(args.analysis, Analysis::Simulate) {
+        crate::load_sim_file(&args.model)?
+    } else {
+        load_file(&args.model)?
+    };
     let file = args.model.display().to_string();
     let mut notes = Vec::new();
 

@@ -112,6 +112,19 @@ pub struct MassEntry {
     pub line: Option<usize>,
 }
 
+/// An inertia tensor about a rotational node (`[[inertia]]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct InertiaEntry {
+    /// Node name.
+    pub node: String,
+    /// [Ixx, Ixy, Ixz, Iyy, Iyz, Izz] [kg·m²], global axes in the reference orientation.
+    pub i: [f64; 6],
+    /// Comment lines written above the entry.
+    pub comments: Vec<String>,
+    /// Source line.
+    pub line: Option<usize>,
+}
+
 /// What a prescribed value applies to.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PrescribeTarget {
@@ -187,6 +200,8 @@ pub struct ModelSpec {
     pub loads: Vec<LoadEntry>,
     /// Point masses.
     pub masses: Vec<MassEntry>,
+    /// Inertia tensors of rotational nodes.
+    pub inertias: Vec<InertiaEntry>,
     /// Prescribed input values.
     pub prescribed: Vec<PrescribeEntry>,
     /// Static analysis settings.
@@ -271,6 +286,10 @@ impl ModelSpec {
         }
         for m in &self.masses {
             b.add_point_mass(&m.node, m.m).map_err(fail(m.line))?;
+            lines.entry(Item::Mass(m.node.clone())).or_insert(m.line);
+        }
+        for m in &self.inertias {
+            b.add_inertia(&m.node, m.i).map_err(fail(m.line))?;
             lines.entry(Item::Mass(m.node.clone())).or_insert(m.line);
         }
         for p in &self.prescribed {
@@ -499,7 +518,7 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
     Ok(out)
 }
 
-/// `[[load]]`, `[[mass]]`, `[[prescribe]]` and `[static]`.
+/// `[[load]]`, `[[mass]]`, `[[inertia]]`, `[[prescribe]]` and `[static]`.
 fn write_static(out: &mut String, spec: &ModelSpec) {
     for l in &spec.loads {
         out.push('\n');
@@ -520,6 +539,19 @@ fn write_static(out: &mut String, spec: &ModelSpec) {
             comment(out, "", c);
         }
         let _ = writeln!(out, "[[mass]]\nnode = {}\nm = {}", quote(&m.node), num(m.m));
+    }
+    for m in &spec.inertias {
+        out.push('\n');
+        for c in &m.comments {
+            comment(out, "", c);
+        }
+        let i: Vec<String> = m.i.iter().map(|v| num(*v)).collect();
+        let _ = writeln!(
+            out,
+            "[[inertia]]\nnode = {}\nI = [{}]",
+            quote(&m.node),
+            i.join(", ")
+        );
     }
     for p in &spec.prescribed {
         out.push('\n');

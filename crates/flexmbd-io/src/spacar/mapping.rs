@@ -564,6 +564,32 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
             ));
         }
     }
+    for v in &m.edamp {
+        later.push((
+            v.line,
+            format!(
+                "EDAMP {}: element damping {} (line {})",
+                v.element,
+                fmt_values(&v.values),
+                v.line
+            ),
+        ));
+    }
+    for (kw, list) in [("STARTDE", &m.startde), ("STARTDX", &m.startdx)] {
+        for v in list {
+            later.push((
+                v.line,
+                format!(
+                    "{kw} {} {}: initial value {} and rate {} (line {})",
+                    v.number,
+                    v.index,
+                    fmt_num(v.value),
+                    fmt_num(v.rate),
+                    v.line
+                ),
+            ));
+        }
+    }
     for u in &m.user_routines {
         later.push((
             u.line,

@@ -19,6 +19,7 @@
 //! placed `at` `"t"` (own rotation, the host's position), where `t` is the translational node
 //! the elements pair `r` with. See [`mapping`].
 
+mod dynamics;
 mod lexer;
 pub mod mapping;
 mod parser;
@@ -346,6 +347,25 @@ pub struct CoordValue {
     pub coord: u32,
     /// Value (absolute coordinate for `INPUTX`, increment for `DELINPX`).
     pub value: f64,
+    /// Velocity and acceleration after the value (`INPUTX n c x ẋ ẍ` in a file for a time
+    /// simulation); zero when not given.
+    pub rates: [f64; 2],
+    /// Line.
+    pub line: usize,
+}
+
+/// An initial condition of a dynamic degree of freedom: `STARTDE ne m e ė` (deformation mode m
+/// of a `DYNE` element) or `STARTDX n c x ẋ` (coordinate c of a `DYNX` node).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StartValue {
+    /// Element (`STARTDE`) or node (`STARTDX`) number.
+    pub number: u32,
+    /// Deformation mode or coordinate index, 1-based.
+    pub index: u32,
+    /// Initial value.
+    pub value: f64,
+    /// Initial rate (zero when not given).
+    pub rate: f64,
     /// Line.
     pub line: usize,
 }
@@ -464,6 +484,12 @@ pub struct SpacarModel {
     pub em: Vec<ElementValues>,
     /// `ESIG`: pre-stress.
     pub esig: Vec<ElementValues>,
+    /// `EDAMP` (also read as `ED`): element damping constants, in the columns of `ESTIFF`.
+    pub edamp: Vec<ElementValues>,
+    /// `STARTDE`: initial values and rates of dynamic deformations (e^d).
+    pub startde: Vec<StartValue>,
+    /// `STARTDX`: initial values and rates of dynamic coordinates (x^d).
+    pub startdx: Vec<StartValue>,
     /// `XM`: nodal mass (1 value) or inertia tensor (6 values, rotational node).
     pub xm: Vec<NodeValues>,
     /// `XF`: initial nodal loads (force on a translational node, moment on a rotational node).
@@ -564,7 +590,7 @@ impl SpacarModel {
     /// masses, prescribed values, gravity, load steps; docs/spacar-import.md §6), and the
     /// warnings of that mapping (what `flexmbd static` on the `.dat` file approximates).
     pub fn to_static_spec(&self) -> Result<(ModelSpec, Vec<Warning>), InputError> {
-        statics::convert(self).map(|c| (c.spec, c.warnings))
+        statics::convert(self, statics::Purpose::Static).map(|c| (c.spec, c.warnings))
     }
 
     /// Build the core model for the kinematic check; errors name file and line.
@@ -580,10 +606,25 @@ impl SpacarModel {
     /// rigid stay rigid, `DYNX` coordinates are unknowns, loads and prescribed values reach
     /// their final SPACAR values (initial + increment) at load factor 1.
     pub fn to_model_file(&self) -> Result<(ModelFile, Vec<Warning>), InputError> {
-        let c = statics::convert(self)?;
+        let c = statics::convert(self, statics::Purpose::Static)?;
         let file = c.spec.build_static().map_err(|e| self.spec_error(e))?;
         self.require_elements(&file.model)?;
         Ok((file, c.warnings))
+    }
+
+    /// The model and settings for `flexmbd simulate` (SPACAR mode 1, docs/spacar-import.md
+    /// §7), with the warnings of the mapping (each naming a line): the model of
+    /// [`Self::to_model_file`] with the `DYNE` modes without stiffness free and the inertia
+    /// tensors of `XM`; `TIMESTEP`, `ERROR`, and the loads and prescribed inputs as functions
+    /// of time in [`ModelFile::simulate`]. What would change the motion and cannot be mapped
+    /// (user routines, element damping, initial conditions other than the reference at rest, …)
+    /// is an error at its line.
+    pub fn to_dynamic_model_file(&self) -> Result<(ModelFile, Vec<Warning>), InputError> {
+        let d = dynamics::convert(self)?;
+        let mut file = d.spec.build_static().map_err(|e| self.spec_error(e))?;
+        self.require_elements(&file.model)?;
+        file.simulate = d.settings;
+        Ok((file, d.warnings))
     }
 
     /// The equivalent native TOML model with the static data; what TOML cannot express is kept
@@ -596,7 +637,7 @@ impl SpacarModel {
     /// those about what the TOML format cannot express (shear flexibilities, `DYNX` in statics).
     /// They are also written into the file's header.
     pub fn to_toml_with_warnings(&self) -> Result<(String, Vec<Warning>), InputError> {
-        let c = statics::convert(self)?;
+        let c = statics::convert(self, statics::Purpose::Static)?;
         // a file that does not read back is reported here, at its line
         let model = c.spec.build().map_err(|e| self.spec_error(e))?;
         self.require_elements(&model)?;

@@ -30,7 +30,8 @@ const KINEMATIC: &[&str] = &[
 ];
 const STATIC: &[&str] = &[
     "ESTIFF", "EM", "XM", "ESIG", "GRAVITY", "ITERSTEP", "TIMESTEP", "ERROR", "XF", "DELXF",
-    "DELINPX", "DELINPE", "OUTLEVEL", "INPUTF", "OUTX", "OUTXP",
+    "DELINPX", "DELINPE", "OUTLEVEL", "INPUTF", "OUTX", "OUTXP", "EDAMP", "ED", "STARTDE",
+    "STARTDX",
 ];
 const PLANAR: &[&str] = &["PLBEAM", "PLTRUSS", "PLHINGE", "PINBODY", "PLRBEAM"];
 const VISUAL: &[&str] = &[
@@ -341,7 +342,7 @@ impl<'a> Parser<'a> {
     fn static_line(&mut self, line: &Line, kw: &str, f: &mut Fields) -> Result<(), InputError> {
         let no = line.no;
         match kw {
-            "ESTIFF" | "EM" | "ESIG" => {
+            "ESTIFF" | "EM" | "ESIG" | "EDAMP" | "ED" => {
                 let element = f.positive("element number")?;
                 f.item = format!("{kw} {element}");
                 let values = f.rest_floats("value")?;
@@ -356,7 +357,8 @@ impl<'a> Parser<'a> {
                 match kw {
                     "ESTIFF" => self.m.estiff.push(v),
                     "EM" => self.m.em.push(v),
-                    _ => self.m.esig.push(v),
+                    "ESIG" => self.m.esig.push(v),
+                    _ => self.m.edamp.push(v),
                 }
             }
             "XM" | "XF" | "DELXF" => {
@@ -382,11 +384,19 @@ impl<'a> Parser<'a> {
                 f.item = format!("{kw} {node}");
                 let coord = f.positive("coordinate number")?;
                 let value = f.float("value")?;
+                // a file for a time simulation may give the velocity and acceleration too
+                let mut rates = [0.0; 2];
+                for (r, what) in rates.iter_mut().zip(["velocity", "acceleration"]) {
+                    if f.remaining() > 0 {
+                        *r = f.float(what)?;
+                    }
+                }
                 f.done()?;
                 let v = CoordValue {
                     node,
                     coord,
                     value,
+                    rates,
                     line: no,
                 };
                 if kw == "INPUTX" {
@@ -411,6 +421,35 @@ impl<'a> Parser<'a> {
                     self.m.inpute_values.push(v);
                 } else {
                     self.m.delinpe.push(v);
+                }
+            }
+            "STARTDE" | "STARTDX" => {
+                let (what, index) = if kw == "STARTDE" {
+                    ("element number", "deformation mode")
+                } else {
+                    ("node number", "coordinate number")
+                };
+                let number = f.positive(what)?;
+                f.item = format!("{kw} {number}");
+                let index = f.positive(index)?;
+                let value = f.float("initial value")?;
+                let rate = if f.remaining() > 0 {
+                    f.float("initial rate")?
+                } else {
+                    0.0
+                };
+                f.done()?;
+                let v = StartValue {
+                    number,
+                    index,
+                    value,
+                    rate,
+                    line: no,
+                };
+                if kw == "STARTDE" {
+                    self.m.startde.push(v);
+                } else {
+                    self.m.startdx.push(v);
                 }
             }
             "GRAVITY" | "ITERSTEP" | "TIMESTEP" | "ERROR" | "OUTLEVEL" => {

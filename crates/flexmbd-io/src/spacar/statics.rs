@@ -81,8 +81,20 @@ impl Ramp {
     }
 }
 
+/// What the spec is built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Purpose {
+    /// `flexmbd static` and `flexmbd convert`: loads and prescribed values at their final
+    /// values, `DYNE` modes without stiffness held.
+    Static,
+    /// The time simulation (module `dynamics`): no loads and prescribed values (the module
+    /// adds them with their histories), `DYNE` modes without stiffness free, pre-stress an
+    /// error.
+    Dynamic,
+}
+
 /// The static data of `m` on top of its kinematic spec.
-pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
+pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, InputError> {
     let mut spec = super::mapping::to_spec(m)?;
     let map = NodeMap::new(m)?;
     let err = |line: usize, msg: String| at_line(&m.file, line, 1, msg);
@@ -92,7 +104,7 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
 
     // --- load steps ---
     let mut statics = StaticSpec::default();
-    if let Some(it) = &m.iterstep {
+    if let Some(it) = m.iterstep.as_ref().filter(|_| purpose == Purpose::Static) {
         let v = &it.values;
         let mut used = Vec::new();
         match v.get(1) {
@@ -257,6 +269,7 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
         );
         let mut flexible_dyne = Vec::new();
         let mut held_dyne = Vec::new();
+        let mut free_dyne = Vec::new();
         let mut kept_rigid = Vec::new();
         for (k, &s) in stiff.iter().enumerate() {
             let mode = k as u32 + 1;
@@ -265,6 +278,11 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
                     entry.input.retain(|&i| i != i64::from(mode));
                     flexible_dyne.push(mode);
                     dyne_flexible.insert((n, mode));
+                } else if purpose == Purpose::Dynamic {
+                    // a degree of freedom without stiffness (a hinge that turns freely)
+                    entry.input.retain(|&i| i != i64::from(mode));
+                    entry.free.push(i64::from(mode));
+                    free_dyne.push(mode);
                 } else {
                     held_dyne.push(mode);
                 }
@@ -297,6 +315,12 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
                 join(&flexible_dyne)
             ));
         }
+        if !free_dyne.is_empty() {
+            roles.push(format!(
+                "free (DYNE without stiffness, a degree of freedom of the time simulation): {}",
+                join(&free_dyne)
+            ));
+        }
         if !kept_rigid.is_empty() {
             roles.push(format!(
                 "rigid although ESTIFF gives stiffness (not listed in SPACAR){}: {}",
@@ -324,6 +348,9 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
         }
         if let Some((v, line)) = last(&by.esig, n) {
             if v.iter().any(|x| *x != 0.0) {
+                if purpose == Purpose::Dynamic {
+                    return Err(err(line, format!("ESIG {n}: pre-stress (initial stress resultants {}) is not modelled by flexmbd, and it changes the motion: remove the line, or apply the pre-load as a load", fmt_values(&v))));
+                }
                 warn(line, format!("ESIG {n}: pre-stress (initial stress resultants {}) is not applied by flexmbd statics; ignored", fmt_values(&v)));
             }
         }
@@ -353,6 +380,85 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
         // inertia tensors of rotational nodes: no static effect (the header lists them)
     }
 
+    if purpose == Purpose::Static {
+        loads_and_inputs(
+            m,
+            &map,
+            &x_of,
+            &dyne_flexible,
+            n_steps,
+            &mut spec,
+            &mut warnings,
+        )?;
+    }
+
+    // --- DYNX: unknowns in statics, inputs of the check ---
+    if let Some(first) = m.dynx.iter().map(|l| l.line).min() {
+        toml_warnings.push(Warning {
+            line: first,
+            message: "DYNX coordinates (dynamic degrees of freedom) are written into [inputs], as the kinematic check needs them; `flexmbd static` on the TOML file therefore holds them at their reference, while `flexmbd static` on the .dat file solves for them".into(),
+        });
+    }
+
+    warnings.sort_by_key(|w| w.line);
+    toml_warnings.sort_by_key(|w| w.line);
+    let mut notes: Vec<&Warning> = warnings.iter().chain(&toml_warnings).collect();
+    notes.sort_by_key(|w| w.line);
+    spec.header = header(m, &map, Some(&notes));
+    Ok(Conversion {
+        spec,
+        warnings,
+        toml_warnings,
+    })
+}
+
+/// The mass of a truss or RBEAM (`EM` M/L × length) as point masses, half at each end: the
+/// exact static equivalent of the weight of a uniform bar.
+fn lumped_mass(
+    masses: &mut Vec<MassEntry>,
+    n: u32,
+    em: &Option<(Vec<f64>, usize)>,
+    x_of: &BTreeMap<u32, [f64; 3]>,
+    xp: u32,
+    xq: u32,
+) {
+    let Some((v, line)) = em else { return };
+    let Some(&ml) = v.first() else { return };
+    let (Some(p), Some(q)) = (x_of.get(&xp), x_of.get(&xq)) else {
+        return;
+    };
+    if ml == 0.0 {
+        return;
+    }
+    let l0 = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + (q[2] - p[2]).powi(2)).sqrt();
+    let half = 0.5 * ml * l0;
+    for node in [xp, xq] {
+        masses.push(MassEntry {
+            node: NodeMap::trans_name(node),
+            m: half,
+            comments: vec![format!(
+                "EM {n} (line {line}): M/L = {} over the length {}, half at each end",
+                fmt_num(ml),
+                fmt_num(l0)
+            )],
+            line: Some(*line),
+        });
+    }
+}
+
+/// The loads and prescribed values of `flexmbd static`: final SPACAR values (initial +
+/// increments), with the load-path warnings.
+fn loads_and_inputs(
+    m: &SpacarModel,
+    map: &NodeMap,
+    x_of: &BTreeMap<u32, [f64; 3]>,
+    dyne_flexible: &BTreeSet<(u32, u32)>,
+    n_steps: usize,
+    spec: &mut ModelSpec,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), InputError> {
+    let err = |line: usize, msg: String| at_line(&m.file, line, 1, msg);
+    let mut warn = |line: usize, message: String| warnings.push(Warning { line, message });
     // --- loads ---
     let mut loads: Vec<(u32, LoadEntry)> = Vec::new();
     let mut initial_loads = Vec::new();
@@ -428,6 +534,12 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
         }
     }
     spec.loads = loads.into_iter().map(|(_, l)| l).collect();
+
+    for (kw, list) in [("INPUTX", &m.inputx_values), ("DELINPX", &m.delinpx)] {
+        for v in list.iter().filter(|v| v.rates != [0.0; 2]) {
+            warn(v.line, format!("{kw} {} {}: the velocity and acceleration ({}) are data of a time simulation (`flexmbd simulate`); statics uses the position value only", v.node, v.coord, fmt_values(&v.rates)));
+        }
+    }
 
     // --- prescribed coordinates ---
     let mut coord_kind: BTreeMap<(u32, u32), &str> = BTreeMap::new();
@@ -582,59 +694,7 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Conversion, InputError> {
             });
         }
     }
-
-    // --- DYNX: unknowns in statics, inputs of the check ---
-    if let Some(first) = m.dynx.iter().map(|l| l.line).min() {
-        toml_warnings.push(Warning {
-            line: first,
-            message: "DYNX coordinates (dynamic degrees of freedom) are written into [inputs], as the kinematic check needs them; `flexmbd static` on the TOML file therefore holds them at their reference, while `flexmbd static` on the .dat file solves for them".into(),
-        });
-    }
-
-    warnings.sort_by_key(|w| w.line);
-    toml_warnings.sort_by_key(|w| w.line);
-    let mut notes: Vec<&Warning> = warnings.iter().chain(&toml_warnings).collect();
-    notes.sort_by_key(|w| w.line);
-    spec.header = header(m, &map, Some(&notes));
-    Ok(Conversion {
-        spec,
-        warnings,
-        toml_warnings,
-    })
-}
-
-/// The mass of a truss or RBEAM (`EM` M/L × length) as point masses, half at each end: the
-/// exact static equivalent of the weight of a uniform bar.
-fn lumped_mass(
-    masses: &mut Vec<MassEntry>,
-    n: u32,
-    em: &Option<(Vec<f64>, usize)>,
-    x_of: &BTreeMap<u32, [f64; 3]>,
-    xp: u32,
-    xq: u32,
-) {
-    let Some((v, line)) = em else { return };
-    let Some(&ml) = v.first() else { return };
-    let (Some(p), Some(q)) = (x_of.get(&xp), x_of.get(&xq)) else {
-        return;
-    };
-    if ml == 0.0 {
-        return;
-    }
-    let l0 = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + (q[2] - p[2]).powi(2)).sqrt();
-    let half = 0.5 * ml * l0;
-    for node in [xp, xq] {
-        masses.push(MassEntry {
-            node: NodeMap::trans_name(node),
-            m: half,
-            comments: vec![format!(
-                "EM {n} (line {line}): M/L = {} over the length {}, half at each end",
-                fmt_num(ml),
-                fmt_num(l0)
-            )],
-            line: Some(*line),
-        });
-    }
+    Ok(())
 }
 
 fn join(v: &[u32]) -> String {

@@ -235,7 +235,12 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
             .ok_or_else(|| err(line, format!("{item}: node {n} is not used by any element")))
     };
     let mut seen: HashMap<(&str, u32), usize> = HashMap::new();
-    for (kw, list) in [("ESTIFF", &m.estiff), ("EM", &m.em), ("ESIG", &m.esig)] {
+    for (kw, list) in [
+        ("ESTIFF", &m.estiff),
+        ("EM", &m.em),
+        ("ESIG", &m.esig),
+        ("EDAMP", &m.edamp),
+    ] {
         for v in list {
             let item = format!("{kw} {}", v.element);
             let Some(e) = element(v.element) else {
@@ -245,13 +250,13 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
                 ));
             };
             let max = match kw {
-                "ESTIFF" => e.kind.stiffness_columns().len(),
+                "ESTIFF" | "EDAMP" => e.kind.stiffness_columns().len(),
                 "EM" => e.kind.mass_columns().len(),
                 _ => e.kind.n_modes() as usize,
             };
             if v.values.len() > max {
                 let cols = match kw {
-                    "ESTIFF" => e.kind.stiffness_columns().join(" "),
+                    "ESTIFF" | "EDAMP" => e.kind.stiffness_columns().join(" "),
                     "EM" => e.kind.mass_columns().join(" "),
                     _ => "one per deformation mode".into(),
                 };
@@ -337,6 +342,38 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
                     ),
                 ));
             }
+        }
+    }
+    // initial conditions: only of dynamic degrees of freedom
+    for v in &m.startde {
+        let item = format!("STARTDE {}", v.number);
+        if element(v.number).is_none() {
+            return Err(err(
+                v.line,
+                format!("{item}: element {} is not defined", v.number),
+            ));
+        }
+        if !matches!(mode_kind.get(&(v.number, v.index)), Some(&(k, _)) if k == "DYNE") {
+            return Err(err(
+                v.line,
+                format!(
+                    "{item}: deformation mode {} of element {} is not a dynamic degree of freedom (no DYNE {} {} in the kinematic section)",
+                    v.index, v.number, v.number, v.index
+                ),
+            ));
+        }
+    }
+    for v in &m.startdx {
+        let item = format!("STARTDX {}", v.number);
+        node_kind(v.number, v.line, &item)?;
+        if !matches!(coord_kind.get(&(v.number, v.index)), Some(&(k, _)) if k == "DYNX") {
+            return Err(err(
+                v.line,
+                format!(
+                    "{item}: coordinate {} of node {} is not a dynamic degree of freedom (no DYNX {} {} in the kinematic section)",
+                    v.index, v.number, v.number, v.index
+                ),
+            ));
         }
     }
     for s in &m.state_space {
