@@ -70,3 +70,28 @@ fn every_command_gives_the_same_bytes_on_one_and_two_threads() {
         );
     }
 }
+
+/// `simulate` on a chain long enough for the parallel assembly (more than 256 elements).
+#[test]
+fn simulate_gives_the_same_bytes_on_one_and_two_threads() {
+    let dir = common::Temp::new("sim_threads");
+    let text = std::fs::read_to_string(example("pendulum.toml"))
+        .unwrap()
+        .replace("segments = 2", "segments = 300");
+    let model = dir.write("chain.toml", text.as_bytes());
+    let model = model.to_str().unwrap();
+    let args = [
+        "simulate",
+        model,
+        "--json",
+        "--t-end",
+        "0.02",
+        "--dt",
+        "1e-3",
+        "--output-step",
+        "0.01",
+    ];
+    let one = stdout_with_threads(&args, "1");
+    assert_eq!(one, stdout_with_threads(&args, "2"), "1 vs 2 threads");
+    assert_eq!(one, stdout_with_threads(&args, "1"), "second run");
+}
