@@ -17,7 +17,7 @@ use crate::statics::{
 
 /// Modified Newton: a new iteration matrix when the corrections shrink by less than this
 /// factor per iteration (a step that fails with a reused matrix is repeated with full Newton).
-const SLOW: f64 = 0.25;
+const SLOW: f64 = 0.5;
 
 /// The generalised-α parameters of ρ∞ (Arnold & Brüls 2007; Chung & Hulbert 1993).
 #[derive(Clone, Copy, Debug)]
@@ -854,7 +854,7 @@ impl<'a> Engine<'a> {
         let mut stale = false;
         let full = std::mem::take(&mut self.full_newton);
         for it in 0..=self.opts.max_iterations {
-            // slow: the corrections shrank less than fourfold
+            // slow: the corrections shrank less than twofold
             let slow = it > 1 && last_inc > SLOW * prev_inc;
             let rebuild = full || self.jac_h != Some(h) || slow || !self.solver.reusable();
             stale |= !rebuild;
