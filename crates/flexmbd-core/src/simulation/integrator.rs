@@ -831,11 +831,13 @@ impl<'a> Engine<'a> {
         n1.t = t1;
         let mut aux_pred = vec![0.0; self.model.nx];
         for &i in &self.free {
+            // predictor ẍ_{n+1} = ẍ_n (a constant acceleration), a_{n+1} from it
             let ap = (p.af * s.acc[i] - p.am * s.aux[i]) / (1.0 - p.am);
             aux_pred[i] = ap;
-            n1.x[i] = s.x[i] + h * s.v[i] + h * h * ((0.5 - p.beta) * s.aux[i] + p.beta * ap);
-            n1.v[i] = s.v[i] + h * ((1.0 - p.gamma) * s.aux[i] + p.gamma * ap);
-            n1.acc[i] = 0.0;
+            let a1 = ap + (1.0 - p.af) / (1.0 - p.am) * s.acc[i];
+            n1.x[i] = s.x[i] + h * s.v[i] + h * h * ((0.5 - p.beta) * s.aux[i] + p.beta * a1);
+            n1.v[i] = s.v[i] + h * ((1.0 - p.gamma) * s.aux[i] + p.gamma * a1);
+            n1.acc[i] = s.acc[i];
         }
         {
             let (x, v, a) = (&mut n1.x, &mut n1.v, &mut n1.acc);
