@@ -136,3 +136,27 @@ output_step = 0.001
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("stopped") && err.contains("bar"), "{err}");
 }
+
+/// Newton that cannot converge (one iteration allowed, at the smallest step) stops the run
+/// with the time and the coordinate with the largest correction; exit 1, the frame at t = 0
+/// kept.
+#[test]
+fn a_newton_failure_names_the_coordinate() {
+    let dir = Temp::new("sim_newton");
+    let text = std::fs::read_to_string(example("pendulum.toml"))
+        .unwrap()
+        .replace(
+            "t_end = 4.0",
+            "t_end = 0.1\nmax_iterations = 1\ndt = 0.01\ndt_min = 0.002",
+        );
+    let model = dir.write("stiff.toml", text.as_bytes());
+    let (out, json) = run_json(&["simulate".as_ref(), model.as_os_str(), "--json".as_ref()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("did not converge") && err.contains("largest at node `"),
+        "{err}"
+    );
+    let json = json.expect("partial results");
+    assert_eq!(json["frames"][0]["t"], 0.0);
+}

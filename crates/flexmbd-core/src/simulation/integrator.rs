@@ -853,6 +853,8 @@ impl<'a> Engine<'a> {
         // while the corrections shrink at least fourfold per iteration; else it is rebuilt
         let mut last_inc = f64::INFINITY;
         let mut prev_inc = f64::INFINITY;
+        // the coordinate with the largest correction (named when Newton fails)
+        let mut worst = usize::MAX;
         let mut stale = false;
         let full = std::mem::take(&mut self.full_newton);
         for it in 0..=self.opts.max_iterations {
@@ -900,7 +902,11 @@ impl<'a> Engine<'a> {
             for u in 0..nf {
                 let i = self.free[u];
                 let d = rhs[u];
-                inc = inc.max(d.abs() / self.newton_tol(n1.x[i], s.x[i]));
+                let r = d.abs() / self.newton_tol(n1.x[i], s.x[i]);
+                if r > inc || inc.is_nan() {
+                    inc = r;
+                    worst = i;
+                }
                 n1.x[i] += d;
                 n1.v[i] += gp * d;
                 n1.acc[i] += bp * d;
@@ -914,8 +920,17 @@ impl<'a> Engine<'a> {
         self.jac_h = None;
         self.failed_stale = stale;
         stats.newton_iterations += self.opts.max_iterations;
+        let place = match self.model.coordinate_owner(worst) {
+            Some((node, label)) => {
+                format!(
+                    ", largest at node `{}` coordinate {label}",
+                    self.model.nodes[node].name
+                )
+            }
+            None => String::new(),
+        };
         Err(format!(
-            "Newton's method did not converge in {} iterations (the last correction is {:.3e} times its tolerance)",
+            "Newton's method did not converge in {} iterations (the last correction is {:.3e} times its tolerance{place})",
             self.opts.max_iterations, last_inc
         ))
     }
