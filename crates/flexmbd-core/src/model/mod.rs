@@ -198,11 +198,12 @@ impl Model {
         let n = self.nodes.iter().position(|n| n.own_range().contains(&i))?;
         let labels = ["x", "y", "z", "lambda0", "lambda1", "lambda2", "lambda3"];
         let node = &self.nodes[n];
+        // (lazily: a node `at` a host has its Euler parameters far from its position)
         Some((
             n,
             node.ix_rot
                 .filter(|&r| i >= r)
-                .map_or(labels[i - node.ix_pos], |r| labels[3 + i - r]),
+                .map_or_else(|| labels[i - node.ix_pos], |r| labels[3 + i - r]),
         ))
     }
     /// Number of rotational nodes (each adds one implicit Euler normalisation constraint).

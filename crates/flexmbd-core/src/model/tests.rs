@@ -111,3 +111,21 @@ fn rotations_only_where_used() {
     assert_eq!(m.partition.e[2], DefKind::Free);
     assert_eq!(m.deformation_owner(6), (1, 5));
 }
+
+/// The owner of every coordinate, with a node `at` another (its Euler parameters far from the
+/// position it shares with its host; this used to index out of bounds).
+#[test]
+fn coordinate_owner_of_hosted_nodes() {
+    let mut b = ModelBuilder::new("t");
+    b.add_node("g", [0.0; 3], true).unwrap();
+    b.add_node_at("h", "g").unwrap();
+    b.add_node("p", [1.0, 0.0, 0.0], false).unwrap();
+    let m = b.build().unwrap();
+    let owners: Vec<_> = (0..m.nx).map(|i| m.coordinate_owner(i).unwrap()).collect();
+    let labels = ["x", "y", "z", "lambda0", "lambda1", "lambda2", "lambda3"];
+    let mut want: Vec<(usize, &str)> = labels.iter().map(|l| (0, *l)).collect();
+    want.extend(labels[3..].iter().map(|l| (1, *l)));
+    want.extend(labels[..3].iter().map(|l| (2, *l)));
+    assert_eq!(owners, want);
+    assert_eq!(m.coordinate_owner(m.nx), None);
+}
