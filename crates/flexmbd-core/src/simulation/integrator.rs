@@ -59,11 +59,14 @@ struct PrescribedCoord {
     lambda: bool,
 }
 
-/// An input deformation: e_i = value φ(t), constraint row kc.
+/// An input deformation: e_i = value φ(t), constraint row kc; a periodic angle (a hinge's
+/// rotation, measured in (−π, π]) is met modulo 2π, so a driven hinge can turn any number of
+/// times.
 struct InputDef {
     kc: usize,
     value: f64,
     f: usize,
+    periodic: bool,
 }
 
 /// Everything evaluated at one state.
@@ -291,10 +294,15 @@ impl<'a> Engine<'a> {
                 }),
                 Target::Deformation(i) => {
                     if let Some(kc) = su.constraint[i] {
+                        let periodic = model.elements.iter().any(|en| {
+                            (en.ie..en.ie + en.element.ne()).contains(&i)
+                                && en.element.mode_is_periodic(i - en.ie)
+                        });
                         inputs.push(InputDef {
                             kc,
                             value: p.value,
                             f: k,
+                            periodic,
                         });
                     }
                 }
@@ -517,9 +525,13 @@ impl<'a> Engine<'a> {
             .map(|i| asm.balance[i] + inertia[i] + damp[i] - ext[i])
             .collect();
         let mut g = asm.g.clone();
-        for (kc, tv) in self.input_targets(t) {
+        for (d, (kc, tv)) in self.inputs.iter().zip(self.input_targets(t)) {
             // assemble_part wrote e − 0 for inputs (load factor 0)
             g[kc] -= tv[0];
+            if d.periodic {
+                // the nearest turn: e lies in (−π, π], the target anywhere
+                g[kc] -= std::f64::consts::TAU * (g[kc] / std::f64::consts::TAU).round();
+            }
         }
         Eval {
             asm,
