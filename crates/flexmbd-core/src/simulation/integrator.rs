@@ -144,6 +144,17 @@ struct Coefs {
     diag: f64,
 }
 
+/// φ, φ', φ'' of a prescribed motion at t: at the start of the run the rates of the first
+/// interval (a ramp from t = 0 starts at its speed), elsewhere those of the interval that ends
+/// at t (each step ends on the kinks).
+fn history(f: &TimeFunction, t: f64) -> [f64; 3] {
+    if t <= 0.0 {
+        f.eval_right(t)
+    } else {
+        f.eval(t)
+    }
+}
+
 fn finite(v: &[f64]) -> bool {
     v.iter().all(|a| a.is_finite())
 }
@@ -391,7 +402,7 @@ impl<'a> Engine<'a> {
             n[i]
         };
         for p in &self.presc {
-            let [f, df, ddf] = self.exc.prescribed[p.f].eval(t);
+            let [f, df, ddf] = history(&self.exc.prescribed[p.f], t);
             if p.lambda {
                 // λ_i = sin(½ value φ)
                 let th = 0.5 * p.value;
@@ -412,7 +423,7 @@ impl<'a> Engine<'a> {
         self.inputs
             .iter()
             .map(|d| {
-                let f = self.exc.prescribed[d.f].eval(t);
+                let f = history(&self.exc.prescribed[d.f], t);
                 (d.kc, f.map(|v| v * d.value))
             })
             .collect()
