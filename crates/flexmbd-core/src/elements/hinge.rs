@@ -74,6 +74,9 @@ impl ElementKind for Hinge {
     fn mode_is_angle(&self, _k: usize) -> bool {
         true
     }
+    fn mode_is_periodic(&self, k: usize) -> bool {
+        k == 0
+    }
     smooth_map_derivatives!();
     fn stiffness(&self) -> Mat<f64> {
         let mut s = Mat::zeros(3, 3);

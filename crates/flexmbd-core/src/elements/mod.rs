@@ -112,6 +112,14 @@ pub trait ElementKind {
         let _ = k;
         false
     }
+    /// True when deformation mode `k` is an angle measured modulo 2π, in (−π, π] (the
+    /// hinge's exact relative rotation, with its branch cut at ±π): a prescribed value of it
+    /// is met modulo 2π, so that an input can be driven through any number of turns. False
+    /// (the default) for every other deformation.
+    fn mode_is_periodic(&self, k: usize) -> bool {
+        let _ = k;
+        false
+    }
     /// True for a rigid body: its deformations are constraints that can never be released,
     /// given stiffness or driven.
     fn is_rigid_body(&self) -> bool {
@@ -249,6 +257,9 @@ impl ElementKind for Element {
     }
     fn mode_is_angle(&self, k: usize) -> bool {
         self.kind().mode_is_angle(k)
+    }
+    fn mode_is_periodic(&self, k: usize) -> bool {
+        self.kind().mode_is_periodic(k)
     }
     fn is_rigid_body(&self) -> bool {
         self.kind().is_rigid_body()

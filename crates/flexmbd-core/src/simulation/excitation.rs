@@ -188,6 +188,37 @@ impl TimeFunction {
         }
     }
 
+    /// φ(t) with the derivatives of the interval that starts at t (right derivatives at a
+    /// kink): the rates at the start of a run, where no interval ends (a ramp from t = 0 starts
+    /// at its full speed, not at rest).
+    pub fn eval_right(&self, t: f64) -> [f64; 3] {
+        match self {
+            Self::Table(p) => {
+                let n = p.len();
+                if t < p[0][0] {
+                    return self.eval(t);
+                }
+                if t >= p[n - 1][0] {
+                    return [p[n - 1][1], 0.0, 0.0];
+                }
+                // the interval [t_k, t_{k+1}) holding t
+                let k = p.partition_point(|q| q[0] <= t) - 1;
+                let (a, b) = (p[k], p[k + 1]);
+                let slope = (b[1] - a[1]) / (b[0] - a[0]);
+                [a[1] + slope * (t - a[0]), slope, 0.0]
+            }
+            Self::Ramp { start, end } if t >= *start => {
+                if t >= *end {
+                    return [1.0, 0.0, 0.0];
+                }
+                let s = 1.0 / (end - start);
+                [(t - start) * s, s, 0.0]
+            }
+            // smooth where they are evaluated, or constant on both sides of their kinks
+            _ => self.eval(t),
+        }
+    }
+
     /// The times in (t0, t1) where φ or one of its first two derivatives jumps.
     pub fn kinks(&self, t0: f64, t1: f64) -> Vec<f64> {
         let all: Vec<f64> = match self {
@@ -245,6 +276,29 @@ mod tests {
         let after = f.eval(15.0 + 1e-9);
         assert!((after[0] - v).abs() < 1e-8 && (after[1] - 1.0).abs() < 1e-12);
         assert_eq!(f.kinks(0.0, 30.0), vec![15.0]);
+    }
+
+    /// At a kink the right derivatives are those of the interval that starts there, at the
+    /// start of a run too (a table or ramp from t = 0 starts at its full rate).
+    #[test]
+    fn right_derivatives_at_kinks_start_the_next_interval() {
+        let table = TimeFunction::Table(vec![[0.0, 0.0], [0.5, 2.0], [1.0, -1.0]]);
+        assert_eq!(table.eval(0.0), [0.0, 0.0, 0.0]);
+        assert_eq!(table.eval_right(0.0), [0.0, 4.0, 0.0]);
+        assert_eq!(table.eval(0.5), [2.0, 4.0, 0.0]);
+        assert_eq!(table.eval_right(0.5), [2.0, -6.0, 0.0]);
+        assert_eq!(table.eval_right(1.0), [-1.0, 0.0, 0.0]);
+        assert_eq!(table.eval_right(0.25), table.eval(0.25));
+        let ramp = TimeFunction::Ramp {
+            start: 0.0,
+            end: 2.0,
+        };
+        assert_eq!(ramp.eval(0.0), [0.0, 0.0, 0.0]);
+        assert_eq!(ramp.eval_right(0.0), [0.0, 0.5, 0.0]);
+        assert_eq!(ramp.eval_right(2.0), [1.0, 0.0, 0.0]);
+        assert_eq!(ramp.eval_right(-1.0), [0.0, 0.0, 0.0]);
+        let spin = TimeFunction::SpeedRamp { duration: 15.0 };
+        assert_eq!(spin.eval_right(0.0), spin.eval(0.0));
     }
 
     #[test]

@@ -59,11 +59,14 @@ struct PrescribedCoord {
     lambda: bool,
 }
 
-/// An input deformation: e_i = value φ(t), constraint row kc.
+/// An input deformation: e_i = value φ(t), constraint row kc; a periodic angle (a hinge's
+/// rotation, measured in (−π, π]) is met modulo 2π, so a driven hinge can turn any number of
+/// times.
 struct InputDef {
     kc: usize,
     value: f64,
     f: usize,
+    periodic: bool,
 }
 
 /// Everything evaluated at one state.
@@ -139,6 +142,17 @@ struct Coefs {
     m: f64,
     km: f64,
     diag: f64,
+}
+
+/// φ, φ', φ'' of a prescribed motion at t: at the start of the run the rates of the first
+/// interval (a ramp from t = 0 starts at its speed), elsewhere those of the interval that ends
+/// at t (each step ends on the kinks).
+fn history(f: &TimeFunction, t: f64) -> [f64; 3] {
+    if t <= 0.0 {
+        f.eval_right(t)
+    } else {
+        f.eval(t)
+    }
 }
 
 fn finite(v: &[f64]) -> bool {
@@ -291,10 +305,15 @@ impl<'a> Engine<'a> {
                 }),
                 Target::Deformation(i) => {
                     if let Some(kc) = su.constraint[i] {
+                        let periodic = model.elements.iter().any(|en| {
+                            (en.ie..en.ie + en.element.ne()).contains(&i)
+                                && en.element.mode_is_periodic(i - en.ie)
+                        });
                         inputs.push(InputDef {
                             kc,
                             value: p.value,
                             f: k,
+                            periodic,
                         });
                     }
                 }
@@ -383,7 +402,7 @@ impl<'a> Engine<'a> {
             n[i]
         };
         for p in &self.presc {
-            let [f, df, ddf] = self.exc.prescribed[p.f].eval(t);
+            let [f, df, ddf] = history(&self.exc.prescribed[p.f], t);
             if p.lambda {
                 // λ_i = sin(½ value φ)
                 let th = 0.5 * p.value;
@@ -404,7 +423,7 @@ impl<'a> Engine<'a> {
         self.inputs
             .iter()
             .map(|d| {
-                let f = self.exc.prescribed[d.f].eval(t);
+                let f = history(&self.exc.prescribed[d.f], t);
                 (d.kc, f.map(|v| v * d.value))
             })
             .collect()
@@ -517,9 +536,13 @@ impl<'a> Engine<'a> {
             .map(|i| asm.balance[i] + inertia[i] + damp[i] - ext[i])
             .collect();
         let mut g = asm.g.clone();
-        for (kc, tv) in self.input_targets(t) {
+        for (d, (kc, tv)) in self.inputs.iter().zip(self.input_targets(t)) {
             // assemble_part wrote e − 0 for inputs (load factor 0)
             g[kc] -= tv[0];
+            if d.periodic {
+                // the nearest turn: e lies in (−π, π], the target anywhere
+                g[kc] -= std::f64::consts::TAU * (g[kc] / std::f64::consts::TAU).round();
+            }
         }
         Eval {
             asm,
