@@ -1,0 +1,251 @@
+//! The forces and matrices at a state: prescribed motions, external loads, damping, the
+//! evaluation (residual, constraints, tangent) and the iteration matrix values, the constraint
+//! rates and their second-order terms.
+
+use super::*;
+
+impl Engine<'_> {
+    /// Set the prescribed coordinates, their rates and accelerations at t.
+    pub(super) fn apply_prescribed(&self, t: f64, x: &mut [f64], v: &mut [f64], a: &mut [f64]) {
+        let x0 = |i: usize| {
+            let n = self.model.x0();
+            n[i]
+        };
+        for p in &self.presc {
+            let [f, df, ddf] = history(&self.exc.prescribed[p.f], t);
+            if p.lambda {
+                // λ_i = sin(½ value φ)
+                let th = 0.5 * p.value;
+                let (s, c) = (th * f).sin_cos();
+                x[p.xi] = s;
+                v[p.xi] = th * df * c;
+                a[p.xi] = th * ddf * c - th * th * df * df * s;
+            } else {
+                x[p.xi] = x0(p.xi) + p.value * f;
+                v[p.xi] = p.value * df;
+                a[p.xi] = p.value * ddf;
+            }
+        }
+    }
+
+    /// Targets of the input deformations at t: (value, rate, acceleration) by constraint row.
+    pub(super) fn input_targets(&self, t: f64) -> Vec<(usize, [f64; 3])> {
+        self.inputs
+            .iter()
+            .map(|d| {
+                let f = history(&self.exc.prescribed[d.f], t);
+                (d.kc, f.map(|v| v * d.value))
+            })
+            .collect()
+    }
+
+    /// External loads at (x, t) on all of x.
+    pub(super) fn external(&self, x: &[f64], t: f64) -> Vec<f64> {
+        let model = self.model;
+        let mut f = vec![0.0; model.nx];
+        let add_moment = |f: &mut [f64], r: usize, m: [f64; 3], s: f64| {
+            let lb = lambda_bar(&[x[r], x[r + 1], x[r + 2], x[r + 3]]);
+            for c in 0..4 {
+                f[r + c] += 2.0 * s * (0..3).map(|k| lb[k][c] * m[k]).sum::<f64>();
+            }
+        };
+        for (k, l) in model.loads.nodal.iter().enumerate() {
+            let s = self.exc.loads[k].eval(t)[0];
+            let ip = model.nodes[l.node].ix_pos;
+            for j in 0..3 {
+                f[ip + j] += s * l.force[j];
+            }
+        }
+        for &(r, m, k) in &self.moments {
+            add_moment(&mut f, r, m, self.exc.loads[k].eval(t)[0]);
+        }
+        if model.loads.gravity != [0.0; 3] {
+            let s = self.exc.gravity.eval(t)[0];
+            for (node, (force, moment)) in field_loads_at(model, x).iter().enumerate() {
+                let n = &model.nodes[node];
+                for j in 0..3 {
+                    f[n.ix_pos + j] += s * force[j];
+                }
+                if let Some(r) = n.ix_rot {
+                    if moment.iter().any(|v| *v != 0.0) {
+                        add_moment(&mut f, r, *moment, s);
+                    }
+                }
+            }
+        }
+        f
+    }
+
+    /// Rayleigh damping forces C ẋ = α M ẋ + β Dᵀ S D ẋ (with M ẋ given).
+    pub(super) fn damping(&self, x: &[f64], v: &[f64], mv: &[f64]) -> Vec<f64> {
+        let [alpha, beta] = self.opts.rayleigh;
+        let mut d: Vec<f64> = mv.iter().map(|m| alpha * m).collect();
+        if beta > 0.0 {
+            for (el, entry) in self.model.elements.iter().enumerate() {
+                let xk = crate::assembly::gather(entry, x);
+                let jac = entry.element.jacobian(&xk);
+                let s = &self.su.s_eff[el];
+                let ne = jac.nrows();
+                let ed: Vec<f64> = (0..ne)
+                    .map(|m| (0..xk.len()).map(|c| jac[(m, c)] * v[entry.xmap[c]]).sum())
+                    .collect();
+                let sd: Vec<f64> = (0..ne)
+                    .map(|m| (0..ne).map(|n| s[(m, n)] * ed[n]).sum())
+                    .collect();
+                for (c, &xi) in entry.xmap.iter().enumerate() {
+                    d[xi] += beta * (0..ne).map(|m| jac[(m, c)] * sd[m]).sum::<f64>();
+                }
+            }
+        }
+        d
+    }
+
+    /// Evaluate at a state.
+    pub(super) fn evaluate(&self, x: &[f64], v: &[f64], a: &[f64], mu: &[f64], t: f64) -> Eval {
+        self.evaluate_part(x, v, a, mu, t, Part::Full)
+    }
+
+    /// [`Engine::evaluate`] with the tangent (`Part::Full`) or without it (`Part::Residual`).
+    pub(super) fn evaluate_part(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        a: &[f64],
+        mu: &[f64],
+        t: f64,
+        part: Part,
+    ) -> Eval {
+        let model = self.model;
+        let asm = if part == Part::Full {
+            assemble(model, &self.su, x, mu, 0.0)
+        } else {
+            assemble_values(model, &self.su, x, mu, 0.0, part, false, Vec::new())
+        };
+        let km = (self.opts.rayleigh[1] > 0.0 && part == Part::Full).then(|| {
+            assemble_values(
+                model,
+                &self.su,
+                x,
+                mu,
+                0.0,
+                Part::Material,
+                false,
+                Vec::new(),
+            )
+            .vals
+        });
+        let ext = self.external(x, t);
+        let inertia = inertia_forces(model, x, v, a);
+        let mv = if self.opts.rayleigh[0] > 0.0 {
+            mass_times(model, x, &[v]).pop().unwrap_or_default()
+        } else {
+            vec![0.0; model.nx]
+        };
+        let damp = self.damping(x, v, &mv);
+        let balance: Vec<f64> = (0..model.nx)
+            .map(|i| asm.balance[i] + inertia[i] + damp[i] - ext[i])
+            .collect();
+        let mut g = asm.g.clone();
+        for (d, (kc, tv)) in self.inputs.iter().zip(self.input_targets(t)) {
+            // assemble_part wrote e − 0 for inputs (load factor 0)
+            g[kc] -= tv[0];
+            if d.periodic {
+                // the nearest turn: e lies in (−π, π], the target anywhere
+                g[kc] -= std::f64::consts::TAU * (g[kc] / std::f64::consts::TAU).round();
+            }
+        }
+        Eval {
+            asm,
+            balance,
+            ext,
+            damp,
+            g,
+            km,
+        }
+    }
+
+    /// The matrix values for the coefficients, at x and t.
+    pub(super) fn values(&self, ev: &Eval, x: &[f64], t: f64, c: Coefs) -> Vec<f64> {
+        let nf = self.su.nf;
+        let mut vals = vec![0.0; self.n_vals];
+        debug_assert_eq!(ev.asm.vals.len(), self.n_pat);
+        for (i, (&(r, col), &v)) in self.entries.iter().zip(&ev.asm.vals).enumerate() {
+            vals[i] = if r < nf && col < nf {
+                c.k * v + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
+            } else {
+                v
+            };
+        }
+        if c.m != 0.0 {
+            let mut k = 0;
+            for_each_entry(self.model, x, None, true, |_, _, v| {
+                if let Some(s) = self.mass_slot[k] {
+                    vals[s] += c.m * v;
+                }
+                k += 1;
+            });
+        }
+        for (&(_, m, li), slots) in self.moments.iter().zip(&self.moment_slot) {
+            let s = self.exc.loads[li].eval(t)[0];
+            let am = [
+                [0.0, -m[0], -m[1], -m[2]],
+                [m[0], 0.0, -m[2], m[1]],
+                [m[1], m[2], 0.0, -m[0]],
+                [m[2], -m[1], m[0], 0.0],
+            ];
+            for i in 0..4 {
+                for j in 0..4 {
+                    if let Some(slot) = slots[i][j] {
+                        vals[slot] += -2.0 * s * am[i][j] * c.k;
+                    }
+                }
+            }
+        }
+        for u in 0..nf {
+            vals[self.diag_start + u] = c.diag;
+        }
+        vals
+    }
+
+    /// G w and, with `quad`, also Σ vᵀ ∂²g v: the constraint rows applied to a vector on all
+    /// of x (rates), and the second-order terms of the constraint accelerations.
+    pub(super) fn constraint_terms(&self, x: &[f64], w: &[f64], quad: Option<&[f64]>) -> Vec<f64> {
+        let su = &self.su;
+        let mut out = vec![0.0; su.nk];
+        for entry in &self.model.elements {
+            let ne = entry.element.ne();
+            let cons: Vec<(usize, usize)> = (0..ne)
+                .filter_map(|m| su.constraint[entry.ie + m].map(|kc| (m, kc)))
+                .collect();
+            if cons.is_empty() {
+                continue;
+            }
+            let xk = crate::assembly::gather(entry, x);
+            let jac = entry.element.jacobian(&xk);
+            let wk: Vec<f64> = entry.xmap.iter().map(|&i| w[i]).collect();
+            for &(m, kc) in &cons {
+                out[kc] += (0..xk.len()).map(|c| jac[(m, c)] * wk[c]).sum::<f64>();
+                if let Some(v) = quad {
+                    let vk: Vec<f64> = entry.xmap.iter().map(|&i| v[i]).collect();
+                    let mut unit = vec![0.0; ne];
+                    unit[m] = 1.0;
+                    let hm = entry.element.hessian_weighted(&xk, &unit);
+                    let mut q = 0.0;
+                    for a in 0..vk.len() {
+                        for b in 0..vk.len() {
+                            q += vk[a] * hm[(a, b)] * vk[b];
+                        }
+                    }
+                    out[kc] += q;
+                }
+            }
+        }
+        for &(r, kc) in &su.norm {
+            out[kc] += 2.0 * (0..4).map(|i| x[r + i] * w[r + i]).sum::<f64>();
+            if let Some(v) = quad {
+                out[kc] += 2.0 * (0..4).map(|i| v[r + i] * v[r + i]).sum::<f64>();
+            }
+        }
+        out
+    }
+}

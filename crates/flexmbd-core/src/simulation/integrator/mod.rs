@@ -1,0 +1,553 @@
+//! The generalised-α integrator of [`super::simulate`]: set-up, consistent initial state,
+//! Newton per step, step control and the energy bookkeeping (module docs of `simulation`).
+
+use super::{
+    Energies, Excitation, Frame, Progress, SimError, SimFailure, SimOptions, SimStats, Simulation,
+    Start, Stopped, TimeFunction,
+};
+use crate::assembly::loads::field_loads_at;
+use crate::assembly::mass::{for_each_entry, inertia_forces, mass_times};
+use crate::elements::ElementKind;
+use crate::math::lambda_bar;
+use crate::model::{Model, Target};
+use crate::statics::{
+    assemble, assemble_part, assemble_values, inverted_element, setup, solve, Assembled, KktSolver,
+    Part, Setup, StaticOptions,
+};
+
+/// Modified Newton: a new iteration matrix when the corrections shrink by less than this
+/// factor per iteration (a step that fails with a reused matrix is repeated with full Newton).
+const SLOW: f64 = 0.5;
+
+/// The generalised-α parameters of ρ∞ (Arnold & Brüls 2007; Chung & Hulbert 1993).
+#[derive(Clone, Copy, Debug)]
+struct Params {
+    am: f64,
+    af: f64,
+    beta: f64,
+    gamma: f64,
+}
+
+impl Params {
+    fn new(rho: f64) -> Self {
+        let am = (2.0 * rho - 1.0) / (rho + 1.0);
+        let af = rho / (rho + 1.0);
+        let gamma = 0.5 + af - am;
+        let beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
+        Self {
+            am,
+            af,
+            beta,
+            gamma,
+        }
+    }
+    /// β′ and γ′ of the iteration matrix for the step h.
+    fn primes(&self, h: f64) -> (f64, f64) {
+        (
+            (1.0 - self.am) / (self.beta * h * h * (1.0 - self.af)),
+            self.gamma / (self.beta * h),
+        )
+    }
+}
+
+/// A prescribed coordinate: x = x⁰ + value φ(t) (positions) or sin(½ value φ(t)) (Euler
+/// parameters, statics' convention).
+struct PrescribedCoord {
+    xi: usize,
+    value: f64,
+    f: usize,
+    lambda: bool,
+}
+
+/// An input deformation: e_i = value φ(t), constraint row kc; a periodic angle (a hinge's
+/// rotation, measured in (−π, π]) is met modulo 2π, so a driven hinge can turn any number of
+/// times.
+struct InputDef {
+    kc: usize,
+    value: f64,
+    f: usize,
+    periodic: bool,
+}
+
+/// Everything evaluated at one state.
+struct Eval {
+    asm: Assembled,
+    /// Total generalised force balance on all of x: M ẍ + h + Dᵀσ + C ẋ − f.
+    balance: Vec<f64>,
+    /// External loads f on all of x.
+    ext: Vec<f64>,
+    /// C ẋ on all of x.
+    damp: Vec<f64>,
+    /// Constraint violations (inputs at their targets).
+    g: Vec<f64>,
+    /// K_m values (Rayleigh β), same order as `asm.vals`.
+    km: Option<Vec<f64>>,
+}
+
+/// The state of the integrator.
+#[derive(Clone)]
+struct State {
+    t: f64,
+    x: Vec<f64>,
+    v: Vec<f64>,
+    /// ẍ
+    acc: Vec<f64>,
+    /// The auxiliary acceleration a.
+    aux: Vec<f64>,
+    mu: Vec<f64>,
+}
+
+struct Engine<'a> {
+    model: &'a Model,
+    su: Setup,
+    exc: Excitation,
+    opts: SimOptions,
+    p: Params,
+    /// Unknown index → x index.
+    free: Vec<usize>,
+    presc: Vec<PrescribedCoord>,
+    inputs: Vec<InputDef>,
+    /// Nodal loads with moments: (λ0 index, moment, load index).
+    moments: Vec<(usize, [f64; 3], usize)>,
+    /// Absolute tolerance [x units].
+    atol: f64,
+    /// Model size [m] (the round-off floor of the weights).
+    l_ref: f64,
+    /// Number of triplets of the assembly.
+    n_pat: usize,
+    /// Value slot of every mass entry (order of `for_each_entry`), `None` off the free block.
+    mass_slot: Vec<Option<usize>>,
+    /// First slot of the moment load stiffness (16 per moment; `None` off the free block).
+    moment_slot: Vec<[[Option<usize>; 4]; 4]>,
+    /// First slot of the diagonal entries (one per free coordinate).
+    diag_start: usize,
+    n_vals: usize,
+    /// (row, column) of every matrix entry, in the order of the values.
+    entries: Vec<(usize, usize)>,
+    solver: KktSolver,
+    /// The step size of the factorised iteration matrix (`None`: no valid factorisation), kept
+    /// over steps (modified Newton) while the iterations converge fast.
+    jac_h: Option<f64>,
+    /// Whether the last failed step used a reused matrix in some iteration (it is then tried
+    /// again with full Newton before the step is halved).
+    failed_stale: bool,
+    /// Full Newton (a fresh matrix in every iteration) for the next step.
+    full_newton: bool,
+}
+
+/// The matrix coefficients: K and the moment stiffness, M, K_m, and the unit diagonal.
+#[derive(Clone, Copy)]
+struct Coefs {
+    k: f64,
+    m: f64,
+    km: f64,
+    diag: f64,
+}
+
+/// φ, φ', φ'' of a prescribed motion at t: at the start of the run the rates of the first
+/// interval (a ramp from t = 0 starts at its speed), elsewhere those of the interval that ends
+/// at t (each step ends on the kinks).
+fn history(f: &TimeFunction, t: f64) -> [f64; 3] {
+    if t <= 0.0 {
+        f.eval_right(t)
+    } else {
+        f.eval(t)
+    }
+}
+
+fn finite(v: &[f64]) -> bool {
+    v.iter().all(|a| a.is_finite())
+}
+
+pub(super) fn run(
+    model: &Model,
+    exc: &Excitation,
+    opts: &SimOptions,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Simulation, SimFailure> {
+    let mut eng = Engine::new(model, exc, opts)?;
+    let s0 = eng.initial_state()?;
+    eng.integrate(s0, progress)
+}
+
+mod forces;
+mod initial;
+mod setup;
+
+impl<'a> Engine<'a> {
+    /// The times to land on: outputs, kinks, the end.
+    fn events(&self) -> (Vec<f64>, Vec<f64>) {
+        let o = &self.opts;
+        let n_out = (o.t_end / o.output_step - 1e-9).floor() as usize;
+        let mut outputs: Vec<f64> = (1..=n_out).map(|k| k as f64 * o.output_step).collect();
+        outputs.retain(|&t| t < o.t_end * (1.0 - 1e-12));
+        outputs.push(o.t_end);
+        let mut all = outputs.clone();
+        for f in self
+            .exc
+            .loads
+            .iter()
+            .chain(&self.exc.prescribed)
+            .chain(std::iter::once(&self.exc.gravity))
+        {
+            all.extend(f.kinks(0.0, o.t_end));
+        }
+        all.sort_by(f64::total_cmp);
+        all.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * o.t_end);
+        (all, outputs)
+    }
+
+    /// Weights of the error norm.
+    fn weight(&self, a: f64, b: f64) -> f64 {
+        self.atol + self.opts.rtol * a.abs().max(b.abs())
+    }
+
+    /// The Newton tolerance of a coordinate: 1e-3 of its error weight, but not below the
+    /// round-off of the coordinate (100 ε (|x| + model size)).
+    fn newton_tol(&self, a: f64, b: f64) -> f64 {
+        let m = a.abs().max(b.abs());
+        (1e-3 * self.weight(a, b)).max(100.0 * f64::EPSILON * (m + self.l_ref))
+    }
+
+    /// One step from `s` to s.t + h; `Err(reason)` when Newton fails.
+    fn step(&mut self, s: &State, h: f64, stats: &mut SimStats) -> Result<(State, Eval), String> {
+        let (nf, nk) = (self.su.nf, self.su.nk);
+        let p = self.p;
+        let t1 = s.t + h;
+        let (bp, gp) = p.primes(h);
+        let mut n1 = s.clone();
+        n1.t = t1;
+        let mut aux_pred = vec![0.0; self.model.nx];
+        for &i in &self.free {
+            // predictor ẍ_{n+1} = ẍ_n (a constant acceleration), a_{n+1} from it
+            let ap = (p.af * s.acc[i] - p.am * s.aux[i]) / (1.0 - p.am);
+            aux_pred[i] = ap;
+            let a1 = ap + (1.0 - p.af) / (1.0 - p.am) * s.acc[i];
+            n1.x[i] = s.x[i] + h * s.v[i] + h * h * ((0.5 - p.beta) * s.aux[i] + p.beta * a1);
+            n1.v[i] = s.v[i] + h * ((1.0 - p.gamma) * s.aux[i] + p.gamma * a1);
+            n1.acc[i] = s.acc[i];
+        }
+        {
+            let (x, v, a) = (&mut n1.x, &mut n1.v, &mut n1.acc);
+            self.apply_prescribed(t1, x, v, a);
+        }
+        let coefs = Coefs {
+            k: 1.0 / bp,
+            m: 1.0 + self.opts.rayleigh[0] * gp / bp,
+            km: self.opts.rayleigh[1] * gp / bp,
+            diag: 0.0,
+        };
+        // modified Newton: the factorised matrix of an earlier iteration or step is reused
+        // while the corrections shrink at least fourfold per iteration; else it is rebuilt
+        let mut last_inc = f64::INFINITY;
+        let mut prev_inc = f64::INFINITY;
+        // the coordinate with the largest correction (named when Newton fails)
+        let mut worst = usize::MAX;
+        let mut stale = false;
+        let full = std::mem::take(&mut self.full_newton);
+        for it in 0..=self.opts.max_iterations {
+            // slow: the corrections shrank less than twofold
+            let slow = it > 1 && last_inc > SLOW * prev_inc;
+            let rebuild = full || self.jac_h != Some(h) || slow || !self.solver.reusable();
+            stale |= !rebuild;
+            let part = if rebuild { Part::Full } else { Part::Residual };
+            let ev = self.evaluate_part(&n1.x, &n1.v, &n1.acc, &n1.mu, t1, part);
+            if !finite(&ev.balance) || !finite(&ev.g) {
+                self.jac_h = None;
+                return Err("the forces became non-finite during the Newton iteration".into());
+            }
+            if it > 0 && last_inc <= 1.0 {
+                for &i in &self.free {
+                    n1.aux[i] = aux_pred[i] + (1.0 - p.af) / (1.0 - p.am) * n1.acc[i];
+                }
+                stats.newton_iterations += it;
+                return Ok((n1, ev));
+            }
+            if it == self.opts.max_iterations {
+                break;
+            }
+            let mut rhs = vec![0.0; nf + nk];
+            for u in 0..nf {
+                rhs[u] = -ev.balance[self.free[u]] / bp;
+            }
+            for k in 0..nk {
+                rhs[nf + k] = -ev.g[k];
+            }
+            let solved = if !rebuild {
+                self.solver.solve_again(&mut rhs).is_ok()
+            } else {
+                let vals = self.values(&ev, &n1.x, t1, coefs);
+                stats.matrix_updates += 1;
+                let ok = self.solver.solve(&vals, &mut rhs).is_ok();
+                self.jac_h = ok.then_some(h);
+                ok
+            };
+            if !solved || !finite(&rhs) {
+                self.jac_h = None;
+                return Err("the iteration matrix is singular".into());
+            }
+            let mut inc: f64 = 0.0;
+            for u in 0..nf {
+                let i = self.free[u];
+                let d = rhs[u];
+                let r = d.abs() / self.newton_tol(n1.x[i], s.x[i]);
+                if r > inc || inc.is_nan() {
+                    inc = r;
+                    worst = i;
+                }
+                n1.x[i] += d;
+                n1.v[i] += gp * d;
+                n1.acc[i] += bp * d;
+            }
+            for k in 0..nk {
+                n1.mu[k] += bp * rhs[nf + k];
+            }
+            prev_inc = if it == 0 { f64::INFINITY } else { last_inc };
+            last_inc = inc;
+        }
+        self.jac_h = None;
+        self.failed_stale = stale;
+        stats.newton_iterations += self.opts.max_iterations;
+        let place = match self.model.coordinate_owner(worst) {
+            Some((node, label)) => {
+                format!(
+                    ", largest at node `{}` coordinate {label}",
+                    self.model.nodes[node].name
+                )
+            }
+            None => String::new(),
+        };
+        Err(format!(
+            "Newton's method did not converge in {} iterations (the last correction is {:.3e} times its tolerance{place})",
+            self.opts.max_iterations, last_inc
+        ))
+    }
+
+    /// Powers at a converged state: external, prescribed motions, dissipation.
+    fn powers(&self, s: &State, ev: &Eval) -> [f64; 3] {
+        let nx = self.model.nx;
+        let p_ext: f64 = (0..nx).map(|i| ev.ext[i] * s.v[i]).sum();
+        let mut p_presc: f64 = (0..nx)
+            .filter(|&i| self.su.unknown[i].is_none())
+            .map(|i| ev.balance[i] * s.v[i])
+            .sum();
+        for (kc, tv) in self.input_targets(s.t) {
+            // σ of the input is its multiplier
+            p_presc -= s.mu[kc] * tv[1];
+        }
+        let p_diss: f64 = (0..nx).map(|i| ev.damp[i] * s.v[i]).sum();
+        [p_ext, p_presc, p_diss]
+    }
+
+    fn frame(&self, s: &State, ev: &Eval, energy: Energies) -> Frame {
+        let reactions = (0..self.model.nx)
+            .map(|i| {
+                if self.su.unknown[i].is_none() {
+                    ev.balance[i]
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        Frame {
+            t: s.t,
+            x: s.x.clone(),
+            v: s.v.clone(),
+            a: s.acc.clone(),
+            e: ev.asm.e.clone(),
+            sigma: ev.asm.sigma.clone(),
+            reactions,
+            multipliers: s.mu.clone(),
+            energy,
+        }
+    }
+
+    fn kinetic(&self, s: &State) -> f64 {
+        let mv = mass_times(self.model, &s.x, &[&s.v]);
+        0.5 * mv[0].iter().zip(&s.v).map(|(a, b)| a * b).sum::<f64>()
+    }
+
+    fn integrate(
+        &mut self,
+        s0: State,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<Simulation, SimFailure> {
+        let o = self.opts.clone();
+        let (events, outputs) = self.events();
+        let mut stats = SimStats {
+            min_step: f64::INFINITY,
+            ..Default::default()
+        };
+        let ev0 = self.evaluate(&s0.x, &s0.v, &s0.acc, &s0.mu, 0.0);
+        let e0 = self.kinetic(&s0) + ev0.asm.energy;
+        let mut work = [0.0; 3];
+        let mut power = self.powers(&s0, &ev0);
+        let energy_at = |kin: f64, strain: f64, work: &[f64; 3]| Energies {
+            kinetic: kin,
+            strain,
+            external_work: work[0],
+            prescribed_work: work[1],
+            dissipated: work[2],
+            balance_error: kin + strain - e0 - work[0] - work[1] + work[2],
+        };
+        let mut frames = vec![self.frame(
+            &s0,
+            &ev0,
+            energy_at(self.kinetic(&s0), ev0.asm.energy, &work),
+        )];
+        let mut s = s0;
+        let mut h = o.dt;
+        let mut next_event = 0;
+        let mut next_output = 0;
+        let mut attempts = 0usize;
+        let tol_t = 1e-12 * o.t_end;
+        let roles = self.su.roles.clone();
+        let stop = |frames: Vec<Frame>, stats: SimStats, t: f64, reason: String, hint: &str| {
+            SimFailure::Stopped(Stopped {
+                t,
+                reason,
+                hint: hint.to_string(),
+                partial: Box::new(Simulation {
+                    roles: roles.clone(),
+                    frames,
+                    stats,
+                }),
+            })
+        };
+        while next_event < events.len() {
+            let target = events[next_event];
+            let remaining = target - s.t;
+            let mut h_try = h.min(o.dt_max);
+            if remaining <= h_try * (1.0 + 1e-9) {
+                h_try = remaining;
+            } else if remaining < 2.0 * h_try {
+                h_try = 0.5 * remaining;
+            }
+            attempts += 1;
+            if attempts > o.max_steps {
+                return Err(stop(
+                    frames,
+                    stats,
+                    s.t,
+                    format!("the largest number of steps ({}) is reached", o.max_steps),
+                    "allow more steps, loosen the tolerances or shorten the run",
+                ));
+            }
+            match self.step(&s, h_try, &mut stats) {
+                Err(_) if self.failed_stale => {
+                    // the same step again with full Newton
+                    self.failed_stale = false;
+                    self.full_newton = true;
+                }
+                Err(reason) => {
+                    stats.newton_failures += 1;
+                    h = 0.5 * h_try;
+                    if h < o.dt_min {
+                        let hint = "reduce the first step or the tolerances, check the model for a coordinate without mass and stiffness or an element driven through itself, or add numerical damping (rho_inf < 1)";
+                        return Err(stop(
+                            frames,
+                            stats,
+                            s.t,
+                            format!("{reason} even with the smallest step {:.3e} s", o.dt_min),
+                            hint,
+                        ));
+                    }
+                }
+                Ok((n1, ev)) => {
+                    // local error estimate
+                    let c = h_try * h_try * (self.p.beta - 1.0 / 6.0).abs();
+                    let mut sum = 0.0;
+                    for &i in &self.free {
+                        let e = c * (n1.acc[i] - s.acc[i])
+                            / self.weight(n1.x[i] - s.x[i] + s.x[i], s.x[i]);
+                        sum += e * e;
+                    }
+                    let err = if self.free.is_empty() {
+                        0.0
+                    } else {
+                        (sum / self.free.len() as f64).sqrt()
+                    };
+                    if o.adaptive && err > 1.0 && h_try > o.dt_min * 2.0 {
+                        stats.rejected += 1;
+                        h = (h_try * (0.9 * err.powf(-1.0 / 3.0)).max(0.2)).max(o.dt_min);
+                        continue;
+                    }
+                    if let Some(name) = inverted_element(self.model, &n1.x, &s.x) {
+                        return Err(stop(
+                            frames,
+                            stats,
+                            s.t,
+                            format!("element `{name}` turned inside out (zero length or reversed chord) in the step to t = {:.6e} s", n1.t),
+                            "check the loads and the stiffness of that element; a smaller step does not help an element driven through itself",
+                        ));
+                    }
+                    if !finite(&n1.x) || !finite(&n1.v) || !finite(&n1.mu) {
+                        return Err(stop(
+                            frames,
+                            stats,
+                            s.t,
+                            format!(
+                                "the state became non-finite in the step to t = {:.6e} s",
+                                n1.t
+                            ),
+                            "check the loads and the units of the model",
+                        ));
+                    }
+                    // accepted
+                    stats.steps += 1;
+                    stats.min_step = stats.min_step.min(h_try);
+                    stats.max_step = stats.max_step.max(h_try);
+                    let gmax = ev.g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                    stats.max_constraint_residual = stats.max_constraint_residual.max(gmax);
+                    let p1 = self.powers(&n1, &ev);
+                    for k in 0..3 {
+                        work[k] += 0.5 * h_try * (power[k] + p1[k]);
+                    }
+                    power = p1;
+                    if o.adaptive {
+                        let f = if err > 0.0 {
+                            (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 2.0)
+                        } else {
+                            2.0
+                        };
+                        // keep the step (and its factorised matrix) unless it may grow by 25 %
+                        let f = if (1.0..1.25).contains(&f) { 1.0 } else { f };
+                        // a step shortened to land on an event does not limit the next one
+                        let base = if h_try < h { h } else { h_try };
+                        h = if f < 1.0 { h_try * f } else { base * f }.clamp(o.dt_min, o.dt_max);
+                    } else {
+                        // fixed steps: back to the step size after halvings
+                        h = (2.0 * h.max(h_try)).min(o.dt);
+                    }
+                    s = n1;
+                    if (s.t - target).abs() <= tol_t {
+                        s.t = target;
+                        next_event += 1;
+                        if next_output < outputs.len()
+                            && (outputs[next_output] - target).abs() <= tol_t
+                        {
+                            next_output += 1;
+                            let e = energy_at(self.kinetic(&s), ev.asm.energy, &work);
+                            stats.max_energy_error =
+                                stats.max_energy_error.max(e.balance_error.abs());
+                            frames.push(self.frame(&s, &ev, e));
+                        }
+                    }
+                    progress(Progress {
+                        t: s.t,
+                        t_end: o.t_end,
+                        steps: stats.steps,
+                    });
+                }
+            }
+        }
+        if stats.steps == 0 {
+            stats.min_step = 0.0;
+        }
+        Ok(Simulation {
+            roles,
+            frames,
+            stats,
+        })
+    }
+}
