@@ -3,8 +3,8 @@
 use crate::{emit, outputs, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    log_space, state_space_with_motions, uses_sparse, Input, Motion, Output, OutputKind, Probe,
-    StateSpaceOptions, DENSE_STATE_SPACE_DOF,
+    check_dense_size, log_space, state_space_with_motions, uses_sparse, Input, Motion, Output,
+    OutputKind, Probe, StateSpaceOptions, DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
@@ -140,13 +140,11 @@ pub(crate) enum SolverArg {
 impl SolverArg {
     /// The modal-analysis settings.
     pub(crate) fn options(self) -> ModalOptions {
-        ModalOptions {
-            solver: match self {
-                SolverArg::Auto => EigenSolver::Auto,
-                SolverArg::Dense => EigenSolver::Dense,
-                SolverArg::Sparse => EigenSolver::Sparse,
-            },
-        }
+        ModalOptions::with_solver(match self {
+            SolverArg::Auto => EigenSolver::Auto,
+            SolverArg::Dense => EigenSolver::Dense,
+            SolverArg::Sparse => EigenSolver::Sparse,
+        })
     }
 }
 
@@ -557,6 +555,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         modes: a.modes,
         static_correction: a.static_correction,
         solver: a.solver.options().solver,
+        ..Default::default()
     };
     // the sparse path's requirements are input errors, found before the static solve
     if uses_sparse(&model, &ss_opts) {
@@ -592,6 +591,8 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
             .into());
         }
     }
+    // the size guard of the dense path, before the static solve
+    check_dense_size(&model, &ss_opts).context("state-space model refused")?;
     let opts = static_options(&settings, a.steps)?;
     let sol = solve_static(&model, &opts)?;
     let k = a.at_step.unwrap_or(sol.steps.len() - 1);
@@ -676,10 +677,20 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
+    // the size guards of the dense paths, before the static solve
+    let modal = a.solver.options();
+    if a.count > 0 {
+        flexmbd_core::dynamics::check_dense_size(&model, a.count, &modal)
+            .context("modal analysis refused")?;
+    }
+    if !ids.is_empty() {
+        flexmbd_core::statics::linear::check_dense_size(&model, modal.max_dense_bytes)
+            .context("support stiffness refused")?;
+    }
     let opts = static_options(&settings, a.steps)?;
     let sol = solve_static(&model, &opts)?;
     let points = crate::progress::stage("frequencies and stiffness at every step", || {
-        sweep_with(&model, &sol.steps, a.count, &ids, &a.solver.options())
+        sweep_with(&model, &sol.steps, a.count, &ids, &modal)
     });
     if a.count > 0 {
         if let Some(Err(e)) = points

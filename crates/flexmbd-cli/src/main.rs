@@ -423,6 +423,10 @@ fn run_modes(
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::dynamics::modes_with;
     let (model, settings) = load_with_settings(path)?;
+    let modal_opts = solver.options();
+    // the size guard of the dense path, before the static solve
+    flexmbd_core::dynamics::check_dense_size(&model, count, &modal_opts)
+        .context("modal analysis refused")?;
     let opts = dynamics_cmd::static_options(&settings, steps)?;
     let sol = progress::solve_static(&model, &opts)
         .context("the static equilibrium to linearise about was not found")?;
@@ -435,7 +439,7 @@ fn run_modes(
         .into());
     };
     let modal = progress::stage("modal analysis", || {
-        modes_with(&model, step, count, &solver.options())
+        modes_with(&model, step, count, &modal_opts)
     })
     .context("modal analysis failed")?;
     let fname = path.display().to_string();
@@ -508,7 +512,13 @@ fn run_static(
     let request = LinearRequest {
         compliance: node_ids,
         buckling: buckling.unwrap_or(settings.buckling),
+        ..Default::default()
     };
+    if !request.is_empty() {
+        // the size guard of the dense linearised results, before the static solve
+        flexmbd_core::statics::linear::check_dense_size(&model, request.max_dense_bytes)
+            .context("compliance and buckling refused")?;
+    }
     let analysis =
         progress::analyse_static(&model, &opts, &request).context("static analysis failed")?;
     let (sol, extras) = (&analysis.solution, &analysis.linear);

@@ -199,3 +199,85 @@ fn manual_wrong_compliance_stiffness_ratio() {
         "{text}"
     );
 }
+
+#[test]
+fn dense_paths_refuse_models_above_the_memory_limit() {
+    // the F01 strip in 1200 beams: 1200 free nodes of 6 velocity components, 7200 degrees of
+    // freedom, whose dense modal analysis, state space and linearisation need more than the
+    // default 4 GiB; each is refused before the static solve (exit 1), and the hint names the
+    // sparse solver where there is one
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/strip_f01.toml"),
+    )
+    .expect("read");
+    let big = text.replace("segments = 10\n", "segments = 1200\n");
+    assert_ne!(big, text);
+    let p = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("strip_1200.toml");
+    std::fs::write(&p, big).expect("write");
+    for (args, what, hint) in [
+        (
+            &["modes", "--solver", "dense"][..],
+            "dense modal analysis (all modes) of this model (7200 degrees of freedom)",
+            "--solver sparse",
+        ),
+        (
+            &["modes", "--count", "5000"][..],
+            "dense modal analysis",
+            "--solver sparse",
+        ),
+        (
+            &["sweep", "--solver", "dense"][..],
+            "dense modal analysis",
+            "--solver sparse",
+        ),
+        (
+            &[
+                "statespace",
+                "--solver",
+                "dense",
+                "--input",
+                "tip:z",
+                "--output",
+                "tip:z",
+            ][..],
+            "dense state space (all modes) of this model (7200 degrees of freedom)",
+            "--solver sparse (or auto) with --modes N",
+        ),
+        (
+            &["static", "--compliance", "tip"][..],
+            "dense linearisation (compliance, buckling, stability)",
+            "leave out --compliance and --buckling",
+        ),
+        (
+            &["sweep", "--compliance", "tip"][..],
+            "dense linearisation",
+            "leave out --compliance",
+        ),
+    ] {
+        let t = std::time::Instant::now();
+        let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+            .args(args)
+            .arg(&p)
+            .arg("--quiet")
+            .output()
+            .expect("run flexmbd");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains(what) && err.contains("above the limit of 4.0 GiB"),
+            "{args:?}: {err}"
+        );
+        assert!(
+            err.lines()
+                .any(|l| l.starts_with("hint: ") && l.contains(hint)),
+            "{args:?}: {err}"
+        );
+        assert!(out.stdout.is_empty(), "{args:?}");
+        // refused before the static solve and before any dense matrix
+        assert!(
+            t.elapsed().as_secs_f64() < 10.0,
+            "{args:?}: {:?}",
+            t.elapsed()
+        );
+    }
+}

@@ -21,9 +21,12 @@
 //! directions with m ≤ 1e-12 max m are condensed out of the stiffness (exact for the quasi-static
 //! response of massless coordinates); they are reported.
 
+pub mod dense_size;
 pub mod sparse;
 pub mod state_space;
 pub mod sweep;
+
+pub use dense_size::check_dense_size;
 
 use crate::elements::ElementKind;
 use crate::kinematics::columns;
@@ -127,10 +130,33 @@ impl EigenSolver {
 }
 
 /// Settings of a modal analysis.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ModalOptions {
     /// The eigen solver.
     pub solver: EigenSolver,
+    /// Memory limit of the dense eigen path in bytes ([`dense_size::dense_bytes`]): a model
+    /// whose dense matrices need more stops with [`ModalError::TooLarge`] before they are
+    /// allocated. Default [`crate::linalg::DEFAULT_MAX_DENSE_BYTES`].
+    pub max_dense_bytes: u64,
+}
+
+impl Default for ModalOptions {
+    fn default() -> Self {
+        Self {
+            solver: EigenSolver::Auto,
+            max_dense_bytes: crate::linalg::DEFAULT_MAX_DENSE_BYTES,
+        }
+    }
+}
+
+impl ModalOptions {
+    /// The default settings with this eigen solver.
+    pub fn with_solver(solver: EigenSolver) -> Self {
+        Self {
+            solver,
+            ..Self::default()
+        }
+    }
 }
 
 /// [`EigenSolver::Auto`] uses the sparse path above this many degrees of freedom (velocity
@@ -215,6 +241,9 @@ pub enum ModalError {
     /// Nothing can move.
     #[error("the model has no degree of freedom: every coordinate is fixed or prescribed")]
     NoDof,
+    /// The dense eigen path would need more memory than the limit allows.
+    #[error(transparent)]
+    TooLarge(#[from] crate::linalg::DenseTooLarge),
     /// The dense eigen solver cannot resolve part of the spectrum.
     #[error("dense eigen solver: {unresolved} of the {n} modes cannot be resolved in double precision: the model's ω² span {spread:.1e} (masses or stiffnesses over many decades, e.g. the rotary inertia of thin sheets). Use the sparse eigen solver, which computes the lowest modes accurately, or fewer, longer elements")]
     DenseInaccurate {
@@ -675,6 +704,7 @@ fn lowest(
             Err(e) => return Err(e),
         }
     }
+    dense_size::check_dense_modal(model, opts.max_dense_bytes, false)?;
     let red = reduced_matrices(model, step)?;
     let (lam, phi) = red.eigen()?;
     let nm = count.min(lam.len());

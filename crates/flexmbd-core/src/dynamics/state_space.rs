@@ -454,6 +454,11 @@ pub struct StateSpaceOptions {
     /// modes, massless directions condensed exactly, motion inputs) and sparse above it (the
     /// lowest `modes` only, which must then be given).
     pub solver: EigenSolver,
+    /// Memory limit of the dense state space in bytes
+    /// ([`super::dense_size::dense_bytes`]): above it the dense path stops with
+    /// [`ModalError::TooLarge`] before its matrices are allocated. Default
+    /// [`crate::linalg::DEFAULT_MAX_DENSE_BYTES`].
+    pub max_dense_bytes: u64,
 }
 
 /// [`EigenSolver::Auto`] builds the state space densely up to this many degrees of freedom.
@@ -466,6 +471,7 @@ impl Default for StateSpaceOptions {
             modes: None,
             static_correction: false,
             solver: EigenSolver::Auto,
+            max_dense_bytes: crate::linalg::DEFAULT_MAX_DENSE_BYTES,
         }
     }
 }
@@ -945,6 +951,7 @@ pub fn state_space_with_motions(
         };
         return build_sparse(model, step, inputs, outputs, count, opts);
     }
+    check_dense_size(model, opts)?;
     let lin = linearize(model, step);
     let red = reduced_matrices_with(model, step, &lin)?;
     build(model, step, &red, inputs, motions, outputs, opts)
@@ -957,6 +964,15 @@ pub fn uses_sparse(model: &Model, opts: &StateSpaceOptions) -> bool {
         EigenSolver::Auto => velocity_dof(model) > DENSE_STATE_SPACE_DOF,
         s => s == EigenSolver::Sparse,
     }
+}
+
+/// The size guard of the dense state space: [`ModalError::TooLarge`] when the options choose
+/// the dense path and its matrices would exceed `opts.max_dense_bytes`.
+pub fn check_dense_size(model: &Model, opts: &StateSpaceOptions) -> Result<(), StateSpaceError> {
+    if !uses_sparse(model, opts) {
+        super::dense_size::check_dense_modal(model, opts.max_dense_bytes, true)?;
+    }
+    Ok(())
 }
 
 /// Validate the options and the input/output counts.

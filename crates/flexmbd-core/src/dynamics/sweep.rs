@@ -5,9 +5,12 @@
 //! parallel (rayon); faer's own parallelism inside a worker nests in the same rayon pool.
 //! The values are those of `dynamics::modes` and `statics::linear::compliance` at the step.
 
+use super::dense_size::check_dense_modal;
 use super::{eigenvalues_with, reduced_matrices_with, EigenSolver, ModalError, ModalOptions};
 use crate::model::Model;
-use crate::statics::linear::{compliance, linearize, Compliance, LinearError};
+use crate::statics::linear::{
+    check_dense_size as check_linear_size, compliance, linearize, Compliance, LinearError,
+};
 use crate::statics::StepResult;
 use rayon::prelude::*;
 
@@ -57,9 +60,10 @@ pub fn sweep(
     sweep_with(model, steps, count, nodes, &ModalOptions::default())
 }
 
-/// [`sweep`] with the settings of the modal analysis (the eigen solver). The dense
-/// linearisation of statics is built only for the compliance of `nodes` and for the dense
-/// eigen path.
+/// [`sweep`] with the settings of the modal analysis (the eigen solver and the memory limit of
+/// the dense paths). The dense linearisation of statics is built only for the compliance of
+/// `nodes` and for the dense eigen path; when either would exceed the memory limit, every step
+/// reports that error ([`ModalError::TooLarge`], [`LinearError::TooLarge`]) instead.
 pub fn sweep_with(
     model: &Model,
     steps: &[StepResult],
@@ -68,25 +72,38 @@ pub fn sweep_with(
     opts: &ModalOptions,
 ) -> Vec<SweepPoint> {
     let solver = opts.resolve(model, count);
+    // the size guards of the dense paths, before any step allocates
+    let dense_modes = solver == EigenSolver::Dense && count > 0;
+    let modal_size = match dense_modes {
+        true => check_dense_modal(model, opts.max_dense_bytes, false),
+        false => Ok(()),
+    };
+    let linear_size = match nodes.is_empty() {
+        true => Ok(()),
+        false => check_linear_size(model, opts.max_dense_bytes),
+    };
     steps
         .par_iter()
         .enumerate()
         .map(|(k, st)| {
-            let lin = (!nodes.is_empty() || (solver == EigenSolver::Dense && count > 0))
-                .then(|| linearize(model, st));
+            let lin = ((!nodes.is_empty() && linear_size.is_ok())
+                || (dense_modes && modal_size.is_ok()))
+            .then(|| linearize(model, st));
             let eigenvalues = match (&lin, solver) {
                 _ if count == 0 => Ok(Vec::new()),
+                _ if dense_modes && modal_size.is_err() => modal_size.clone().map(|_| Vec::new()),
                 (Some(lin), EigenSolver::Dense) => reduced_matrices_with(model, st, lin)
                     .and_then(|r| r.eigen())
                     .map(|(lam, _)| lam.into_iter().take(count).collect()),
                 _ => eigenvalues_with(model, st, count, opts),
             };
-            let compliance = match &lin {
-                Some(lin) => nodes
+            let compliance = match (&lin, &linear_size) {
+                (_, Err(e)) => nodes.iter().map(|_| Err(e.clone())).collect(),
+                (Some(lin), Ok(())) => nodes
                     .iter()
                     .map(|&n| compliance(model, lin, st, n))
                     .collect(),
-                None => Vec::new(),
+                (None, Ok(())) => Vec::new(),
             };
             SweepPoint {
                 step: k,

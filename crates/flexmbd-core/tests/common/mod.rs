@@ -27,9 +27,8 @@ pub fn last_step(model: &Model, steps: usize) -> StepResult {
 }
 
 /// `n` beams along x from the origin, length `l`, width 20 mm along global y and thickness
-/// 0.2 mm along global z (a steel strip); clamped at the root; an optional tip mass; turning
-/// with `spin`.
-pub fn radial_strip(n: usize, l: f64, tip: f64, spin: Spin) -> Model {
+/// 0.2 mm along global z (a steel strip, shear-flexible); nothing held.
+pub fn strip_builder(n: usize, l: f64) -> ModelBuilder {
     let mut b = ModelBuilder::new("blade");
     let props = BeamProps::from_section(&STEEL, &Shape::Rectangle { w: 0.02, t: 0.2e-3 }, true);
     b.add_beam_chain(
@@ -41,6 +40,13 @@ pub fn radial_strip(n: usize, l: f64, tip: f64, spin: Spin) -> Model {
         Some(props),
     )
     .unwrap();
+    b
+}
+
+/// The strip of [`strip_builder`] clamped at the root, with an optional tip mass, turning with
+/// `spin`.
+pub fn radial_strip(n: usize, l: f64, tip: f64, spin: Spin) -> Model {
+    let mut b = strip_builder(n, l);
     if tip > 0.0 {
         b.add_point_mass(&format!("n{n}"), tip).unwrap();
     }
