@@ -135,6 +135,31 @@ fn manual_wrong_modes_free_floating() {
     let want = 4.730041f64.powi(2) * c / (2.0 * std::f64::consts::PI);
     let got = modes[6]["frequency_hz"].as_f64().expect("frequency");
     assert!((got - want).abs() < 1e-2 * want, "{got} vs {want}");
+    // six modes or fewer, all of them rigid-body modes: the sparse solver sees no elastic mode
+    // to compare with (before, it printed six tiny frequencies), and a sweep of six frequencies
+    // (before, the dense solver's six were judged without the seventh: 'complex', a warning)
+    for args in [
+        &["modes", "--count", "6", "--solver", "sparse"][..],
+        &["modes", "--count", "3", "--solver", "sparse"][..],
+    ] {
+        let (code, out, err) = run_out(args, f);
+        assert_eq!(code, Some(0), "{err}");
+        let n: usize = args[2].parse().expect("count");
+        assert_eq!(out.matches("rigid-body mode").count(), n, "{args:?}: {out}");
+    }
+    for solver in ["dense", "sparse"] {
+        let (code, out, err) = run_out(&["sweep", "--count", "6", "--solver", solver], f);
+        assert_eq!(code, Some(0), "{err}");
+        assert!(
+            !out.contains("complex") && !out.contains("warning"),
+            "{solver}: {out}"
+        );
+        let row = out
+            .lines()
+            .find(|l| l.starts_with("  10 "))
+            .expect("step 10");
+        assert_eq!(row.matches(" 0.000000").count(), 6, "{solver}: {row}");
+    }
 }
 
 #[test]

@@ -493,11 +493,9 @@ pub fn sweep_text(
         );
     }
     if points.iter().any(|p| {
-        p.eigenvalues.as_ref().is_ok_and(|l| {
-            l.iter()
-                .skip(flexmbd_core::dynamics::rigid_body_count(l))
-                .any(|&v| v < 0.0)
-        })
+        p.eigenvalues
+            .as_ref()
+            .is_ok_and(|l| l.iter().skip(p.rigid_body).any(|&v| v < 0.0))
     }) {
         s += "\nwarning: negative eigenvalues (complex frequencies): the equilibrium is unstable there (the structure may have buckled)\n";
     }

@@ -48,7 +48,8 @@ pub struct Mode {
     pub shape: Vec<f64>,
     /// Shape in velocity coordinates: per node (translation, rotation vector), for display.
     pub nodal: Vec<([f64; 3], [f64; 3])>,
-    /// Strain energy fractions per (element, mode 0-based), largest first (those ≥ 1e-4).
+    /// Strain energy fractions per (element, mode 0-based), largest first (those ≥ 1e-4);
+    /// empty for a rigid-body mode.
     pub strain: Vec<(usize, usize, f64)>,
     /// Kinetic energy fractions per node (translation, rotation), largest first (≥ 1e-4).
     pub kinetic: Vec<(usize, f64, f64)>,
@@ -619,6 +620,8 @@ pub fn modes_with(
     for m in modes.iter_mut().take(l.rigid) {
         m.rigid_body = true;
         m.frequency = 0.0;
+        // its strain energy is round-off of zero: fractions of it mean nothing
+        m.strain.clear();
     }
     let finite = |m: &Mode| {
         m.nodal
@@ -649,6 +652,16 @@ pub fn eigenvalues_with(
     opts: &ModalOptions,
 ) -> Result<Vec<f64>, ModalError> {
     lowest(model, step, count, opts).map(|l| l.eigenvalues)
+}
+
+/// [`eigenvalues_with`] with the number of rigid-body modes at their start ([`Mode::rigid_body`]).
+pub(crate) fn eigenvalues_rigid(
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+    opts: &ModalOptions,
+) -> Result<(Vec<f64>, usize), ModalError> {
+    lowest(model, step, count, opts).map(|l| (l.eigenvalues, l.rigid))
 }
 
 /// The lowest eigenpairs with the shapes in x, from the solver the options choose.
@@ -686,7 +699,7 @@ fn lowest(
                     });
                 }
                 return Ok(Lowest {
-                    rigid: rigid_body_count(&sm.eigenvalues),
+                    rigid: sm.rigid,
                     eigenvalues: sm.eigenvalues,
                     shapes: sm.shapes,
                     ndof: sm.ndof,

@@ -283,6 +283,11 @@ pub(crate) struct SparseModes {
     /// node in uᵀ M u (the same split as in x: the rotation increments of a node map onto its
     /// own Euler parameters only).
     pub kinetic: Vec<NodeKinetic>,
+    /// Number of rigid-body modes at the start of `eigenvalues` (`rigid` module).
+    pub rigid: usize,
+    /// When the listed eigenvalues show no gap of their own: the number of eigenvalues below
+    /// the probe shift of the `rigid` module, by the inertia.
+    pub below_gap: Option<usize>,
 }
 
 /// Kinetic energy of one mode per node: (translation, rotation).
@@ -1094,7 +1099,7 @@ pub(crate) fn sparse_modes(
     step: &StepResult,
     count: usize,
 ) -> Result<SparseModes, ModalError> {
-    modes_of(&Problem::new(model, step), model, step, count)
+    rigid::modes_listing_rigid(&Problem::new(model, step), model, step, count)
 }
 
 /// The sparse problem of a model at a step, kept by [`sparse_modes_kept`] for further solves
@@ -1201,6 +1206,8 @@ fn modes_of(
             ndof,
             massless,
             kinetic: Vec::new(),
+            rigid: 0,
+            below_gap: None,
         });
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
@@ -1328,14 +1335,20 @@ fn modes_of(
         shapes.push(s);
         kinetic.push(t);
     }
+    let below_gap = rigid::probe(p, &mut op, sigma, lambda_ref, &eigenvalues, n_finite);
     Ok(SparseModes {
+        rigid: rigid::count(&eigenvalues, below_gap),
         eigenvalues,
         shapes,
         ndof,
         massless,
         kinetic,
+        below_gap,
     })
 }
+
+#[path = "sparse_rigid.rs"]
+mod rigid;
 
 #[path = "sparse_static.rs"]
 mod static_solve;

@@ -6,7 +6,10 @@
 //! The values are those of `dynamics::modes` and `statics::linear::compliance` at the step.
 
 use super::dense_size::check_dense_modal;
-use super::{eigenvalues_with, reduced_matrices_with, EigenSolver, ModalError, ModalOptions};
+use super::{
+    eigenvalues_rigid, reduced_matrices_with, rigid_body_count, EigenSolver, ModalError,
+    ModalOptions,
+};
 use crate::model::Model;
 use crate::statics::linear::{
     check_dense_size as check_linear_size, compliance, linearize, Compliance, LinearError,
@@ -23,16 +26,20 @@ pub struct SweepPoint {
     pub load_factor: f64,
     /// ω² [rad²/s²] of the lowest modes, ascending, or why the modal analysis failed here.
     pub eigenvalues: Result<Vec<f64>, ModalError>,
+    /// Number of rigid-body modes at the start of `eigenvalues` (as [`crate::dynamics::Mode`]'s
+    /// `rigid_body`: judged on the whole spectrum on the dense path, by the inertia on the
+    /// sparse one); 0 when the modal analysis failed.
+    pub rigid_body: usize,
     /// Compliance of each requested node, or why it is unbounded here.
     pub compliance: Vec<Result<Compliance, LinearError>>,
 }
 
 impl SweepPoint {
-    /// Frequencies [Hz] (0 for rigid-body modes, [`crate::dynamics::rigid_body_count`]; NaN
-    /// for ω² < 0: unstable), if the modal analysis succeeded.
+    /// Frequencies [Hz] (0 for rigid-body modes, [`SweepPoint::rigid_body`]; NaN for ω² < 0:
+    /// unstable), if the modal analysis succeeded.
     pub fn frequencies(&self) -> Option<Vec<f64>> {
+        let rigid = self.rigid_body;
         self.eigenvalues.as_ref().ok().map(|l| {
-            let rigid = crate::dynamics::rigid_body_count(l);
             l.iter()
                 .enumerate()
                 .map(|(k, &l)| {
@@ -89,14 +96,22 @@ pub fn sweep_with(
             let lin = ((!nodes.is_empty() && linear_size.is_ok())
                 || (dense_modes && modal_size.is_ok()))
             .then(|| linearize(model, st));
-            let eigenvalues = match (&lin, solver) {
-                _ if count == 0 => Ok(Vec::new()),
-                _ if dense_modes && modal_size.is_err() => modal_size.clone().map(|_| Vec::new()),
+            // the eigenvalues with the number of rigid-body modes among them
+            let modal = match (&lin, solver) {
+                _ if count == 0 => Ok((Vec::new(), 0)),
+                _ if dense_modes && modal_size.is_err() => {
+                    modal_size.clone().map(|_| (Vec::new(), 0))
+                }
                 (Some(lin), EigenSolver::Dense) => reduced_matrices_with(model, st, lin)
                     .and_then(|r| r.eigen())
-                    .map(|(lam, _)| lam.into_iter().take(count).collect()),
-                _ => eigenvalues_with(model, st, count, opts),
+                    .map(|(lam, _)| {
+                        let rigid = rigid_body_count(&lam).min(count);
+                        (lam.into_iter().take(count).collect(), rigid)
+                    }),
+                _ => eigenvalues_rigid(model, st, count, opts),
             };
+            let rigid_body = modal.as_ref().map_or(0, |m| m.1);
+            let eigenvalues = modal.map(|m| m.0);
             let compliance = match (&lin, &linear_size) {
                 (_, Err(e)) => nodes.iter().map(|_| Err(e.clone())).collect(),
                 (Some(lin), Ok(())) => nodes
@@ -109,6 +124,7 @@ pub fn sweep_with(
                 step: k,
                 load_factor: st.load_factor,
                 eigenvalues,
+                rigid_body,
                 compliance,
             }
         })
