@@ -469,6 +469,8 @@ pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, Ba
     Ok(Output::node(node, dof, kind))
 }
 
+/// The static solution to linearise about; a path that stops part-way is an error here (the
+/// state space of a state short of the load asked for is not given).
 fn solve_static(model: &Model, opts: &StaticOptions) -> anyhow::Result<StaticSolution> {
     crate::progress::solve_static(model, opts)
         .context("the static equilibrium to linearise about was not found")
@@ -688,7 +690,11 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
             .context("support stiffness refused")?;
     }
     let opts = static_options(&settings, a.steps)?;
-    let sol = solve_static(&model, &opts)?;
+    let path = crate::partial::Path::of_solution(
+        crate::progress::solve_static(&model, &opts),
+        "the static equilibrium to linearise about was not found",
+    )?;
+    let (sol, note) = (path.solution(), path.note());
     let points = crate::progress::stage("frequencies and stiffness at every step", || {
         sweep_with(&model, &sol.steps, a.count, &ids, &modal)
     });
@@ -702,18 +708,18 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let file = a.model.display().to_string();
+    let note = note.as_ref();
     if let Some(p) = &a.csv {
-        outputs::write_file(p, &report::sweep_csv(&points, a.count, &nodes, a.local))?;
+        let csv = report::sweep_csv(&points, a.count, &nodes, a.local, note);
+        outputs::write_file(p, &csv)?;
     }
     if a.json {
-        let mut text =
-            serde_json::to_string_pretty(&report::sweep_json(&model, &file, &points, &nodes))?;
-        text.push('\n');
-        emit(&text)?;
+        let doc = report::sweep_json(&model, &file, &points, &nodes, note);
+        emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
     } else {
         emit(&report::sweep_text(
-            &model, &file, &points, a.count, &nodes, a.local,
+            &model, &file, &points, a.count, &nodes, a.local, note,
         ))?;
     }
-    Ok(ExitCode::SUCCESS)
+    path.finish()
 }

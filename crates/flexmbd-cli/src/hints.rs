@@ -44,13 +44,21 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
                 "leave out --compliance and --buckling (and `compliance`, `buckling` in the model's [static] table), or use a model with fewer elements",
             );
         }
-        if let Some(SolveError::NoConvergence { .. } | SolveError::Inverted { .. }) =
-            cause.downcast_ref::<SolveError>()
-        {
-            return Some("more load steps: --steps N (or `steps` in the model's [static] table)");
-        }
-        None
+        cause.downcast_ref::<SolveError>().and_then(solve_hint)
     })
+}
+
+/// The options that act on a static path that failed with `e`.
+pub fn solve_hint(e: &SolveError) -> Option<&'static str> {
+    match e {
+        SolveError::NoConvergence { .. } => Some(
+            "more load steps: --steps N (or `steps` in the model's [static] table); past a limit point (snap-through), prescribe the loaded displacement instead of the force ([[prescribe]])",
+        ),
+        SolveError::Inverted { .. } => {
+            Some("more load steps: --steps N (or `steps` in the model's [static] table)")
+        }
+        _ => None,
+    }
 }
 
 fn modal(m: &ModalError) -> Option<&'static str> {

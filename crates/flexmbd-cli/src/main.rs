@@ -8,6 +8,7 @@ mod dynamics_cmd;
 mod hints;
 mod output_cmd;
 mod outputs;
+mod partial;
 mod progress;
 mod view_cmd;
 
@@ -428,16 +429,26 @@ fn run_modes(
     flexmbd_core::dynamics::check_dense_size(&model, count, &modal_opts)
         .context("modal analysis refused")?;
     let opts = dynamics_cmd::static_options(&settings, steps)?;
-    let sol = progress::solve_static(&model, &opts)
-        .context("the static equilibrium to linearise about was not found")?;
+    let run = partial::Path::of_solution(
+        progress::solve_static(&model, &opts),
+        "the static equilibrium to linearise about was not found",
+    )?;
+    let sol = run.solution();
+    // a path that stopped part-way: its last converged step, unless another one is asked for
     let k = at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
         return Err(BadInput(format!(
-            "--at-step {k}: the static solution has steps 0 to {}",
-            sol.steps.len() - 1
+            "--at-step {k}: the static solution has steps 0 to {}{}",
+            sol.steps.len() - 1,
+            if run.stop.is_some() {
+                " (it stopped there)"
+            } else {
+                ""
+            }
         ))
         .into());
     };
+    let note = run.note();
     let modal = progress::stage("modal analysis", || {
         modes_with(&model, step, count, &modal_opts)
     })
@@ -450,6 +461,7 @@ fn run_modes(
                 &fname,
                 step.load_factor,
                 &modal,
+                note.as_ref(),
             ))? + "\n"),
         )?;
     } else {
@@ -458,9 +470,10 @@ fn run_modes(
             &fname,
             step.load_factor,
             &modal,
+            note.as_ref(),
         ))?;
     }
-    Ok(ExitCode::SUCCESS)
+    run.finish()
 }
 
 /// `flexmbd static`.
@@ -519,13 +532,16 @@ fn run_static(
         flexmbd_core::statics::linear::check_dense_size(&model, request.max_dense_bytes)
             .context("compliance and buckling refused")?;
     }
-    let analysis =
-        progress::analyse_static(&model, &opts, &request).context("static analysis failed")?;
-    let (sol, extras) = (&analysis.solution, &analysis.linear);
+    let run = partial::Path::of_analysis(
+        progress::analyse_static(&model, &opts, &request),
+        "static analysis failed",
+    )?;
+    let (sol, extras) = (&run.analysis.solution, &run.analysis.linear);
+    let note = run.note();
     let fname = path.display().to_string();
     if let Some(dir) = &csv {
         outputs::prepare_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
-        write_csv(dir, &model, sol, extras).map_err(|e| {
+        write_csv(dir, &model, sol, extras, note.as_ref()).map_err(|e| {
             outputs::IoFailure(format!(
                 "cannot write CSV files into {}: {e}",
                 dir.display()
@@ -533,11 +549,12 @@ fn run_static(
         })?;
     }
     if json {
-        emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, sol, extras))? + "\n"))?;
+        let doc = static_json(&model, &fname, sol, extras, note.as_ref());
+        emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
     } else {
-        emit(&static_text(&model, &fname, sol, extras))?;
+        emit(&static_text(&model, &fname, sol, extras, note.as_ref()))?;
     }
-    Ok(ExitCode::SUCCESS)
+    run.finish()
 }
 
 /// 2 for the user's input, 4 for a file or stream that cannot be read or written, 1 otherwise

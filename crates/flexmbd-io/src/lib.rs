@@ -19,6 +19,7 @@ pub mod report;
 pub mod spacar;
 pub mod statespace_report;
 pub mod static_report;
+pub mod stopped;
 pub mod toml_writer;
 pub mod vtk;
 

@@ -3,6 +3,7 @@
 //! buckling multipliers. Text tables, JSON and CSV.
 
 use crate::report::{fmt_num, table};
+use crate::stopped::{json_field, StopNote};
 use flexmbd_core::model::Model;
 use flexmbd_core::statics::StaticSolution;
 use serde_json::{json, Value};
@@ -16,12 +17,14 @@ pub use flexmbd_core::results::{
     element_results, node_results, rotation_vector, ElementResult, NodeResult,
 };
 
-/// JSON document of a static run.
+/// JSON document of a static run; `stop`: where and why a path that stopped part-way stopped
+/// (the `stopped` field, null for a complete path).
 pub fn static_json(
     model: &Model,
     file: &str,
     sol: &StaticSolution,
     extras: &[StepExtras],
+    stop: Option<&StopNote>,
 ) -> Value {
     let steps: Vec<Value> = sol
         .steps
@@ -51,17 +54,25 @@ pub fn static_json(
             })
         })
         .collect();
-    json!({ "model": model.name, "file": file, "roles": sol.roles, "steps": steps })
+    json!({
+        "model": model.name,
+        "file": file,
+        "roles": sol.roles,
+        "steps": steps,
+        "stopped": json_field(stop),
+    })
 }
 
 const DIRS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 
-/// Text report of a static run: a table of all steps, then the last step in detail.
+/// Text report of a static run: a table of all steps, then the last step in detail; `stop`
+/// marks a path that stopped part-way, after the table.
 pub fn static_text(
     model: &Model,
     file: &str,
     sol: &StaticSolution,
     extras: &[StepExtras],
+    stop: Option<&StopNote>,
 ) -> String {
     let mut s = String::new();
     let title = if model.name.is_empty() {
@@ -154,6 +165,9 @@ pub fn static_text(
             let _ = writeln!(s, "  step {k}: the equilibrium is UNSTABLE ({n} negative stiffness direction(s)): the structure has buckled at or before this load");
         }
     }
+    if let Some(stop) = stop {
+        s += &stop.text();
+    }
     // last step in detail
     let Some(last) = sol.steps.last() else {
         return s;
@@ -239,12 +253,14 @@ pub fn static_text(
     s
 }
 
-/// Write `summary.csv` (one row per step) and `step_K.csv` (nodes and elements per step) into `dir`.
+/// Write `summary.csv` (one row per step) and `step_K.csv` (nodes and elements per step) into
+/// `dir`; `stop` ends `summary.csv` with a comment line saying where and why the path stopped.
 pub fn write_csv(
     dir: &std::path::Path,
     model: &Model,
     sol: &StaticSolution,
     extras: &[StepExtras],
+    stop: Option<&StopNote>,
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let mut sum = String::from("step,load_factor,iterations,residual,energy");
@@ -308,6 +324,9 @@ pub fn write_csv(
             );
         }
         std::fs::write(dir.join(format!("step_{k:03}.csv")), t)?;
+    }
+    if let Some(stop) = stop {
+        sum += &stop.csv_comment();
     }
     std::fs::write(dir.join("summary.csv"), sum)
 }
