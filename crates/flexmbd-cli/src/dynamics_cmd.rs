@@ -10,7 +10,7 @@ use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
 use flexmbd_core::elements::ElementKind;
 use flexmbd_core::model::Dof;
-use flexmbd_core::statics::{StaticOptions, StaticSolution};
+use flexmbd_core::statics::{PathMethod, StaticOptions, StaticSolution};
 use flexmbd_core::Model;
 use flexmbd_io::statespace_report as report;
 use flexmbd_io::Settings;
@@ -124,6 +124,9 @@ pub struct SweepArgs {
     /// (shift-invert Lanczos, for large models).
     #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
     solver: SolverArg,
+    /// How the static path is followed (overrides [static] path; default load-steps).
+    #[arg(long, value_enum)]
+    path: Option<PathArg>,
 }
 
 /// `--solver` of `flexmbd modes` and `flexmbd sweep` (docs/dynamics.md).
@@ -148,10 +151,30 @@ impl SolverArg {
     }
 }
 
-/// Static options from the file's settings and `--steps` (as `flexmbd static` does).
+/// `--path` of `flexmbd static`, `modes` and `sweep` (docs/statics.md, "Path following").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum PathArg {
+    /// Equal load steps, halved where Newton fails (cannot pass a limit point of the load).
+    LoadSteps,
+    /// Arc length: passes limit points and snap-backs; steps adapt to Newton.
+    ArcLength,
+}
+
+impl PathArg {
+    /// The core's setting.
+    pub(crate) fn method(self) -> PathMethod {
+        match self {
+            PathArg::LoadSteps => PathMethod::LoadSteps,
+            PathArg::ArcLength => PathMethod::ArcLength,
+        }
+    }
+}
+
+/// Static options from the file's settings, `--steps` and `--path` (as `flexmbd static` does).
 pub(crate) fn static_options(
     settings: &Settings,
     steps: Option<usize>,
+    path: Option<PathArg>,
 ) -> anyhow::Result<StaticOptions> {
     use flexmbd_io::limits::{MAX_ITERATIONS, MAX_STEPS};
     let mut opts = StaticOptions::default();
@@ -174,6 +197,7 @@ pub(crate) fn static_options(
     opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
     opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
     opts.line_search = settings.line_search;
+    opts.path = path.map_or(settings.path, PathArg::method);
     Ok(opts)
 }
 
@@ -595,7 +619,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     }
     // the size guard of the dense path, before the static solve
     check_dense_size(&model, &ss_opts).context("state-space model refused")?;
-    let opts = static_options(&settings, a.steps)?;
+    let opts = static_options(&settings, a.steps, None)?;
     let sol = solve_static(&model, &opts)?;
     let k = a.at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
@@ -689,7 +713,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
         flexmbd_core::statics::linear::check_dense_size(&model, modal.max_dense_bytes)
             .context("support stiffness refused")?;
     }
-    let opts = static_options(&settings, a.steps)?;
+    let opts = static_options(&settings, a.steps, a.path)?;
     let path = crate::partial::Path::of_solution(
         crate::progress::solve_static(&model, &opts),
         "the static equilibrium to linearise about was not found",

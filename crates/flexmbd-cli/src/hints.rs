@@ -52,7 +52,7 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
 pub fn solve_hint(e: &SolveError) -> Option<&'static str> {
     match e {
         SolveError::NoConvergence { .. } => Some(
-            "more load steps: --steps N (or `steps` in the model's [static] table); past a limit point (snap-through), prescribe the loaded displacement instead of the force ([[prescribe]])",
+            "more load steps: --steps N (or `steps` in the model's [static] table); at a limit point (snap-through) follow the path by arc length: --path arc-length (or `path = \"arc-length\"` in [static])",
         ),
         SolveError::Inverted { .. } => {
             Some("more load steps: --steps N (or `steps` in the model's [static] table)")

@@ -127,6 +127,10 @@ enum Command {
         /// Backtracking line search in Newton (off by default; step halving is always on).
         #[arg(long)]
         line_search: bool,
+        /// How the path is followed: load-steps (equal steps of the load factor) or arc-length
+        /// (passes limit points and snap-backs); overrides [static] path.
+        #[arg(long, value_enum)]
+        path: Option<dynamics_cmd::PathArg>,
     },
     /// Natural frequencies and mode shapes, linearised about a static equilibrium (with
     /// pre-stress) of the model's loads and strokes.
@@ -149,6 +153,9 @@ enum Command {
         /// Print JSON instead of tables.
         #[arg(long)]
         json: bool,
+        /// How the static path is followed (overrides [static] path; default load-steps).
+        #[arg(long, value_enum)]
+        path: Option<dynamics_cmd::PathArg>,
     },
     /// Linear state-space model (A, B, C, D) about a static equilibrium with named inputs
     /// (forces, moments, prescribed motions of nodes and actuators) and outputs (node motions,
@@ -299,7 +306,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             steps,
             solver,
             json,
-        } => run_modes(&model, count, at_step, steps, solver, json),
+            path,
+        } => run_modes(&model, count, at_step, (steps, path), solver, json),
         Command::Static {
             model,
             steps,
@@ -310,9 +318,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             csv,
             line_search,
+            path,
         } => run_static(
             &model,
-            steps,
+            (steps, path),
             compliance,
             buckling,
             tol_force,
@@ -418,7 +427,7 @@ fn run_modes(
     path: &Path,
     count: usize,
     at_step: Option<usize>,
-    steps: Option<usize>,
+    (steps, path_arg): (Option<usize>, Option<dynamics_cmd::PathArg>),
     solver: dynamics_cmd::SolverArg,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
@@ -428,7 +437,7 @@ fn run_modes(
     // the size guard of the dense path, before the static solve
     flexmbd_core::dynamics::check_dense_size(&model, count, &modal_opts)
         .context("modal analysis refused")?;
-    let opts = dynamics_cmd::static_options(&settings, steps)?;
+    let opts = dynamics_cmd::static_options(&settings, steps, path_arg)?;
     let run = partial::Path::of_solution(
         progress::solve_static(&model, &opts),
         "the static equilibrium to linearise about was not found",
@@ -479,7 +488,7 @@ fn run_modes(
 /// `flexmbd static`.
 fn run_static(
     path: &Path,
-    steps: Option<usize>,
+    (steps, path_arg): (Option<usize>, Option<dynamics_cmd::PathArg>),
     compliance: Vec<String>,
     buckling: Option<usize>,
     tol_force: Option<f64>,
@@ -494,7 +503,7 @@ fn run_static(
         outputs::check_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
     }
     let (model, settings) = load_with_settings(path)?;
-    let mut opts = dynamics_cmd::static_options(&settings, steps)?;
+    let mut opts = dynamics_cmd::static_options(&settings, steps, path_arg)?;
     for (name, v, target) in [
         ("--tol-force", tol_force, &mut opts.tol_force),
         ("--tol-disp", tol_disp, &mut opts.tol_disp),

@@ -198,7 +198,7 @@ fn static_solution(
     settings: &Settings,
     steps: Option<usize>,
 ) -> anyhow::Result<crate::partial::Path> {
-    let mut opts = crate::dynamics_cmd::static_options(settings, steps)?;
+    let mut opts = crate::dynamics_cmd::static_options(settings, steps, None)?;
     opts.line_search = settings.line_search;
     crate::partial::Path::of_solution(
         crate::progress::solve_static(model, &opts),

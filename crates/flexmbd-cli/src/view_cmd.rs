@@ -127,7 +127,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     let mut data = match args.analysis {
         Analysis::Check => view_data(&model, &file, classification.as_ref(), &ViewResults::Check),
         Analysis::Static | Analysis::Modes => {
-            let mut sopts = crate::dynamics_cmd::static_options(&settings, args.steps)?;
+            let mut sopts = crate::dynamics_cmd::static_options(&settings, args.steps, None)?;
             sopts.line_search = settings.line_search;
             let run = crate::partial::Path::of_solution(
                 progress::solve_static(&model, &sopts),

@@ -49,7 +49,7 @@ fn assert_stop_message(err: &str) -> f64 {
         "{err}"
     );
     assert!(
-        err.contains("hint: ") && err.contains("[[prescribe]]"),
+        err.contains("hint: ") && err.contains("--path arc-length"),
         "{err}"
     );
     let t: f64 = err

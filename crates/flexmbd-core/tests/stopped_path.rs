@@ -1,39 +1,12 @@
 //! Nothing lost (issue 17, item 3): a static path that stops part-way returns every converged
 //! step with the error, and the linearised results at those steps.
 
-use flexmbd_core::model::{Dof, ModelBuilder};
-use flexmbd_core::section::{BeamProps, Material, Shape};
+mod common;
+
+use common::toggle_under_load;
+use flexmbd_core::model::ModelBuilder;
 use flexmbd_core::statics::linear::LinearRequest;
 use flexmbd_core::statics::{analyse, solve, solve_path, SolveError, StaticOptions};
-use flexmbd_core::Model;
-
-/// validation.md S05 (Williams toggle frame) in its consistent units (in, lbf, psi): the half
-/// model of the clamped two-bar arch, half span 12.943, rise 0.386, b = 0.753, h = 0.243,
-/// E = 10.3e6, 20 elements; apex: horizontal displacement and rotations held, a dead load
-/// −p/2 along y.
-fn toggle_under_load(p: f64) -> Model {
-    let mat = Material {
-        e: 10.3e6,
-        g: 10.3e6 / 2.6,
-        rho: 0.0,
-    };
-    let props = BeamProps::from_section(&mat, &Shape::Rectangle { w: 0.753, t: 0.243 }, true);
-    let mut b = ModelBuilder::new("toggle");
-    b.add_beam_chain(
-        "",
-        [12.943, 0.0, 0.0],
-        [0.0, 0.386, 0.0],
-        20,
-        Some([0.0, 0.0, 1.0]),
-        Some(props),
-    )
-    .unwrap();
-    b.fix("n0", None).unwrap();
-    b.fix("n20", Some(&[Dof::X, Dof::Z, Dof::Rx, Dof::Ry, Dof::Rz]))
-        .unwrap();
-    b.add_load("n20", [0.0, -0.5 * p, 0.0], [0.0; 3]).unwrap();
-    b.build().unwrap()
-}
 
 /// The limit load of S05 under load control: P_max = 33.870 lbf (validation.md, ±0.5 %).
 const P_MAX: f64 = 33.870;

@@ -8,8 +8,8 @@
 
 use super::{
     apply_prescribed, assemble, inverted_element, linear, newton, non_finite_parts, setup,
-    Assembled, Newton, SolveError, StaticOptions, StaticSolution, StepResult, MAX_ITERATIONS,
-    MAX_STEPS,
+    Assembled, Newton, PathMethod, SolveError, StaticOptions, StaticSolution, StepResult,
+    MAX_ITERATIONS, MAX_STEPS,
 };
 use crate::model::{CoordKind, Model};
 use rayon::prelude::*;
@@ -123,10 +123,18 @@ pub fn solve_path(
     progress: impl FnMut(usize, usize),
 ) -> Result<StaticSolution, Stopped> {
     let mut steps = Vec::new();
-    let r = follow(model, opts, progress, &mut steps);
+    let (mut path, mut events) = (Vec::new(), Vec::new());
+    let r = match opts.path {
+        PathMethod::LoadSteps => follow(model, opts, progress, &mut steps),
+        PathMethod::ArcLength => {
+            super::arc::follow(model, opts, progress, &mut steps, &mut path, &mut events)
+        }
+    };
     let solution = StaticSolution {
         roles: super::roles(model),
         steps,
+        path,
+        events,
     };
     match r {
         Ok(()) => Ok(solution),
@@ -142,7 +150,7 @@ pub fn solve_path(
 
 /// The step result from the assembly `a` at the converged state (x, μ) at load factor t.
 #[allow(clippy::too_many_arguments)]
-fn record(
+pub(super) fn record(
     model: &Model,
     x: &[f64],
     mu: &[f64],
@@ -172,15 +180,8 @@ fn record(
     }
 }
 
-/// The load steps: every converged step is pushed onto `out` (the unloaded state first); a
-/// step that fails ends the path with its error, after the last converged sub-step has been
-/// pushed when it lies beyond the last step in `out`.
-fn follow(
-    model: &Model,
-    opts: &StaticOptions,
-    mut progress: impl FnMut(usize, usize),
-    out: &mut Vec<StepResult>,
-) -> Result<(), SolveError> {
+/// The counts of the options within their limits.
+pub(super) fn check_options(opts: &StaticOptions) -> Result<(), SolveError> {
     for (what, found, min, max) in [
         ("steps", opts.steps, 0, MAX_STEPS),
         ("max_iterations", opts.max_iterations, 0, MAX_ITERATIONS),
@@ -194,6 +195,19 @@ fn follow(
             });
         }
     }
+    Ok(())
+}
+
+/// The load steps: every converged step is pushed onto `out` (the unloaded state first); a
+/// step that fails ends the path with its error, after the last converged sub-step has been
+/// pushed when it lies beyond the last step in `out`.
+fn follow(
+    model: &Model,
+    opts: &StaticOptions,
+    mut progress: impl FnMut(usize, usize),
+    out: &mut Vec<StepResult>,
+) -> Result<(), SolveError> {
+    check_options(opts)?;
     let su = setup(model);
     if su.nf == 0 && su.nk == 0 {
         return Err(SolveError::NothingToSolve);
