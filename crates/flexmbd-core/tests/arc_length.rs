@@ -282,3 +282,90 @@ fn s05_toggle_under_a_stroke_by_arc_length() {
     assert!((p_max - 33.870).abs() < 5e-3 * 33.870, "P_max {p_max}");
     assert!((d_max - 0.2325).abs() < 0.03 * 0.2325, "δ at P_max {d_max}");
 }
+
+/// A column of length 1 m, EIy = 1 N·m² (EIz = 4, EA = 1e7: extensibility negligible), 20
+/// Euler–Bernoulli elements along x, clamped at x = 0, with the tip load (−p, 0, q).
+fn column(p: f64, q: f64) -> Model {
+    let props = flexmbd_core::section::BeamProps {
+        ea: 1e7,
+        gj: 1.0,
+        eiy: 1.0,
+        eiz: 4.0,
+        ..Default::default()
+    };
+    let mut b = ModelBuilder::new("column");
+    b.add_beam_chain(
+        "",
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        20,
+        Some([0.0, 1.0, 0.0]),
+        Some(props),
+    )
+    .unwrap();
+    b.fix("n0", None).unwrap();
+    b.add_load("n20", [-p, 0.0, q], [0.0; 3]).unwrap();
+    b.build().unwrap()
+}
+
+/// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut g) = (1.0f64, (1.0 - k * k).sqrt());
+    while (a - g).abs() > 1e-15 * a {
+        (a, g) = (0.5 * (a + g), (a * g).sqrt());
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
+
+#[test]
+fn a_column_into_post_buckling_bifurcates_and_follows_the_elastica() {
+    // Euler load of the cantilever column: P_cr = π² EI / (4 L²)
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    // the perfect column under 2 P_cr stays straight by symmetry, and the path passes the
+    // bifurcation at P_cr: one unstable direction from there (buckling about the weak axis)
+    let sol = arc(&column(2.0 * p_cr, 0.0), 40);
+    let bif: Vec<(f64, [usize; 2])> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                load_factor,
+                unstable,
+                ..
+            } => Some((load_factor, unstable)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    assert_eq!(bif[0].1, [0, 1]);
+    // the first step past P_cr: within one step (at most 1/40 of the load) above t = 1/2
+    assert!(bif[0].0 > 0.5 && bif[0].0 < 0.5 + 0.03, "{}", bif[0].0);
+    // with a small lateral load (1e-3 P_cr) the column bends smoothly into the elastica of the
+    // cantilever: P/P_cr = (2 K(k)/π)² with k = sin(α/2), α the tip rotation (Timoshenko &
+    // Gere §2.7), up to 3 P_cr (α about 2.6 rad)
+    let model = column(3.0 * p_cr, 1e-3 * p_cr);
+    let sol = arc(&model, 60);
+    let r = model.nodes[model.node_id("n20").unwrap()].ix_rot.unwrap();
+    let (mut far, mut alpha_max) = (0, 0.0f64);
+    for st in &sol.steps {
+        let l = &st.x[r..r + 4];
+        let alpha = 2.0
+            * (l[1] * l[1] + l[2] * l[2] + l[3] * l[3])
+                .sqrt()
+                .atan2(l[0].abs());
+        if alpha < 0.3 {
+            continue;
+        }
+        let want = (2.0 * elliptic_k((0.5 * alpha).sin()) / std::f64::consts::PI).powi(2);
+        let got = 3.0 * st.load_factor;
+        assert!(
+            (got - want).abs() < 0.01 * want,
+            "α = {alpha}: {got} vs {want}"
+        );
+        far += 1;
+        alpha_max = alpha_max.max(alpha);
+    }
+    // at 3 P_cr: 2K(k)/π = √3, k = 0.96, α = 2.6 rad
+    assert!(far > 10 && alpha_max > 2.5, "{far} {alpha_max}");
+    assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
+}

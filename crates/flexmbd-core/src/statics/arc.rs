@@ -18,8 +18,10 @@
 //!   sign that continues the previous increment (positive work of the tangent on it: through a
 //!   limit point the load factor turns back by itself).
 //! - **Step length**: Δl₀ is the length of the first tangent step to t = 1/steps; after a
-//!   converged step Δl grows or shrinks by √(5/iterations) (between ½ and 2, at most Δl₀: the
-//!   resolution asked for);
+//!   converged step Δl changes by the smallest of √(5/iterations), 0.05 rad / the turn of the
+//!   path in that step (in the coordinates and the load factor scaled by the first tangent)
+//!   and (1/steps) / |Δt| (no faster in the load than the load steps), within ½ … 2 per step
+//!   and at most 1000 Δl₀;
 //!   a step that fails (no convergence, an inverted element) is halved, down to
 //!   Δl₀ / 2^max_halvings, where the path stops with the error.
 //! - **End**: when the predictor would pass t = 1 on the way up, the last step is solved at
@@ -50,8 +52,13 @@ const TARGET_ITERATIONS: f64 = 5.0;
 /// The most steps of a path, per requested load step.
 const STEPS_PER_LOAD_STEP: usize = 50;
 
-/// The largest step length, in units of the first one (the resolution `steps` asks for).
-const MAX_GROWTH: f64 = 1.0;
+/// The largest step length, in units of the first one.
+const MAX_GROWTH: f64 = 1e3;
+
+/// The turn of the path per step that the step length aims at [rad], measured in the
+/// coordinates and the load factor scaled by the first tangent (so that a straight path in
+/// either takes long steps and a bend, a limit point or the onset of buckling short ones).
+const TARGET_TURN: f64 = 0.05;
 
 /// The rate of the residual and the constraints with the load factor at (x, μ), ∂(r, g)/∂t,
 /// with `a` the assembly there (its stress resultants).
@@ -399,6 +406,8 @@ fn run(
         tangent: tangent0,
     };
     let (dl_min, dl_max) = (dl0 / 2f64.powi(opts.max_halvings as i32), MAX_GROWTH * dl0);
+    // the load factor in the units of the coordinates: the length of the first tangent
+    let t_scale = dl0 * steps as f64;
     let mut dl = dl0;
     let mut prev: Option<(Vec<f64>, f64)> = None; // the last increment (reduced) and its Δt
     let mut s_total = 0.0;
@@ -421,7 +430,14 @@ fn run(
             let ds = sign * dl / (norm2(&su, &cur.tangent.db) + p2).sqrt();
             // the last step: load control to t = 1 exactly, from the tangent
             if cur.t < 1.0 && cur.t + ds >= 1.0 && ds > 0.0 {
-                if let Some(end) = final_step(model, &su, opts, &cur, &mut kkt) {
+                if let Some(end) = final_step(
+                    model,
+                    &su,
+                    opts,
+                    tangent_to_end(&su, &cur),
+                    &cur.x,
+                    &mut kkt,
+                ) {
                     break end;
                 }
             }
@@ -431,6 +447,28 @@ fn run(
                     None => Ok(st),
                 }
             });
+            // a step that passes t = 1 on the way up ends the path there: load control to
+            // t = 1 from the state between the two, or a shorter step
+            let r = match r {
+                Ok(st) if cur.t < 1.0 && st.t > 1.0 => {
+                    let w = (1.0 - cur.t) / (st.t - cur.t);
+                    let x: Vec<f64> = cur
+                        .x
+                        .iter()
+                        .zip(&st.x)
+                        .map(|(a, b)| a + w * (b - a))
+                        .collect();
+                    let mu: Vec<f64> = cur
+                        .mu
+                        .iter()
+                        .zip(&st.mu)
+                        .map(|(a, b)| a + w * (b - a))
+                        .collect();
+                    final_step(model, &su, opts, (x, mu), &cur.x, &mut kkt)
+                        .ok_or_else(|| "the step passes the full load".to_string())
+                }
+                r => r,
+            };
             match r {
                 Ok(st) => break st,
                 Err(reason) => {
@@ -474,11 +512,24 @@ fn run(
         if end {
             return Ok(());
         }
-        // the step length for the next step
+        // the step length for the next step: shorter where Newton needs many iterations, where
+        // the path turns or where the load factor moves fast, longer otherwise
         if halvings == 0 {
-            let f = (TARGET_ITERATIONS / iterations.max(1) as f64)
-                .sqrt()
-                .clamp(0.5, 2.0);
+            let by_iterations = (TARGET_ITERATIONS / iterations.max(1) as f64).sqrt();
+            let by_turn = match &prev {
+                Some((inc0, dt0)) => {
+                    let t2 = t_scale * t_scale;
+                    let c = dot(&su, inc0, &inc) + t2 * dt0 * dt;
+                    let n0 = (norm2(&su, inc0) + t2 * dt0 * dt0).sqrt();
+                    let n1 = (norm2(&su, &inc) + t2 * dt * dt).sqrt();
+                    let turn = (c / (n0 * n1)).clamp(-1.0, 1.0).acos();
+                    TARGET_TURN / turn.max(f64::MIN_POSITIVE)
+                }
+                None => 1.0,
+            };
+            // and no longer than a step of the load factor of 1/steps at the current rate
+            let by_load = 1.0 / (steps as f64 * dt.abs()).max(f64::MIN_POSITIVE);
+            let f = by_iterations.min(by_turn).min(by_load).clamp(0.5, 2.0);
             dl = (dl * f).clamp(dl_min, dl_max);
         }
         prev = Some((inc, dt));
@@ -516,15 +567,8 @@ fn reduced_increment(su: &Setup, x0: &[f64], x1: &[f64]) -> Vec<f64> {
     v
 }
 
-/// The last step: Newton at t = 1 from the tangent predictor at `cur`; `None` when it fails
-/// (the arc-length step goes on instead).
-fn final_step(
-    model: &Model,
-    su: &Setup,
-    opts: &StaticOptions,
-    cur: &State,
-    kkt: &mut Option<KktSolver>,
-) -> Option<Step> {
+/// The tangent predictor from `cur` to t = 1: (x, μ).
+fn tangent_to_end(su: &Setup, cur: &State) -> (Vec<f64>, Vec<f64>) {
     let ds = 1.0 - cur.t;
     let (mut x, mut mu) = (cur.x.clone(), cur.mu.clone());
     let db: Vec<f64> = cur.tangent.db.iter().map(|v| ds * v).collect();
@@ -537,13 +581,27 @@ fn final_step(
         .collect();
     let dz = expand(su, &cur.x, &cur.mu, &r, &db);
     step_to(su, (&mut x, &mut mu), (&cur.x, &cur.mu), &dz, 1.0);
+    (x, mu)
+}
+
+/// The last step: Newton at t = 1 from the predictor (x, μ) (`from`: the coordinates of the
+/// last converged state, for the inversion test); `None` when it fails (the arc-length steps
+/// go on instead).
+fn final_step(
+    model: &Model,
+    su: &Setup,
+    opts: &StaticOptions,
+    (mut x, mut mu): (Vec<f64>, Vec<f64>),
+    from: &[f64],
+    kkt: &mut Option<KktSolver>,
+) -> Option<Step> {
     apply_prescribed(model, su, &mut x, 1.0);
     match newton(model, su, opts, &mut x, &mut mu, 1.0, kkt, None) {
         Newton::Converged {
             iterations,
             residual,
             state,
-        } if inverted_element(model, &x, &cur.x).is_none() => Some(Step {
+        } if inverted_element(model, &x, from).is_none() => Some(Step {
             x,
             mu,
             t: 1.0,
