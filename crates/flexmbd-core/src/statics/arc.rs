@@ -33,14 +33,13 @@
 //!   bifurcation ([`PathEvent`]).
 
 use super::newton::{
-    check, expand, increment_size, reduced_rhs, reference_stiffness, step_to, KktSolver, Status,
-    SINGULAR,
+    check, expand, increment_size, reduced_rhs, reference_stiffness, step_to, Status, SINGULAR,
 };
 use super::path::{check_options, record};
 use super::{
     apply_prescribed, assemble_values, inverted_element, moment_forces, newton, non_finite_parts,
-    setup, solve_single_multipliers, Assembled, Newton, Part, PathEvent, PathPoint, Role, Setup,
-    SolveError, StaticOptions, StepResult,
+    setup, solve_single_multipliers, Assembled, KktSolver, Newton, Part, PathEvent, PathPoint,
+    Role, Setup, SolveError, StaticOptions, StepResult,
 };
 use crate::assembly::gather;
 use crate::elements::ElementKind;

@@ -1834,6 +1834,8 @@ pub mod linear;
 mod newton;
 mod path;
 
+/// The sparse Newton matrix of statics (`newton.rs`), also for other analyses of the crate.
+pub(crate) use newton::KktSolver;
 use newton::{newton, Newton};
 
 pub use path::{analyse, solve, solve_path, StaticAnalysis, Stopped};

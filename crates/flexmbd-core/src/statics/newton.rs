@@ -16,7 +16,7 @@ use rayon::prelude::*;
 /// structure, the map from the assembly's entry order to the value slots, the fill-reducing
 /// ordering and the structure of the factors are computed once; each Newton iteration gathers
 /// the values and refactors numerically (see [`KktSolver::solve`] and [`SparseLu`]).
-pub(super) struct KktSolver {
+pub(crate) struct KktSolver {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     /// The assembled entries summed into CSC value slot k: `src[src_ptr[k]..src_ptr[k + 1]]`
