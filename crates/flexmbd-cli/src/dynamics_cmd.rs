@@ -3,14 +3,14 @@
 use crate::{emit, outputs, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    log_space, state_space_with_motions, uses_sparse, Input, Motion, Output, OutputKind, Probe,
-    StateSpaceOptions, DENSE_STATE_SPACE_DOF,
+    check_dense_size, log_space, state_space_with_motions, uses_sparse, Input, Motion, Output,
+    OutputKind, Probe, StateSpaceOptions, DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
 use flexmbd_core::elements::ElementKind;
 use flexmbd_core::model::Dof;
-use flexmbd_core::statics::{StaticOptions, StaticSolution};
+use flexmbd_core::statics::{PathMethod, StaticOptions, StaticSolution};
 use flexmbd_core::Model;
 use flexmbd_io::statespace_report as report;
 use flexmbd_io::Settings;
@@ -124,6 +124,9 @@ pub struct SweepArgs {
     /// (shift-invert Lanczos, for large models).
     #[arg(long, value_enum, default_value_t = SolverArg::Auto)]
     solver: SolverArg,
+    /// How the static path is followed (overrides [static] path; default load-steps).
+    #[arg(long, value_enum)]
+    path: Option<PathArg>,
 }
 
 /// `--solver` of `flexmbd modes` and `flexmbd sweep` (docs/dynamics.md).
@@ -140,20 +143,38 @@ pub(crate) enum SolverArg {
 impl SolverArg {
     /// The modal-analysis settings.
     pub(crate) fn options(self) -> ModalOptions {
-        ModalOptions {
-            solver: match self {
-                SolverArg::Auto => EigenSolver::Auto,
-                SolverArg::Dense => EigenSolver::Dense,
-                SolverArg::Sparse => EigenSolver::Sparse,
-            },
+        ModalOptions::with_solver(match self {
+            SolverArg::Auto => EigenSolver::Auto,
+            SolverArg::Dense => EigenSolver::Dense,
+            SolverArg::Sparse => EigenSolver::Sparse,
+        })
+    }
+}
+
+/// `--path` of `flexmbd static`, `modes` and `sweep` (docs/statics.md, "Path following").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum PathArg {
+    /// Equal load steps, halved where Newton fails (cannot pass a limit point of the load).
+    LoadSteps,
+    /// Arc length: passes limit points and snap-backs; steps adapt to Newton.
+    ArcLength,
+}
+
+impl PathArg {
+    /// The core's setting.
+    pub(crate) fn method(self) -> PathMethod {
+        match self {
+            PathArg::LoadSteps => PathMethod::LoadSteps,
+            PathArg::ArcLength => PathMethod::ArcLength,
         }
     }
 }
 
-/// Static options from the file's settings and `--steps` (as `flexmbd static` does).
+/// Static options from the file's settings, `--steps` and `--path` (as `flexmbd static` does).
 pub(crate) fn static_options(
     settings: &Settings,
     steps: Option<usize>,
+    path: Option<PathArg>,
 ) -> anyhow::Result<StaticOptions> {
     use flexmbd_io::limits::{MAX_ITERATIONS, MAX_STEPS};
     let mut opts = StaticOptions::default();
@@ -176,6 +197,7 @@ pub(crate) fn static_options(
     opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
     opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
     opts.line_search = settings.line_search;
+    opts.path = path.map_or(settings.path, PathArg::method);
     Ok(opts)
 }
 
@@ -471,6 +493,8 @@ pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, Ba
     Ok(Output::node(node, dof, kind))
 }
 
+/// The static solution to linearise about; a path that stops part-way is an error here (the
+/// state space of a state short of the load asked for is not given).
 fn solve_static(model: &Model, opts: &StaticOptions) -> anyhow::Result<StaticSolution> {
     crate::progress::solve_static(model, opts)
         .context("the static equilibrium to linearise about was not found")
@@ -557,6 +581,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         modes: a.modes,
         static_correction: a.static_correction,
         solver: a.solver.options().solver,
+        ..Default::default()
     };
     // the sparse path's requirement (the number of modes) is an input error, found before the
     // static solve
@@ -575,7 +600,9 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
             .into());
         }
     }
-    let opts = static_options(&settings, a.steps)?;
+    // the size guard of the dense path, before the static solve
+    check_dense_size(&model, &ss_opts).context("state-space model refused")?;
+    let opts = static_options(&settings, a.steps, None)?;
     let sol = solve_static(&model, &opts)?;
     let k = a.at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
@@ -659,10 +686,24 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let opts = static_options(&settings, a.steps)?;
-    let sol = solve_static(&model, &opts)?;
+    // the size guards of the dense paths, before the static solve
+    let modal = a.solver.options();
+    if a.count > 0 {
+        flexmbd_core::dynamics::check_dense_size(&model, a.count, &modal)
+            .context("modal analysis refused")?;
+    }
+    if !ids.is_empty() {
+        flexmbd_core::statics::linear::check_dense_size(&model, modal.max_dense_bytes)
+            .context("support stiffness refused")?;
+    }
+    let opts = static_options(&settings, a.steps, a.path)?;
+    let path = crate::partial::Path::of_solution(
+        crate::progress::solve_static(&model, &opts),
+        "the static equilibrium to linearise about was not found",
+    )?;
+    let (sol, note) = (path.solution(), path.note());
     let points = crate::progress::stage("frequencies and stiffness at every step", || {
-        sweep_with(&model, &sol.steps, a.count, &ids, &a.solver.options())
+        sweep_with(&model, &sol.steps, a.count, &ids, &modal)
     });
     if a.count > 0 {
         if let Some(Err(e)) = points
@@ -674,18 +715,18 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let file = a.model.display().to_string();
+    let note = note.as_ref();
     if let Some(p) = &a.csv {
-        outputs::write_file(p, &report::sweep_csv(&points, a.count, &nodes, a.local))?;
+        let csv = report::sweep_csv(&points, a.count, &nodes, a.local, note);
+        outputs::write_file(p, &csv)?;
     }
     if a.json {
-        let mut text =
-            serde_json::to_string_pretty(&report::sweep_json(&model, &file, &points, &nodes))?;
-        text.push('\n');
-        emit(&text)?;
+        let doc = report::sweep_json(&model, &file, &points, &nodes, note);
+        emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
     } else {
         emit(&report::sweep_text(
-            &model, &file, &points, a.count, &nodes, a.local,
+            &model, &file, &points, a.count, &nodes, a.local, note,
         ))?;
     }
-    Ok(ExitCode::SUCCESS)
+    path.finish()
 }

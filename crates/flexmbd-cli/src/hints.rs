@@ -4,6 +4,7 @@
 use flexmbd_core::dynamics::state_space::StateSpaceError;
 use flexmbd_core::dynamics::ModalError;
 use flexmbd_core::kinematics::classify::{ClassifyError, Stage};
+use flexmbd_core::statics::linear::LinearError;
 use flexmbd_core::statics::SolveError;
 
 /// The options that act on the failure of `e` (searched through its chain of causes), if flexmbd
@@ -15,6 +16,9 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
         }
         if let Some(s) = cause.downcast_ref::<StateSpaceError>() {
             return match s {
+                StateSpaceError::Modal(ModalError::TooLarge(_)) => Some(
+                    "use --solver sparse (or auto) with --modes N (e.g. --modes 20), and --static-correction for the exact static gain",
+                ),
                 StateSpaceError::Modal(m) => modal(m),
                 StateSpaceError::SparseNeedsModes { .. } => {
                     Some("give --modes N (e.g. --modes 20), with --static-correction for the exact static gain")
@@ -35,13 +39,26 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
                 return Some("check the model for NaN coordinates, or try another --rank-tol");
             }
         }
-        if let Some(SolveError::NoConvergence { .. } | SolveError::Inverted { .. }) =
-            cause.downcast_ref::<SolveError>()
-        {
-            return Some("more load steps: --steps N (or `steps` in the model's [static] table)");
+        if let Some(LinearError::TooLarge(_)) = cause.downcast_ref::<LinearError>() {
+            return Some(
+                "leave out --compliance and --buckling (and `compliance`, `buckling` in the model's [static] table), or use a model with fewer elements",
+            );
         }
-        None
+        cause.downcast_ref::<SolveError>().and_then(solve_hint)
     })
+}
+
+/// The options that act on a static path that failed with `e`.
+pub fn solve_hint(e: &SolveError) -> Option<&'static str> {
+    match e {
+        SolveError::NoConvergence { .. } => Some(
+            "more load steps: --steps N (or `steps` in the model's [static] table); at a limit point (snap-through) follow the path by arc length: --path arc-length (or `path = \"arc-length\"` in [static])",
+        ),
+        SolveError::Inverted { .. } => {
+            Some("more load steps: --steps N (or `steps` in the model's [static] table)")
+        }
+        _ => None,
+    }
 }
 
 fn modal(m: &ModalError) -> Option<&'static str> {
@@ -50,6 +67,9 @@ fn modal(m: &ModalError) -> Option<&'static str> {
             "in a TOML model: a [[material]] with `rho` for the beams, or [[mass]] / [[inertia]] entries",
         ),
         ModalError::DenseInaccurate { .. } => Some("use --solver sparse"),
+        ModalError::TooLarge(_) => {
+            Some("use --solver sparse (or auto), which computes the lowest --count N modes only")
+        }
         ModalError::SparseSingular => Some("run `flexmbd check` on the model, or use --solver dense"),
         ModalError::NotConverged { .. } => Some("ask for fewer modes (--count), or use --solver dense"),
         _ => None,

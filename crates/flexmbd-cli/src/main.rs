@@ -8,6 +8,7 @@ mod dynamics_cmd;
 mod hints;
 mod output_cmd;
 mod outputs;
+mod partial;
 mod progress;
 mod simulate_cmd;
 mod view_cmd;
@@ -127,6 +128,10 @@ enum Command {
         /// Backtracking line search in Newton (off by default; step halving is always on).
         #[arg(long)]
         line_search: bool,
+        /// How the path is followed: load-steps (equal steps of the load factor) or arc-length
+        /// (passes limit points and snap-backs); overrides [static] path.
+        #[arg(long, value_enum)]
+        path: Option<dynamics_cmd::PathArg>,
     },
     /// Natural frequencies and mode shapes, linearised about a static equilibrium (with
     /// pre-stress) of the model's loads and strokes.
@@ -149,6 +154,9 @@ enum Command {
         /// Print JSON instead of tables.
         #[arg(long)]
         json: bool,
+        /// How the static path is followed (overrides [static] path; default load-steps).
+        #[arg(long, value_enum)]
+        path: Option<dynamics_cmd::PathArg>,
     },
     /// Linear state-space model (A, B, C, D) about a static equilibrium with named inputs
     /// (forces, moments, prescribed motions of nodes and actuators) and outputs (node motions,
@@ -326,7 +334,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             steps,
             solver,
             json,
-        } => run_modes(&model, count, at_step, steps, solver, json),
+            path,
+        } => run_modes(&model, count, at_step, (steps, path), solver, json),
         Command::Static {
             model,
             steps,
@@ -337,9 +346,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             csv,
             line_search,
+            path,
         } => run_static(
             &model,
-            steps,
+            (steps, path),
             compliance,
             buckling,
             tol_force,
@@ -445,25 +455,39 @@ fn run_modes(
     path: &Path,
     count: usize,
     at_step: Option<usize>,
-    steps: Option<usize>,
+    (steps, path_arg): (Option<usize>, Option<dynamics_cmd::PathArg>),
     solver: dynamics_cmd::SolverArg,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::dynamics::modes_with;
     let (model, settings) = load_with_settings(path)?;
-    let opts = dynamics_cmd::static_options(&settings, steps)?;
-    let sol = progress::solve_static(&model, &opts)
-        .context("the static equilibrium to linearise about was not found")?;
+    let modal_opts = solver.options();
+    // the size guard of the dense path, before the static solve
+    flexmbd_core::dynamics::check_dense_size(&model, count, &modal_opts)
+        .context("modal analysis refused")?;
+    let opts = dynamics_cmd::static_options(&settings, steps, path_arg)?;
+    let run = partial::Path::of_solution(
+        progress::solve_static(&model, &opts),
+        "the static equilibrium to linearise about was not found",
+    )?;
+    let sol = run.solution();
+    // a path that stopped part-way: its last converged step, unless another one is asked for
     let k = at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
         return Err(BadInput(format!(
-            "--at-step {k}: the static solution has steps 0 to {}",
-            sol.steps.len() - 1
+            "--at-step {k}: the static solution has steps 0 to {}{}",
+            sol.steps.len() - 1,
+            if run.stop.is_some() {
+                " (it stopped there)"
+            } else {
+                ""
+            }
         ))
         .into());
     };
+    let note = run.note();
     let modal = progress::stage("modal analysis", || {
-        modes_with(&model, step, count, &solver.options())
+        modes_with(&model, step, count, &modal_opts)
     })
     .context("modal analysis failed")?;
     let fname = path.display().to_string();
@@ -474,6 +498,7 @@ fn run_modes(
                 &fname,
                 step.load_factor,
                 &modal,
+                note.as_ref(),
             ))? + "\n"),
         )?;
     } else {
@@ -482,15 +507,16 @@ fn run_modes(
             &fname,
             step.load_factor,
             &modal,
+            note.as_ref(),
         ))?;
     }
-    Ok(ExitCode::SUCCESS)
+    run.finish()
 }
 
 /// `flexmbd static`.
 fn run_static(
     path: &Path,
-    steps: Option<usize>,
+    (steps, path_arg): (Option<usize>, Option<dynamics_cmd::PathArg>),
     compliance: Vec<String>,
     buckling: Option<usize>,
     tol_force: Option<f64>,
@@ -505,7 +531,7 @@ fn run_static(
         outputs::check_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
     }
     let (model, settings) = load_with_settings(path)?;
-    let mut opts = dynamics_cmd::static_options(&settings, steps)?;
+    let mut opts = dynamics_cmd::static_options(&settings, steps, path_arg)?;
     for (name, v, target) in [
         ("--tol-force", tol_force, &mut opts.tol_force),
         ("--tol-disp", tol_disp, &mut opts.tol_disp),
@@ -536,14 +562,23 @@ fn run_static(
     let request = LinearRequest {
         compliance: node_ids,
         buckling: buckling.unwrap_or(settings.buckling),
+        ..Default::default()
     };
-    let analysis =
-        progress::analyse_static(&model, &opts, &request).context("static analysis failed")?;
-    let (sol, extras) = (&analysis.solution, &analysis.linear);
+    if !request.is_empty() {
+        // the size guard of the dense linearised results, before the static solve
+        flexmbd_core::statics::linear::check_dense_size(&model, request.max_dense_bytes)
+            .context("compliance and buckling refused")?;
+    }
+    let run = partial::Path::of_analysis(
+        progress::analyse_static(&model, &opts, &request),
+        "static analysis failed",
+    )?;
+    let (sol, extras) = (&run.analysis.solution, &run.analysis.linear);
+    let note = run.note();
     let fname = path.display().to_string();
     if let Some(dir) = &csv {
         outputs::prepare_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
-        write_csv(dir, &model, sol, extras).map_err(|e| {
+        write_csv(dir, &model, sol, extras, note.as_ref()).map_err(|e| {
             outputs::IoFailure(format!(
                 "cannot write CSV files into {}: {e}",
                 dir.display()
@@ -551,11 +586,12 @@ fn run_static(
         })?;
     }
     if json {
-        emit(&(serde_json::to_string_pretty(&static_json(&model, &fname, sol, extras))? + "\n"))?;
+        let doc = static_json(&model, &fname, sol, extras, note.as_ref());
+        emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
     } else {
-        emit(&static_text(&model, &fname, sol, extras))?;
+        emit(&static_text(&model, &fname, sol, extras, note.as_ref()))?;
     }
-    Ok(ExitCode::SUCCESS)
+    run.finish()
 }
 
 /// 2 for the user's input, 4 for a file or stream that cannot be read or written, 1 otherwise

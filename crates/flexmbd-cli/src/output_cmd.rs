@@ -76,6 +76,8 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
         Ok(())
     };
     let mut written: Vec<PathBuf> = Vec::new();
+    // the static path of a static or modal export (it may have stopped part-way)
+    let mut path: Option<crate::partial::Path> = None;
     match args.analysis {
         Analysis::Check => {
             let x = model.x0();
@@ -98,7 +100,8 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
             }
         }
         Analysis::Static => {
-            let sol = static_solution(&model, &settings, args.steps)?;
+            let run = static_solution(&model, &settings, args.steps)?;
+            let sol = run.solution();
             prepare()?;
             if let Some(dir) = &args.vtk {
                 let mut entries = Vec::new();
@@ -110,18 +113,20 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
                     entries.push((st.load_factor, name));
                 }
                 let p = dir.join("static.pvd");
-                write(&p, &pvd(&entries))?;
+                let note = run.note().map(|n| n.line());
+                write(&p, &pvd(&entries, note.as_deref()))?;
                 written.push(p);
             }
             if let Some(dir) = &args.plots {
-                written.extend(stroke_plots(
-                    &model, &settings, &sol, args.count, dir, size,
-                )?);
+                written.extend(stroke_plots(&model, &settings, sol, args.count, dir, size)?);
             }
+            path = Some(run);
         }
         Analysis::Modes => {
-            let sol = static_solution(&model, &settings, args.steps)?;
-            let step = sol.steps.last().expect("the unloaded step exists");
+            let run = static_solution(&model, &settings, args.steps)?;
+            let sol = run.solution();
+            // a path that stopped part-way: the modes at its last converged step
+            let step = sol.steps.last().expect("a path holds a converged step");
             let modal =
                 crate::progress::stage("modal analysis", || modes(&model, step, args.count))
                     .context("modal analysis failed")?;
@@ -136,11 +141,12 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
                     entries.push(((k + 1) as f64, name));
                 }
                 let p = dir.join("modes.pvd");
-                write(&p, &pvd(&entries))?;
+                let note = run.note().map(|n| n.line());
+                write(&p, &pvd(&entries, note.as_deref()))?;
                 written.push(p);
             }
             if let Some(dir) = &args.plots {
-                let (stroke, x_label) = stroke_axis(&model, &sol);
+                let (stroke, x_label) = stroke_axis(&model, sol);
                 let points = crate::progress::stage("frequencies at every step", || {
                     sweep(&model, &sol.steps, args.count, &[])
                 });
@@ -148,6 +154,7 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
                     written.extend(write_plot(&p, &dir.join("frequency_stroke"), size)?);
                 }
             }
+            path = Some(run);
         }
     }
     let mut text = String::new();
@@ -155,7 +162,7 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<ExitCode> {
         text += &format!("wrote {}\n", p.display());
     }
     emit(&text)?;
-    Ok(ExitCode::SUCCESS)
+    path.map_or(Ok(ExitCode::SUCCESS), crate::partial::Path::finish)
 }
 
 fn write(path: &Path, text: &str) -> anyhow::Result<()> {
@@ -185,14 +192,18 @@ fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
     Ok((w, h))
 }
 
+/// The static path (it may have stopped part-way, with at least one converged step).
 fn static_solution(
     model: &Model,
     settings: &Settings,
     steps: Option<usize>,
-) -> anyhow::Result<StaticSolution> {
-    let mut opts = crate::dynamics_cmd::static_options(settings, steps)?;
+) -> anyhow::Result<crate::partial::Path> {
+    let mut opts = crate::dynamics_cmd::static_options(settings, steps, None)?;
     opts.line_search = settings.line_search;
-    crate::progress::solve_static(model, &opts).context("static analysis failed")
+    crate::partial::Path::of_solution(
+        crate::progress::solve_static(model, &opts),
+        "static analysis failed",
+    )
 }
 
 /// (a) Singular values of Dcc on a log axis with the rank threshold.

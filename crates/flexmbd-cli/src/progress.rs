@@ -49,24 +49,27 @@ pub fn spinner(what: &str) -> ProgressBar {
     b
 }
 
-/// The static solution, with a bar over its load steps.
+/// The static solution, with a bar over its load steps; a path that stops part-way keeps its
+/// converged steps ([`flexmbd_core::statics::solve_path`]).
+#[allow(clippy::result_large_err)]
 pub fn solve_static(
     model: &flexmbd_core::Model,
     opts: &flexmbd_core::statics::StaticOptions,
-) -> Result<flexmbd_core::statics::StaticSolution, flexmbd_core::statics::SolveError> {
+) -> Result<flexmbd_core::statics::StaticSolution, flexmbd_core::statics::Stopped> {
     let b = bar(opts.steps, "load step");
-    let sol = flexmbd_core::statics::solve(model, opts, |k, _| b.set_position(k as u64));
+    let sol = flexmbd_core::statics::solve_path(model, opts, |k, _| b.set_position(k as u64));
     b.finish_and_clear();
     sol
 }
 
 /// The static analysis (equilibrium path and linearised results per step), with a bar over
 /// its load steps and a spinner for the linearised results.
+#[allow(clippy::result_large_err)]
 pub fn analyse_static(
     model: &flexmbd_core::Model,
     opts: &flexmbd_core::statics::StaticOptions,
     req: &flexmbd_core::statics::linear::LinearRequest,
-) -> Result<flexmbd_core::statics::StaticAnalysis, flexmbd_core::statics::SolveError> {
+) -> Result<flexmbd_core::statics::StaticAnalysis, flexmbd_core::statics::Stopped> {
     let b = bar(opts.steps, "load step");
     let s = std::cell::Cell::new(None);
     let r = flexmbd_core::statics::analyse(model, opts, req, |k, n| {

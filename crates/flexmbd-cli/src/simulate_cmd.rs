@@ -164,8 +164,15 @@ pub fn stopped_exit(stopped: Option<Stopped>) -> ExitCode {
     }
 }
 
-/// Write `sim_KKKK.vtu` per frame and `simulate.pvd` into `dir` (prepared before).
-fn write_vtk(dir: &Path, model: &Model, sim: &Simulation) -> anyhow::Result<()> {
+/// Write `sim_KKKK.vtu` per frame and `simulate.pvd` into `dir` (prepared before); the `.pvd`
+/// of a run that stopped starts with the comment `stopped at t = T s: reason` (the convention
+/// of a static path that stops part-way).
+fn write_vtk(
+    dir: &Path,
+    model: &Model,
+    sim: &Simulation,
+    stopped: Option<&Stopped>,
+) -> anyhow::Result<()> {
     let mut entries = Vec::with_capacity(sim.frames.len());
     for (k, f) in sim.frames.iter().enumerate() {
         let name = format!("sim_{k:04}.vtu");
@@ -174,7 +181,8 @@ fn write_vtk(dir: &Path, model: &Model, sim: &Simulation) -> anyhow::Result<()> 
         entries.push((f.t, name));
     }
     let p = dir.join("simulate.pvd");
-    outputs::write_file(&p, &pvd(&entries))?;
+    let note = stopped.map(|s| format!("stopped at t = {:.6e} s: {}", s.t, s.reason));
+    outputs::write_file(&p, &pvd(&entries, note.as_deref()))?;
     Ok(())
 }
 
@@ -203,7 +211,7 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(dir) = &a.vtk {
         outputs::prepare_dir(dir, "--vtk", SIM_VTK, &[path])?;
-        write_vtk(dir, model, &sim)?;
+        write_vtk(dir, model, &sim, stopped.as_ref())?;
     }
     if a.json {
         emit(

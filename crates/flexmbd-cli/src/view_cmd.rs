@@ -153,7 +153,10 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         rank_tol: opts.rank_tol,
     });
 
+    // the simulation of a simulate view that stopped part-way
     let mut stopped = None;
+    // the static path of a static or modal view (it may have stopped part-way)
+    let mut path: Option<crate::partial::Path> = None;
     let mut data = match args.analysis {
         Analysis::Check => view_data(&model, &file, classification.as_ref(), &ViewResults::Check),
         Analysis::Simulate => {
@@ -171,17 +174,25 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
             data
         }
         Analysis::Static | Analysis::Modes => {
-            let mut sopts = crate::dynamics_cmd::static_options(&settings, args.steps)?;
+            let mut sopts = crate::dynamics_cmd::static_options(&settings, args.steps, None)?;
             sopts.line_search = settings.line_search;
-            let sol = progress::solve_static(&model, &sopts).context("static analysis failed")?;
+            let run = crate::partial::Path::of_solution(
+                progress::solve_static(&model, &sopts),
+                "static analysis failed",
+            )?;
+            if let Some(n) = run.note() {
+                notes.push(n.line());
+            }
+            let sol = path.insert(run).solution();
             if matches!(args.analysis, Analysis::Static) {
                 view_data(
                     &model,
                     &file,
                     classification.as_ref(),
-                    &ViewResults::Static(&sol),
+                    &ViewResults::Static(sol),
                 )
             } else {
+                // a path that stopped part-way: its last converged step by default
                 let k = args.at_step.unwrap_or(sol.steps.len() - 1);
                 let Some(step) = sol.steps.get(k) else {
                     return Err(BadInput(format!(
@@ -218,5 +229,8 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         args.output.display(),
         html.len()
     ))?;
-    Ok(stopped_exit(stopped))
+    match path {
+        Some(path) => path.finish(),
+        None => Ok(stopped_exit(stopped)),
+    }
 }

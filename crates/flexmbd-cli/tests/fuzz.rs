@@ -457,6 +457,7 @@ fn analyse_model(model: &Model) -> Result<(), String> {
     let req = LinearRequest {
         compliance: vec![model.nodes.len().saturating_sub(1)],
         buckling: 1,
+        ..Default::default()
     };
     let Ok(sol) = solve(model, &opts, |_, _| {}) else {
         return Ok(());

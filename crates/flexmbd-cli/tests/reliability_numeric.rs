@@ -135,6 +135,31 @@ fn manual_wrong_modes_free_floating() {
     let want = 4.730041f64.powi(2) * c / (2.0 * std::f64::consts::PI);
     let got = modes[6]["frequency_hz"].as_f64().expect("frequency");
     assert!((got - want).abs() < 1e-2 * want, "{got} vs {want}");
+    // six modes or fewer, all of them rigid-body modes: the sparse solver sees no elastic mode
+    // to compare with (before, it printed six tiny frequencies), and a sweep of six frequencies
+    // (before, the dense solver's six were judged without the seventh: 'complex', a warning)
+    for args in [
+        &["modes", "--count", "6", "--solver", "sparse"][..],
+        &["modes", "--count", "3", "--solver", "sparse"][..],
+    ] {
+        let (code, out, err) = run_out(args, f);
+        assert_eq!(code, Some(0), "{err}");
+        let n: usize = args[2].parse().expect("count");
+        assert_eq!(out.matches("rigid-body mode").count(), n, "{args:?}: {out}");
+    }
+    for solver in ["dense", "sparse"] {
+        let (code, out, err) = run_out(&["sweep", "--count", "6", "--solver", solver], f);
+        assert_eq!(code, Some(0), "{err}");
+        assert!(
+            !out.contains("complex") && !out.contains("warning"),
+            "{solver}: {out}"
+        );
+        let row = out
+            .lines()
+            .find(|l| l.starts_with("  10 "))
+            .expect("step 10");
+        assert_eq!(row.matches(" 0.000000").count(), 6, "{solver}: {row}");
+    }
 }
 
 #[test]
@@ -198,4 +223,83 @@ fn manual_wrong_compliance_stiffness_ratio() {
         !text.contains("ill-conditioned") && !text.contains("UNSTABLE"),
         "{text}"
     );
+}
+
+#[test]
+fn dense_paths_refuse_models_above_the_memory_limit() {
+    // the F01 strip in 1200 beams: 1200 free nodes of 6 velocity components, 7200 degrees of
+    // freedom, whose dense modal analysis, state space and linearisation need more than the
+    // default 4 GiB; each is refused before the static solve (exit 1), and the hint names the
+    // sparse solver where there is one. (The automatic choice takes the sparse path on a
+    // model of more than 3000 degrees of freedom, for any number of modes: dynamics::auto_solver;
+    // its dense refusal is tested in the core, tests/dense_limits.rs, with a lower limit.)
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/strip_f01.toml"),
+    )
+    .expect("read");
+    let big = text.replace("segments = 10\n", "segments = 1200\n");
+    assert_ne!(big, text);
+    let p = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("strip_1200.toml");
+    std::fs::write(&p, big).expect("write");
+    for (args, what, hint) in [
+        (
+            &["modes", "--solver", "dense"][..],
+            "dense modal analysis (all modes) of this model (7200 degrees of freedom)",
+            "--solver sparse",
+        ),
+        (
+            &["sweep", "--solver", "dense"][..],
+            "dense modal analysis",
+            "--solver sparse",
+        ),
+        (
+            &[
+                "statespace",
+                "--solver",
+                "dense",
+                "--input",
+                "tip:z",
+                "--output",
+                "tip:z",
+            ][..],
+            "dense state space (all modes) of this model (7200 degrees of freedom)",
+            "--solver sparse (or auto) with --modes N",
+        ),
+        (
+            &["static", "--compliance", "tip"][..],
+            "dense linearisation (compliance, buckling, stability)",
+            "leave out --compliance and --buckling",
+        ),
+        (
+            &["sweep", "--compliance", "tip"][..],
+            "dense linearisation",
+            "leave out --compliance",
+        ),
+    ] {
+        let t = std::time::Instant::now();
+        let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+            .args(args)
+            .arg(&p)
+            .arg("--quiet")
+            .output()
+            .expect("run flexmbd");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains(what) && err.contains("above the limit of 4.0 GiB"),
+            "{args:?}: {err}"
+        );
+        assert!(
+            err.lines()
+                .any(|l| l.starts_with("hint: ") && l.contains(hint)),
+            "{args:?}: {err}"
+        );
+        assert!(out.stdout.is_empty(), "{args:?}");
+        // refused before the static solve and before any dense matrix
+        assert!(
+            t.elapsed().as_secs_f64() < 10.0,
+            "{args:?}: {:?}",
+            t.elapsed()
+        );
+    }
 }

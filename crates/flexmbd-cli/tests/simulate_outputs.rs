@@ -101,6 +101,9 @@ fn vtk_time_series_of_the_pendulum() {
     assert_eq!(files.len(), 52, "{files:?}");
     let entries = pvd_entries(&vtk.join("simulate.pvd"));
     assert_eq!(entries.len(), 51);
+    // a complete run: no stop comment
+    let collection = std::fs::read_to_string(vtk.join("simulate.pvd")).unwrap();
+    assert!(!collection.contains("<!--"), "{collection}");
     for (k, (t, file)) in entries.iter().enumerate() {
         assert!((t - 0.01 * k as f64).abs() < 1e-12, "entry {k}: t = {t}");
         assert_eq!(file, &format!("sim_{k:04}.vtu"));
@@ -233,6 +236,12 @@ fn a_stopped_run_writes_its_vtk_series_up_to_the_stop() {
     let json = json.expect("the partial results as JSON");
     let t_stop = json["stopped"]["t"].as_f64().unwrap();
     let entries = pvd_entries(&vtk.join("simulate.pvd"));
+    // the collection says where the run stopped (the comment of a stopped static path)
+    let collection = std::fs::read_to_string(vtk.join("simulate.pvd")).unwrap();
+    assert!(
+        collection.contains(&format!("<!-- stopped at t = {t_stop:.6e} s: ")),
+        "{collection}"
+    );
     assert!(entries.len() >= 10, "{}", entries.len());
     assert_eq!(listing(&vtk).len(), entries.len() + 1);
     // the output times of the file (0.001 s) up to the stop, and the last accepted state

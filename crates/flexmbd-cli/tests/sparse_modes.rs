@@ -22,7 +22,7 @@ fn example(name: &str) -> (Model, Vec<StepResult>) {
 }
 
 fn modal(model: &Model, step: &StepResult, count: usize, solver: EigenSolver) -> Modal {
-    modes_with(model, step, count, &ModalOptions { solver }).expect("modes")
+    modes_with(model, step, count, &ModalOptions::with_solver(solver)).expect("modes")
 }
 
 /// Same eigenvalues (relative `tol`), counts and mode spaces.
@@ -111,7 +111,7 @@ fn over_constrained_kinematic_example() {
     // says so, and the automatic choice falls back to the dense path.
     let (model, steps) = example("folded_sheet_guide_6.toml");
     let step = steps.last().unwrap();
-    let run = |solver| modes_with(&model, step, 6, &ModalOptions { solver });
+    let run = |solver| modes_with(&model, step, 6, &ModalOptions::with_solver(solver));
     assert!(matches!(run(EigenSolver::Dense), Err(ModalError::NoDof)));
     assert!(matches!(run(EigenSolver::Auto), Err(ModalError::NoDof)));
     match run(EigenSolver::Sparse) {

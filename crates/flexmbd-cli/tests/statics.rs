@@ -120,3 +120,58 @@ fn static_text_report_and_bad_options() {
     let (out, _) = run(&["static", &ex, "--steps", "0"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn williams_toggle_by_arc_length_through_both_limit_points() {
+    // examples/williams_toggle.toml (validation S05, a dead load of 180 N on the frame): by arc
+    // length the path passes the limit load P_max = 150.66 N and the following minimum
+    // 139.15 N (validation.md, ±0.5 %) and ends at the full load
+    let ex = format!(
+        "{}/../../examples/williams_toggle.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let check = |out: &std::process::Output, doc: Option<Value>| {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let doc = doc.expect("JSON");
+        let events = doc["events"].as_array().expect("events");
+        assert_eq!(events.len(), 2, "{events:?}");
+        for (e, p) in events.iter().zip([150.66, 139.15]) {
+            assert_eq!(e["kind"], "limit_point");
+            let t = e["load_factor"].as_f64().unwrap();
+            assert!((180.0 * t - p).abs() < 5e-3 * p, "{} vs {p}", 180.0 * t);
+        }
+        let steps = doc["steps"].as_array().unwrap();
+        assert_eq!(steps.last().unwrap()["load_factor"], 1.0);
+        assert!(steps[1]["path"]["arc_length"].as_f64().unwrap() > 0.0);
+        assert_eq!(doc["stopped"], Value::Null);
+    };
+    let (out, json) = run(&["static", &ex, "--path", "arc-length", "--json", "--quiet"]);
+    check(&out, json);
+    // the same from the model's [static] table
+    let t = common::Temp::new("arc_toml");
+    let text = std::fs::read_to_string(&ex).unwrap();
+    let with = text.replace("[static]\n", "[static]\npath = \"arc-length\"\n");
+    assert_ne!(with, text);
+    let p = t.write("toggle.toml", with.as_bytes());
+    let (out, json) = run(&["static", p.to_str().unwrap(), "--json", "--quiet"]);
+    check(&out, json);
+    // the text report names the limit points
+    let (out, _) = run(&["static", p.to_str().unwrap(), "--quiet"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.matches("LIMIT POINT").count(), 2, "{text}");
+    // an unknown method is an input error at its line
+    let bad = t.write("bad.toml", text_with(&with, "path = \"arc\"").as_bytes());
+    let (out, _) = run(&["static", bad.to_str().unwrap(), "--quiet"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.toml:") && err.contains("`path`"), "{err}");
+}
+
+/// `text` with its `path = …` line replaced by `line`.
+fn text_with(text: &str, line: &str) -> String {
+    text.replace("path = \"arc-length\"", line)
+}

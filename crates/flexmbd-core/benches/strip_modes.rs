@@ -162,7 +162,8 @@ fn main() {
             .map_err(|e| e.to_string())
             .and_then(|sol| {
                 let step = sol.steps.last().expect("a step");
-                modes_with(&model, step, count, &ModalOptions { solver }).map_err(|e| e.to_string())
+                modes_with(&model, step, count, &ModalOptions::with_solver(solver))
+                    .map_err(|e| e.to_string())
             });
         let t2 = Instant::now();
         let (t_build, t_solve) = ((t1 - t0).as_secs_f64(), (t2 - t1).as_secs_f64());

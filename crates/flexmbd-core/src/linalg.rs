@@ -37,6 +37,58 @@ pub enum LinalgError {
     },
 }
 
+/// The default memory limit of every dense analysis (the kinematic check, the linearised
+/// statics, the dense modal analysis and state space): 4 GiB.
+pub const DEFAULT_MAX_DENSE_BYTES: u64 = 4 << 30;
+
+const GIB: f64 = (1u64 << 30) as f64;
+
+/// A dense analysis whose matrices would need more memory than its limit allows; found before
+/// anything large is allocated ([`check_dense_bytes`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the dense {what} of this model ({dof} degrees of freedom) needs about {:.1} GiB for its \
+     matrices, above the limit of {:.1} GiB (memory grows with the square of the degrees of \
+     freedom, time with the cube); {remedy}",
+    *bytes as f64 / GIB,
+    *limit as f64 / GIB
+)]
+pub struct DenseTooLarge {
+    /// The analysis ("modal analysis", "state space", …).
+    pub what: &'static str,
+    /// Its number of unknowns.
+    pub dof: usize,
+    /// Bytes it needs (an estimate of the largest set of matrices alive at once, saturated at
+    /// `u64::MAX`).
+    pub bytes: u64,
+    /// The limit.
+    pub limit: u64,
+    /// What to do instead, in neutral words.
+    pub remedy: &'static str,
+}
+
+/// The size guard of a dense analysis: `bytes` (computed in u128, so that it cannot overflow)
+/// against `limit`.
+pub fn check_dense_bytes(
+    what: &'static str,
+    remedy: &'static str,
+    dof: usize,
+    bytes: u128,
+    limit: u64,
+) -> Result<(), DenseTooLarge> {
+    let bytes = u64::try_from(bytes).unwrap_or(u64::MAX);
+    if bytes > limit {
+        return Err(DenseTooLarge {
+            what,
+            dof,
+            bytes,
+            limit,
+            remedy,
+        });
+    }
+    Ok(())
+}
+
 /// The parallelism of the dense SVD: sequential, so that its results are bit-identical for
 /// any number of threads. (faer splits the reductions of its bidiagonalisation by the number of
 /// threads of the pool; `check --json` then differed at 1e-14 between one and two threads.)

@@ -161,7 +161,7 @@ fn sparse_and_dense_agree_with_spin_and_point_masses() {
     let model = b.build().unwrap();
     let step = last_step(&model, StaticOptions::default().steps);
     let run = |solver| {
-        modes_with(&model, &step, 6, &ModalOptions { solver })
+        modes_with(&model, &step, 6, &ModalOptions::with_solver(solver))
             .unwrap()
             .modes
             .iter()

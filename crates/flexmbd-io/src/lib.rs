@@ -20,6 +20,7 @@ pub mod sim_report;
 pub mod spacar;
 pub mod statespace_report;
 pub mod static_report;
+pub mod stopped;
 pub mod toml_writer;
 pub mod vtk;
 

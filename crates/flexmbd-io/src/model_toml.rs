@@ -202,6 +202,7 @@ struct StaticSpec {
     buckling: usize,
     #[serde(default)]
     line_search: bool,
+    path: Option<String>,
 }
 
 /// Analysis settings read from the model file (`[static]`).
@@ -221,6 +222,8 @@ pub struct Settings {
     pub buckling: usize,
     /// Backtracking line search in Newton.
     pub line_search: bool,
+    /// How the path is followed (`path = "load-steps"` or `"arc-length"`).
+    pub path: flexmbd_core::statics::PathMethod,
 }
 
 /// A model file: the model and its analysis settings.
@@ -699,6 +702,16 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
                 ),
             ));
         }
+        if let Some(p) = &st.path {
+            if !matches!(p.as_str(), "load-steps" | "arc-length") {
+                return Err(err(
+                    &key_span(text, &sp.span(), "path"),
+                    format!(
+                        "[static]: `path` must be \"load-steps\" or \"arc-length\", found \"{p}\""
+                    ),
+                ));
+            }
+        }
         for n in &st.compliance {
             if !nodes.contains_key(n) {
                 return Err(err(
@@ -716,6 +729,10 @@ pub fn parse_model_file(text: &str, file: &str) -> Result<ModelFile, InputError>
         compliance: st.compliance,
         buckling: st.buckling,
         line_search: st.line_search,
+        path: match st.path.as_deref() {
+            Some("arc-length") => flexmbd_core::statics::PathMethod::ArcLength,
+            _ => flexmbd_core::statics::PathMethod::LoadSteps,
+        },
     };
 
     let model = b.build().map_err(|e| match spans.get(&e.item()) {

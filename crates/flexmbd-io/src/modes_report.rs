@@ -1,6 +1,7 @@
 //! Reports of a modal analysis: frequencies, energy distribution per mode, shapes.
 
 use crate::report::{fmt_num, table};
+use crate::stopped::StopNote;
 use flexmbd_core::dynamics::Modal;
 use flexmbd_core::elements::ElementKind;
 use flexmbd_core::Model;
@@ -41,8 +42,15 @@ fn kinetic_text(model: &Model, m: &flexmbd_core::dynamics::Mode, count: usize) -
         .join("; ")
 }
 
-/// Text report: one row per mode with where its strain and kinetic energy are.
-pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) -> String {
+/// Text report: one row per mode with where its strain and kinetic energy are; `stop` marks a
+/// static path that stopped part-way (the modes are those of a converged step of it).
+pub fn modes_text(
+    model: &Model,
+    file: &str,
+    load_factor: f64,
+    modal: &Modal,
+    stop: Option<&StopNote>,
+) -> String {
     let mut s = String::new();
     let title = if model.name.is_empty() {
         String::new()
@@ -125,6 +133,9 @@ pub fn modes_text(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
             "\nnodes with coordinates without inertia (handled by static condensation): {list}"
         );
     }
+    if let Some(stop) = stop {
+        s += &stop.text();
+    }
     s
 }
 
@@ -133,8 +144,14 @@ fn held_inputs(model: &Model) -> Vec<String> {
     crate::report::generalised_names(model, &model.partition.x, &model.partition.e)
 }
 
-/// JSON document of a modal analysis.
-pub fn modes_json(model: &Model, file: &str, load_factor: f64, modal: &Modal) -> Value {
+/// JSON document of a modal analysis; `stopped` as in `flexmbd static --json`.
+pub fn modes_json(
+    model: &Model,
+    file: &str,
+    load_factor: f64,
+    modal: &Modal,
+    stop: Option<&StopNote>,
+) -> Value {
     let names = model.node_names();
     let modes: Vec<Value> = modal
         .modes
@@ -168,6 +185,7 @@ pub fn modes_json(model: &Model, file: &str, load_factor: f64, modal: &Modal) ->
         "massless_nodes": modal.massless_nodes.iter().map(|&n| model.nodes[n].name.clone()).collect::<Vec<_>>(),
         "held_inputs": held_inputs(model),
         "modes": modes,
+        "stopped": crate::stopped::json_field(stop),
     })
 }
 
@@ -203,11 +221,11 @@ mod tests {
             massless_nodes: (0..30).collect(),
             solver: EigenSolver::Dense,
         };
-        let text = modes_text(&model, "row.toml", 1.0, &modal);
+        let text = modes_text(&model, "row.toml", 1.0, &modal, None);
         assert!(text.contains("n0, n1,"), "{text}");
         assert!(text.contains("n19, … and 10 more (30 in all)"), "{text}");
         assert!(!text.contains("n20"), "{text}");
-        let json = modes_json(&model, "row.toml", 1.0, &modal);
+        let json = modes_json(&model, "row.toml", 1.0, &modal, None);
         assert_eq!(json["massless_nodes"].as_array().unwrap().len(), 30);
     }
 }

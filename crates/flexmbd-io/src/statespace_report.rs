@@ -5,6 +5,7 @@
 //! - `flexmbd sweep`: frequencies and support stiffness per load step as text, JSON and CSV.
 
 use crate::report::{fmt_num, table};
+use crate::stopped::StopNote;
 use flexmbd_core::dynamics::state_space::{
     magnitude_phase, to_rows as rows, OutputKind, Probe, StateSpace,
 };
@@ -433,7 +434,8 @@ fn fmt_k(v: f64) -> String {
     }
 }
 
-/// Sweep as a text table: step, load factor, f1..fN, then k_x..k_rz of every node.
+/// Sweep as a text table: step, load factor, f1..fN, then k_x..k_rz of every node; `stop`
+/// marks a static path that stopped part-way (the table holds its converged steps).
 pub fn sweep_text(
     model: &Model,
     file: &str,
@@ -441,6 +443,7 @@ pub fn sweep_text(
     count: usize,
     nodes: &[String],
     local: bool,
+    stop: Option<&StopNote>,
 ) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "flexmbd sweep{}  ({file})\n", title(model));
@@ -493,23 +496,30 @@ pub fn sweep_text(
         );
     }
     if points.iter().any(|p| {
-        p.eigenvalues.as_ref().is_ok_and(|l| {
-            l.iter()
-                .skip(flexmbd_core::dynamics::rigid_body_count(l))
-                .any(|&v| v < 0.0)
-        })
+        p.eigenvalues
+            .as_ref()
+            .is_ok_and(|l| l.iter().skip(p.rigid_body).any(|&v| v < 0.0))
     }) {
         s += "\nwarning: negative eigenvalues (complex frequencies): the equilibrium is unstable there (the structure may have buckled)\n";
     }
     for n in notes {
         let _ = writeln!(s, "warning: {n}");
     }
+    if let Some(stop) = stop {
+        s += &stop.text();
+    }
     s
 }
 
 /// Sweep as JSON: per step the frequencies and, per node, the stiffness in global and local
-/// axes (null where held) and the 6 × 6 compliance.
-pub fn sweep_json(model: &Model, file: &str, points: &[SweepPoint], nodes: &[String]) -> Value {
+/// axes (null where held) and the 6 × 6 compliance; `stopped` as in `flexmbd static --json`.
+pub fn sweep_json(
+    model: &Model,
+    file: &str,
+    points: &[SweepPoint],
+    nodes: &[String],
+    stop: Option<&StopNote>,
+) -> Value {
     let steps: Vec<Value> = points
         .iter()
         .map(|p| {
@@ -543,12 +553,19 @@ pub fn sweep_json(model: &Model, file: &str, points: &[SweepPoint], nodes: &[Str
         "file": file,
         "model": model.name,
         "steps": steps,
+        "stopped": crate::stopped::json_field(stop),
     })
 }
 
 /// Sweep as CSV: `step,load_factor,f1_hz..fN_hz,NODE:k_x..NODE:k_rz`; empty cells where a
-/// value is unavailable, `inf` where held.
-pub fn sweep_csv(points: &[SweepPoint], count: usize, nodes: &[String], local: bool) -> String {
+/// value is unavailable, `inf` where held; `stop` ends it with a comment line.
+pub fn sweep_csv(
+    points: &[SweepPoint],
+    count: usize,
+    nodes: &[String],
+    local: bool,
+    stop: Option<&StopNote>,
+) -> String {
     let mut s = String::from("step,load_factor");
     for k in 1..=count {
         let _ = write!(s, ",f{k}_hz");
@@ -585,6 +602,9 @@ pub fn sweep_csv(points: &[SweepPoint], count: usize, nodes: &[String], local: b
             }
         }
         s.push('\n');
+    }
+    if let Some(stop) = stop {
+        s += &stop.csv_comment();
     }
     s
 }

@@ -3,8 +3,9 @@
 //! buckling multipliers. Text tables, JSON and CSV.
 
 use crate::report::{fmt_num, table};
+use crate::stopped::{json_field, StopNote};
 use flexmbd_core::model::Model;
-use flexmbd_core::statics::StaticSolution;
+use flexmbd_core::statics::{PathEvent, StaticSolution};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 
@@ -16,12 +17,14 @@ pub use flexmbd_core::results::{
     element_results, node_results, rotation_vector, ElementResult, NodeResult,
 };
 
-/// JSON document of a static run.
+/// JSON document of a static run; `stop`: where and why a path that stopped part-way stopped
+/// (the `stopped` field, null for a complete path).
 pub fn static_json(
     model: &Model,
     file: &str,
     sol: &StaticSolution,
     extras: &[StepExtras],
+    stop: Option<&StopNote>,
 ) -> Value {
     let steps: Vec<Value> = sol
         .steps
@@ -48,20 +51,56 @@ pub fn static_json(
                 "buckling": x.buckling,
                 "unstable_directions": x.unstable_directions,
                 "warnings": x.failures.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
+                "path": sol.path.get(k),
             })
         })
         .collect();
-    json!({ "model": model.name, "file": file, "roles": sol.roles, "steps": steps })
+    json!({
+        "model": model.name,
+        "file": file,
+        "roles": sol.roles,
+        "steps": steps,
+        "events": sol.events,
+        "stopped": json_field(stop),
+    })
 }
 
 const DIRS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 
-/// Text report of a static run: a table of all steps, then the last step in detail.
+/// A critical point of an arc-length path in words.
+fn event_text(sol: &StaticSolution, e: &PathEvent) -> String {
+    match *e {
+        PathEvent::LimitPoint { step, load_factor } => {
+            let before = step
+                .checked_sub(1)
+                .and_then(|k| sol.steps.get(k))
+                .map_or(0.0, |s| s.load_factor);
+            let kind = if before < load_factor {
+                "a maximum: under a dead load the structure snaps through here"
+            } else {
+                "a minimum: the end of the unstable part of the path"
+            };
+            format!("step {step}: LIMIT POINT, the load factor turns back at {load_factor:.6} ({kind})")
+        }
+        PathEvent::Bifurcation {
+            step,
+            load_factor,
+            unstable,
+        } => format!(
+            "step {step}: BIFURCATION before load factor {load_factor:.6}, unstable directions {} -> {} (another branch of equilibria crosses the path)",
+            unstable[0], unstable[1]
+        ),
+    }
+}
+
+/// Text report of a static run: a table of all steps, then the last step in detail; `stop`
+/// marks a path that stopped part-way, after the table.
 pub fn static_text(
     model: &Model,
     file: &str,
     sol: &StaticSolution,
     extras: &[StepExtras],
+    stop: Option<&StopNote>,
 ) -> String {
     let mut s = String::new();
     let title = if model.name.is_empty() {
@@ -82,8 +121,13 @@ pub fn static_text(
         sol.roles.len() - rigid,
         rigid
     );
-    // step table
+    // step table (with arc length: the path parameter, and the stability from the tangent's
+    // inertia where no buckling analysis gives it)
+    let arc = !sol.path.is_empty();
     let mut header = vec!["step", "load", "iter", "energy [J]", "max |u| [m]"];
+    if arc {
+        header.insert(2, "path s");
+    }
     let mut names: Vec<String> = Vec::new();
     if let Some(x) = extras.first() {
         for (n, _) in &x.compliance {
@@ -116,6 +160,9 @@ pub fn static_text(
                 fmt_num(st.energy),
                 fmt_num(umax),
             ];
+            if let Some(p) = sol.path.get(k) {
+                row.insert(2, fmt_num(p.arc_length));
+            }
             for (_, c) in &x.compliance {
                 let k = c.stiffness_local();
                 row.extend((0..6).map(|i| {
@@ -134,7 +181,10 @@ pub fn static_text(
                         .map_or("-".into(), |m| fmt_num(*m)),
                 );
             }
-            row.push(match x.unstable_directions {
+            let unstable = x
+                .unstable_directions
+                .or_else(|| sol.path.get(k).and_then(|p| p.unstable_directions));
+            row.push(match unstable {
                 Some(0) => "yes".into(),
                 Some(n) => format!("NO ({n})"),
                 None => "-".into(),
@@ -153,6 +203,12 @@ pub fn static_text(
         if let Some(n) = x.unstable_directions.filter(|n| *n > 0) {
             let _ = writeln!(s, "  step {k}: the equilibrium is UNSTABLE ({n} negative stiffness direction(s)): the structure has buckled at or before this load");
         }
+    }
+    for e in &sol.events {
+        let _ = writeln!(s, "  {}", event_text(sol, e));
+    }
+    if let Some(stop) = stop {
+        s += &stop.text();
     }
     // last step in detail
     let Some(last) = sol.steps.last() else {
@@ -239,15 +295,21 @@ pub fn static_text(
     s
 }
 
-/// Write `summary.csv` (one row per step) and `step_K.csv` (nodes and elements per step) into `dir`.
+/// Write `summary.csv` (one row per step) and `step_K.csv` (nodes and elements per step) into
+/// `dir`; `stop` ends `summary.csv` with a comment line saying where and why the path stopped.
 pub fn write_csv(
     dir: &std::path::Path,
     model: &Model,
     sol: &StaticSolution,
     extras: &[StepExtras],
+    stop: Option<&StopNote>,
 ) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
+    let arc = !sol.path.is_empty();
     let mut sum = String::from("step,load_factor,iterations,residual,energy");
+    if arc {
+        sum += ",arc_length";
+    }
     if let Some(x) = extras.first() {
         for (n, _) in &x.compliance {
             for d in DIRS {
@@ -262,6 +324,9 @@ pub fn write_csv(
             "{k},{},{},{},{}",
             st.load_factor, st.iterations, st.residual, st.energy
         );
+        if let Some(p) = sol.path.get(k).filter(|_| arc) {
+            let _ = write!(sum, ",{}", p.arc_length);
+        }
         for (_, c) in &x.compliance {
             for v in c.stiffness_local() {
                 let _ = write!(sum, ",{v}");
@@ -308,6 +373,9 @@ pub fn write_csv(
             );
         }
         std::fs::write(dir.join(format!("step_{k:03}.csv")), t)?;
+    }
+    if let Some(stop) = stop {
+        sum += &stop.csv_comment();
     }
     std::fs::write(dir.join("summary.csv"), sum)
 }

@@ -276,11 +276,19 @@ fn xml_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A `.pvd` collection: (time step value, file name relative to the `.pvd`).
-pub fn pvd(entries: &[(f64, String)]) -> String {
-    let mut s = String::from(
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
-    );
+/// A `.pvd` collection: (time step value, file name relative to the `.pvd`); `note` is written
+/// as an XML comment (where and why a static path stopped part-way).
+pub fn pvd(entries: &[(f64, String)], note: Option<&str>) -> String {
+    let mut s = String::from("<?xml version=\"1.0\"?>\n");
+    if let Some(n) = note {
+        // "--" may not occur inside an XML comment
+        let mut c = n.to_string();
+        while c.contains("--") {
+            c = c.replace("--", "- -");
+        }
+        let _ = writeln!(s, "<!-- {c} -->");
+    }
+    s += "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
     for (t, file) in entries {
         let _ = writeln!(
             s,
@@ -454,7 +462,7 @@ mod tests {
         let s = g.to_vtu();
         assert!(s.contains("NumberOfPoints=\"2\" NumberOfCells=\"1\""));
         assert!(!s.contains("NaN"));
-        let p = pvd(&[(0.5, "a_1.vtu".into())]);
+        let p = pvd(&[(0.5, "a_1.vtu".into())], None);
         assert!(p.contains("timestep=\"5e-1\""));
     }
 }

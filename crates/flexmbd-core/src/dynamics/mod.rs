@@ -21,9 +21,12 @@
 //! directions with m ≤ 1e-12 max m are condensed out of the stiffness (exact for the quasi-static
 //! response of massless coordinates); they are reported.
 
+pub mod dense_size;
 pub mod sparse;
 pub mod state_space;
 pub mod sweep;
+
+pub use dense_size::check_dense_size;
 
 use crate::elements::ElementKind;
 use crate::kinematics::columns;
@@ -45,7 +48,8 @@ pub struct Mode {
     pub shape: Vec<f64>,
     /// Shape in velocity coordinates: per node (translation, rotation vector), for display.
     pub nodal: Vec<([f64; 3], [f64; 3])>,
-    /// Strain energy fractions per (element, mode 0-based), largest first (those ≥ 1e-4).
+    /// Strain energy fractions per (element, mode 0-based), largest first (those ≥ 1e-4);
+    /// empty for a rigid-body mode.
     pub strain: Vec<(usize, usize, f64)>,
     /// Kinetic energy fractions per node (translation, rotation), largest first (≥ 1e-4).
     pub kinetic: Vec<(usize, f64, f64)>,
@@ -126,10 +130,33 @@ impl EigenSolver {
 }
 
 /// Settings of a modal analysis.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ModalOptions {
     /// The eigen solver.
     pub solver: EigenSolver,
+    /// Memory limit of the dense eigen path in bytes ([`dense_size::dense_bytes`]): a model
+    /// whose dense matrices need more stops with [`ModalError::TooLarge`] before they are
+    /// allocated. Default [`crate::linalg::DEFAULT_MAX_DENSE_BYTES`].
+    pub max_dense_bytes: u64,
+}
+
+impl Default for ModalOptions {
+    fn default() -> Self {
+        Self {
+            solver: EigenSolver::Auto,
+            max_dense_bytes: crate::linalg::DEFAULT_MAX_DENSE_BYTES,
+        }
+    }
+}
+
+impl ModalOptions {
+    /// The default settings with this eigen solver.
+    pub fn with_solver(solver: EigenSolver) -> Self {
+        Self {
+            solver,
+            ..Self::default()
+        }
+    }
 }
 
 /// The sparse path pays off above this many degrees of freedom (velocity coordinates of the
@@ -231,6 +258,9 @@ pub enum ModalError {
     /// Nothing can move.
     #[error("the model has no degree of freedom: every coordinate is fixed or prescribed")]
     NoDof,
+    /// The dense eigen path would need more memory than the limit allows.
+    #[error(transparent)]
+    TooLarge(#[from] crate::linalg::DenseTooLarge),
     /// The dense eigen solver cannot resolve part of the spectrum.
     #[error("dense eigen solver: {unresolved} of the {n} modes cannot be resolved in double precision: the model's ω² span {spread:.1e} (masses or stiffnesses over many decades, e.g. the rotary inertia of thin sheets). Use the sparse eigen solver, which computes the lowest modes accurately, or fewer, longer elements")]
     DenseInaccurate {
@@ -606,6 +636,8 @@ pub fn modes_with(
     for m in modes.iter_mut().take(l.rigid) {
         m.rigid_body = true;
         m.frequency = 0.0;
+        // its strain energy is round-off of zero: fractions of it mean nothing
+        m.strain.clear();
     }
     let finite = |m: &Mode| {
         m.nodal
@@ -636,6 +668,16 @@ pub fn eigenvalues_with(
     opts: &ModalOptions,
 ) -> Result<Vec<f64>, ModalError> {
     lowest(model, step, count, opts).map(|l| l.eigenvalues)
+}
+
+/// [`eigenvalues_with`] with the number of rigid-body modes at their start ([`Mode::rigid_body`]).
+pub(crate) fn eigenvalues_rigid(
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+    opts: &ModalOptions,
+) -> Result<(Vec<f64>, usize), ModalError> {
+    lowest(model, step, count, opts).map(|l| (l.eigenvalues, l.rigid))
 }
 
 /// The lowest eigenpairs with the shapes in x, from the solver the options choose.
@@ -673,7 +715,7 @@ fn lowest(
                     });
                 }
                 return Ok(Lowest {
-                    rigid: rigid_body_count(&sm.eigenvalues),
+                    rigid: sm.rigid,
                     eigenvalues: sm.eigenvalues,
                     shapes: sm.shapes,
                     ndof: sm.ndof,
@@ -691,6 +733,7 @@ fn lowest(
             Err(e) => return Err(e),
         }
     }
+    dense_size::check_dense_modal(model, opts.max_dense_bytes, false)?;
     let red = reduced_matrices(model, step)?;
     let (lam, phi) = red.eigen()?;
     let nm = count.min(lam.len());

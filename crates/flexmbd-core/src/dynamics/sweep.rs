@@ -5,9 +5,15 @@
 //! parallel (rayon); faer's own parallelism inside a worker nests in the same rayon pool.
 //! The values are those of `dynamics::modes` and `statics::linear::compliance` at the step.
 
-use super::{eigenvalues_with, reduced_matrices_with, EigenSolver, ModalError, ModalOptions};
+use super::dense_size::check_dense_modal;
+use super::{
+    eigenvalues_rigid, reduced_matrices_with, rigid_body_count, EigenSolver, ModalError,
+    ModalOptions,
+};
 use crate::model::Model;
-use crate::statics::linear::{compliance, linearize, Compliance, LinearError};
+use crate::statics::linear::{
+    check_dense_size as check_linear_size, compliance, linearize, Compliance, LinearError,
+};
 use crate::statics::StepResult;
 use rayon::prelude::*;
 
@@ -20,16 +26,20 @@ pub struct SweepPoint {
     pub load_factor: f64,
     /// ω² [rad²/s²] of the lowest modes, ascending, or why the modal analysis failed here.
     pub eigenvalues: Result<Vec<f64>, ModalError>,
+    /// Number of rigid-body modes at the start of `eigenvalues` (as [`crate::dynamics::Mode`]'s
+    /// `rigid_body`: judged on the whole spectrum on the dense path, by the inertia on the
+    /// sparse one); 0 when the modal analysis failed.
+    pub rigid_body: usize,
     /// Compliance of each requested node, or why it is unbounded here.
     pub compliance: Vec<Result<Compliance, LinearError>>,
 }
 
 impl SweepPoint {
-    /// Frequencies [Hz] (0 for rigid-body modes, [`crate::dynamics::rigid_body_count`]; NaN
-    /// for ω² < 0: unstable), if the modal analysis succeeded.
+    /// Frequencies [Hz] (0 for rigid-body modes, [`SweepPoint::rigid_body`]; NaN for ω² < 0:
+    /// unstable), if the modal analysis succeeded.
     pub fn frequencies(&self) -> Option<Vec<f64>> {
+        let rigid = self.rigid_body;
         self.eigenvalues.as_ref().ok().map(|l| {
-            let rigid = crate::dynamics::rigid_body_count(l);
             l.iter()
                 .enumerate()
                 .map(|(k, &l)| {
@@ -57,9 +67,10 @@ pub fn sweep(
     sweep_with(model, steps, count, nodes, &ModalOptions::default())
 }
 
-/// [`sweep`] with the settings of the modal analysis (the eigen solver). The dense
-/// linearisation of statics is built only for the compliance of `nodes` and for the dense
-/// eigen path.
+/// [`sweep`] with the settings of the modal analysis (the eigen solver and the memory limit of
+/// the dense paths). The dense linearisation of statics is built only for the compliance of
+/// `nodes` and for the dense eigen path; when either would exceed the memory limit, every step
+/// reports that error ([`ModalError::TooLarge`], [`LinearError::TooLarge`]) instead.
 pub fn sweep_with(
     model: &Model,
     steps: &[StepResult],
@@ -68,30 +79,52 @@ pub fn sweep_with(
     opts: &ModalOptions,
 ) -> Vec<SweepPoint> {
     let solver = opts.resolve(model, count);
+    // the size guards of the dense paths, before any step allocates
+    let dense_modes = solver == EigenSolver::Dense && count > 0;
+    let modal_size = match dense_modes {
+        true => check_dense_modal(model, opts.max_dense_bytes, false),
+        false => Ok(()),
+    };
+    let linear_size = match nodes.is_empty() {
+        true => Ok(()),
+        false => check_linear_size(model, opts.max_dense_bytes),
+    };
     steps
         .par_iter()
         .enumerate()
         .map(|(k, st)| {
-            let lin = (!nodes.is_empty() || (solver == EigenSolver::Dense && count > 0))
-                .then(|| linearize(model, st));
-            let eigenvalues = match (&lin, solver) {
-                _ if count == 0 => Ok(Vec::new()),
+            let lin = ((!nodes.is_empty() && linear_size.is_ok())
+                || (dense_modes && modal_size.is_ok()))
+            .then(|| linearize(model, st));
+            // the eigenvalues with the number of rigid-body modes among them
+            let modal = match (&lin, solver) {
+                _ if count == 0 => Ok((Vec::new(), 0)),
+                _ if dense_modes && modal_size.is_err() => {
+                    modal_size.clone().map(|_| (Vec::new(), 0))
+                }
                 (Some(lin), EigenSolver::Dense) => reduced_matrices_with(model, st, lin)
                     .and_then(|r| r.eigen())
-                    .map(|(lam, _)| lam.into_iter().take(count).collect()),
-                _ => eigenvalues_with(model, st, count, opts),
+                    .map(|(lam, _)| {
+                        let rigid = rigid_body_count(&lam).min(count);
+                        (lam.into_iter().take(count).collect(), rigid)
+                    }),
+                _ => eigenvalues_rigid(model, st, count, opts),
             };
-            let compliance = match &lin {
-                Some(lin) => nodes
+            let rigid_body = modal.as_ref().map_or(0, |m| m.1);
+            let eigenvalues = modal.map(|m| m.0);
+            let compliance = match (&lin, &linear_size) {
+                (_, Err(e)) => nodes.iter().map(|_| Err(e.clone())).collect(),
+                (Some(lin), Ok(())) => nodes
                     .iter()
                     .map(|&n| compliance(model, lin, st, n))
                     .collect(),
-                None => Vec::new(),
+                (None, Ok(())) => Vec::new(),
             };
             SweepPoint {
                 step: k,
                 load_factor: st.load_factor,
                 eigenvalues,
+                rigid_body,
                 compliance,
             }
         })

@@ -187,7 +187,7 @@ fn sign_convention_of_mode_shapes() {
     let (p, _, l) = f01_strip();
     let model = strip(60, l, p, true).build().unwrap();
     let step = step_of(&model);
-    let run = |solver| modes_with(&model, &step, 6, &ModalOptions { solver }).unwrap();
+    let run = |solver| modes_with(&model, &step, 6, &ModalOptions::with_solver(solver)).unwrap();
     let (d, s) = (run(EigenSolver::Dense), run(EigenSolver::Sparse));
     assert_eq!(
         (d.solver, s.solver),

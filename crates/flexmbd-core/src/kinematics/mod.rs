@@ -39,7 +39,7 @@ pub struct CheckOptions {
 }
 
 /// The default of [`CheckOptions::max_dense_bytes`]: 4 GiB.
-pub const DEFAULT_MAX_DENSE_BYTES: u64 = 4 << 30;
+pub const DEFAULT_MAX_DENSE_BYTES: u64 = crate::linalg::DEFAULT_MAX_DENSE_BYTES;
 
 impl Default for CheckOptions {
     fn default() -> Self {

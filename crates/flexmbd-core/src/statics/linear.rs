@@ -52,6 +52,9 @@ pub enum LinearError {
     /// A matrix of the state is not finite.
     #[error(transparent)]
     Linalg(#[from] crate::linalg::LinalgError),
+    /// The dense matrices would need more memory than the limit allows.
+    #[error(transparent)]
+    TooLarge(#[from] crate::linalg::DenseTooLarge),
 }
 
 fn dense(
@@ -91,6 +94,39 @@ impl Linearized {
         }
         kx
     }
+}
+
+/// Bytes of the dense matrices of the linearised results at one step ([`at_step`]), an
+/// estimate of the largest set alive at once: K_m and K_g (n_f² each) and G (n_k n_f), with
+/// n_f free coordinates and n_k constraints, plus the larger of the compliance's KKT matrix
+/// and its LU factors (2 (n_f + n_k)²) and the buckling and stability analyses (the SVD
+/// factors of G, n_k² + n_f², the null-space basis and the reduced K_m, K_g with the
+/// workspace of the generalised eigenproblem, about 8 n_f² at most). With `modal`, only the
+/// linearisation itself (K_m, K_g, G): the part the dense modal analysis adds to its own.
+pub fn dense_bytes(model: &Model, modal: bool) -> (usize, u128) {
+    let su = setup(model);
+    let (nf, nk) = (su.nf as u128, su.nk as u128);
+    let lin = 2 * nf * nf + nk * nf;
+    let extra = if modal {
+        0
+    } else {
+        (2 * (nf + nk) * (nf + nk)).max(nk * nk + 9 * nf * nf)
+    };
+    (su.nf, 8 * (lin + extra))
+}
+
+/// The size guard of the linearised results: [`LinearError::TooLarge`] when [`dense_bytes`]
+/// exceeds `limit`.
+pub fn check_dense_size(model: &Model, limit: u64) -> Result<(), LinearError> {
+    let (dof, bytes) = dense_bytes(model, false);
+    crate::linalg::check_dense_bytes(
+        "linearisation (compliance, buckling, stability)",
+        "these are computed with dense matrices: ask for them on a model with fewer elements",
+        dof,
+        bytes,
+        limit,
+    )?;
+    Ok(())
 }
 
 /// Linearise at a converged step.
@@ -312,12 +348,26 @@ pub fn unstable_directions(model: &Model, lin: &Linearized) -> Result<usize, Lin
 
 /// The linearised results wanted at every step of a static solution (SPACAR's support
 /// stiffness along a stroke, with buckling and stability).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LinearRequest {
     /// Nodes whose compliance (and support stiffness) is wanted.
     pub compliance: Vec<usize>,
     /// Number of buckling multipliers of each sign (0: no buckling and stability analysis).
     pub buckling: usize,
+    /// Memory limit of the dense matrices of these results in bytes ([`dense_bytes`]): above
+    /// it every step reports [`LinearError::TooLarge`] instead. Default
+    /// [`crate::linalg::DEFAULT_MAX_DENSE_BYTES`].
+    pub max_dense_bytes: u64,
+}
+
+impl Default for LinearRequest {
+    fn default() -> Self {
+        Self {
+            compliance: Vec::new(),
+            buckling: 0,
+            max_dense_bytes: crate::linalg::DEFAULT_MAX_DENSE_BYTES,
+        }
+    }
 }
 
 impl LinearRequest {
@@ -344,6 +394,9 @@ pub enum LinearFailure {
     /// The stability (count of negative directions of the tangent).
     #[error("stability: {0}")]
     Stability(LinearError),
+    /// Nothing could be linearised: the dense matrices would exceed the memory limit.
+    #[error("compliance, buckling and stability: {0}")]
+    TooLarge(LinearError),
     /// A warning, not a failure: the material stiffness is so ill-conditioned that the
     /// compliance, support stiffness, buckling and stability figures of this step are not
     /// reliable (they are still given).
@@ -412,6 +465,10 @@ pub struct StepLinear {
 pub fn at_step(model: &Model, step: &StepResult, req: &LinearRequest) -> StepLinear {
     let mut out = StepLinear::default();
     if req.is_empty() {
+        return out;
+    }
+    if let Err(e) = check_dense_size(model, req.max_dense_bytes) {
+        out.failures.push(LinearFailure::TooLarge(e));
         return out;
     }
     let lin = linearize(model, step);

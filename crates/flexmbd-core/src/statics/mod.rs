@@ -44,7 +44,6 @@
 use crate::assembly::gather;
 use crate::elements::ElementKind;
 use crate::math::lambda_bar;
-use crate::math::sparse_lu::SparseLu;
 use crate::model::{CoordKind, DefKind, Model, Target};
 use faer::sparse::Triplet;
 use faer::Mat;
@@ -68,6 +67,22 @@ pub struct StaticOptions {
     /// (membrane locking), so every merit function rejects a step that pure Newton recovers
     /// from in a few iterations; step halving is the safeguard instead.
     pub line_search: bool,
+    /// How the load factor moves along the path: fixed load steps (default) or arc length.
+    pub path: PathMethod,
+}
+
+/// How a static analysis follows its equilibrium path (docs/statics.md, "Path following").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PathMethod {
+    /// The load factor (loads and prescribed values together) grows in `steps` equal steps,
+    /// each halved as needed; it cannot pass a limit point of the load factor.
+    #[default]
+    LoadSteps,
+    /// Arc length (Crisfield's cylindrical constraint on the coordinates, with the motion of
+    /// the prescribed coordinates): the load factor is an unknown, so the path passes limit
+    /// points and snap-backs; the step length adapts to the Newton iterations.
+    ArcLength,
 }
 
 impl Default for StaticOptions {
@@ -79,6 +94,7 @@ impl Default for StaticOptions {
             tol_disp: 1e-9,
             max_halvings: 12,
             line_search: false,
+            path: PathMethod::LoadSteps,
         }
     }
 }
@@ -154,6 +170,47 @@ pub struct StaticSolution {
     pub roles: Vec<Role>,
     /// Steps 0 … n.
     pub steps: Vec<StepResult>,
+    /// With arc length ([`PathMethod::ArcLength`]): the path parameter and stability of every
+    /// step (same order), and the limit points and bifurcations passed; empty with load steps.
+    pub path: Vec<PathPoint>,
+    /// Limit points and bifurcations along an arc-length path, in path order.
+    pub events: Vec<PathEvent>,
+}
+
+/// What arc-length path following knows of a step.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PathPoint {
+    /// Path parameter: the arc length from the unloaded state, in the dimensionless norm of
+    /// the constraint (translations relative to the model size, rotations in radians/2).
+    pub arc_length: f64,
+    /// Number of negative eigenvalues of the tangent stiffness on the constraints (0: stable),
+    /// from the inertia of its factorisation; `None` when it was factored otherwise (applied
+    /// moments make it unsymmetric).
+    pub unstable_directions: Option<usize>,
+}
+
+/// A critical point passed along an arc-length path.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum PathEvent {
+    /// The load factor turns back: a maximum or minimum of the load along the path, at or
+    /// next to step `step`.
+    LimitPoint {
+        /// The step where the load factor is extreme.
+        step: usize,
+        /// Its load factor.
+        load_factor: f64,
+    },
+    /// The number of unstable directions changes between steps `step` − 1 and `step` while the
+    /// load factor goes on: a branch of other equilibria crosses the path there.
+    Bifurcation {
+        /// The first step after the bifurcation.
+        step: usize,
+        /// Its load factor.
+        load_factor: f64,
+        /// Unstable directions before and after.
+        unstable: [usize; 2],
+    },
 }
 
 /// Why a static solution failed.
@@ -202,6 +259,19 @@ pub enum SolveError {
     /// The model has nothing to solve for.
     #[error("the model has no free coordinate: nothing to solve")]
     NothingToSolve,
+    /// An arc-length path that does not reach the full load within its step budget.
+    #[error("the arc-length path did not reach load factor 1 in {steps} steps (it reached {load_factor:.6}, the largest load factor on the path is {largest:.6}): the load may lie beyond every equilibrium of the structure, or the steps are too short; try fewer, longer steps or a smaller load")]
+    PathTooLong {
+        /// Steps taken.
+        steps: usize,
+        /// Load factor reached.
+        load_factor: f64,
+        /// The largest load factor along the path.
+        largest: f64,
+    },
+    /// A prescribed value that arc length cannot drive.
+    #[error("{0}")]
+    NotForArcLength(String),
     /// The options are out of range.
     #[error("{what} must be between {min} and {max}, found {found}")]
     BadOption {
@@ -1279,10 +1349,9 @@ fn apply_loads(
     }
     // moments: f_λ = 2 Λ̄(λ)ᵀ M, load stiffness −∂f/∂λ = −2 A(M)
     for &(r, m) in &su.moments {
-        let l = [x[r], x[r + 1], x[r + 2], x[r + 3]];
-        let lb = lambda_bar(&l);
+        let f1 = moment_forces(x, r, &m);
         for c in 0..4 {
-            let f = 2.0 * t * (0..3).map(|k| lb[k][c] * m[k]).sum::<f64>();
+            let f = t * f1[c];
             balance[r + c] -= f;
             f_abs[r + c] += f.abs();
         }
@@ -1364,6 +1433,13 @@ fn apply_loads(
     a.balance = balance;
 }
 
+/// The generalised forces 2 Λ̄(λ)ᵀ M on the Euler parameters (λ0 at x index `r`) of a moment M
+/// (global axes) at load factor 1.
+fn moment_forces(x: &[f64], r: usize, m: &[f64; 3]) -> [f64; 4] {
+    let lb = lambda_bar(&[x[r], x[r + 1], x[r + 2], x[r + 3]]);
+    std::array::from_fn(|c| 2.0 * (0..3).map(|k| lb[k][c] * m[k]).sum::<f64>())
+}
+
 fn inf_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, a| m.max(a.abs()))
 }
@@ -1403,698 +1479,6 @@ fn apply_prescribed(model: &Model, su: &Setup, x: &mut [f64], t: f64) {
             x0[i] + t * v
         };
     }
-}
-
-/// The sparse (reduced) Newton matrix of one solve with its fixed structure: the CSC
-/// structure, the map from the assembly's entry order to the value slots, the fill-reducing
-/// ordering and the structure of the factors are computed once; each Newton iteration gathers
-/// the values and refactors numerically (see [`KktSolver::solve`] and [`SparseLu`]).
-/// Lists the (row, column) of every matrix entry, in the order of the values, to a callback.
-pub(crate) type EntryLister<'a> = &'a dyn Fn(&mut dyn FnMut(usize, usize));
-
-pub(crate) struct KktSolver {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    /// The assembled entries summed into CSC value slot k: `src[src_ptr[k]..src_ptr[k + 1]]`
-    /// (indices into the assembly order: element blocks, then the tail).
-    src_ptr: Vec<usize>,
-    src: Vec<u32>,
-    values: Vec<f64>,
-    lu: SparseLu,
-    /// Whether `lu` holds a factorisation whose pivot order can be reused.
-    have_pivots: bool,
-    /// Symmetric strategy: the same ordering with all pivots on the diagonal (the structure of
-    /// a Cholesky factorisation), tried first; `lu` then pivots where it is not good enough.
-    diag: Option<SparseLu>,
-    /// The matrix is symmetric (no load stiffness of moments): `diag` factors it as L D Lᵀ
-    /// from the lower triangle in pivot order, gathered as `lower` from the assembled entries
-    /// `lower_src[lower_ptr[e]..lower_ptr[e + 1]]`.
-    symmetric: bool,
-    lower_ptr: Vec<usize>,
-    lower_src: Vec<u32>,
-    lower: Vec<f64>,
-    /// Whether `values` (CSC) holds the current matrix.
-    csc_current: bool,
-    /// The factorisation the last successful [`KktSolver::solve`] used: 1 `diag`, 2 `lu`
-    /// (0: none), for [`KktSolver::solve_again`].
-    used: u8,
-}
-
-impl KktSolver {
-    fn new(su: &Setup, tail: &[(usize, usize)]) -> Result<Self, String> {
-        let pat = &su.red;
-        let m = pat.n_entries + tail.len();
-        let entries = |f: &mut dyn FnMut(usize, usize)| {
-            pat.for_each_entry(&mut *f);
-            for &(r, c) in tail {
-                f(r, c);
-            }
-        };
-        Self::from_entries(pat.n, m, &entries, su.moments.is_empty())
-    }
-
-    /// A solver for n × n matrices whose `m` entries (row, column; repeated positions add up)
-    /// are listed, in the order of their values, by `entries`; `symmetric` allows the L D Lᵀ
-    /// strategy (the matrix is symmetric whatever the values).
-    pub(crate) fn from_entries(
-        n: usize,
-        m: usize,
-        entries: EntryLister<'_>,
-        symmetric: bool,
-    ) -> Result<Self, String> {
-        // CSC structure of the entries (rows sorted, duplicates summed) and the entries summed
-        // into each value slot: bucket the entries by column, sort each column by row
-        if m > u32::MAX as usize {
-            return Err("too many matrix entries".into());
-        }
-        let mut by_col_ptr = vec![0usize; n + 1];
-        entries(&mut |_, c| by_col_ptr[c + 1] += 1);
-        for c in 0..n {
-            by_col_ptr[c + 1] += by_col_ptr[c];
-        }
-        let mut fill = by_col_ptr.clone();
-        let mut by_col = vec![(0u32, 0u32); m];
-        let mut i = 0;
-        entries(&mut |r, c| {
-            by_col[fill[c]] = (r as u32, i as u32);
-            fill[c] += 1;
-            i += 1;
-        });
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut src_ptr = vec![0usize];
-        let mut src = Vec::with_capacity(m);
-        col_ptr.push(0);
-        for c in 0..n {
-            let list = &mut by_col[by_col_ptr[c]..by_col_ptr[c + 1]];
-            // by row, and by entry index within a row (the summation order of the assembly)
-            list.sort_unstable();
-            for (k, &(r, i)) in list.iter().enumerate() {
-                if k == 0 || list[k - 1].0 != r {
-                    if k > 0 {
-                        src_ptr.push(src.len());
-                    }
-                    row_idx.push(r as usize);
-                }
-                src.push(i);
-            }
-            if !list.is_empty() {
-                src_ptr.push(src.len());
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let nnz = row_idx.len();
-        let lu = SparseLu::new(n, &col_ptr, &row_idx)?;
-        let mut diag = lu.clone();
-        let mut diag = diag.set_diagonal_pivots(&col_ptr, &row_idx).then_some(diag);
-        let symmetric = symmetric && diag.is_some();
-        let (mut lower_ptr, mut lower_src) = (vec![0], Vec::new());
-        if let (true, Some(d)) = (symmetric, &mut diag) {
-            for p in d.lower_layout(&col_ptr, &row_idx) {
-                lower_src.extend_from_slice(&src[src_ptr[p]..src_ptr[p + 1]]);
-                lower_ptr.push(lower_src.len());
-            }
-        }
-        let lower = vec![0.0; lower_ptr.len() - 1];
-        let values = vec![0.0; nnz];
-        Ok(Self {
-            col_ptr,
-            row_idx,
-            src_ptr,
-            src,
-            values,
-            lu,
-            have_pivots: false,
-            diag,
-            symmetric,
-            lower_ptr,
-            lower_src,
-            lower,
-            csc_current: false,
-            used: 0,
-        })
-    }
-
-    /// Solve K z = rhs in place for the KKT matrix with entries `vals` (assembly order).
-    ///
-    /// Order of attempts: L D Lᵀ with the diagonal pivot order (symmetric matrices; any other
-    /// matrix with a full diagonal: LU with that order), then LU with the pivot order of the
-    /// last factorisation with pivoting, then a new factorisation with pivoting. A
-    /// refactorisation is accepted when its pivots are not small ([`MIN_PIVOT_RATIO`], or all
-    /// positive for L D Lᵀ) or else when its solution is accurate ([`MAX_LINEAR_RESIDUAL`]).
-    pub(crate) fn solve(&mut self, vals: &[f64], rhs: &mut [f64]) -> Result<(), ()> {
-        debug_assert_eq!(vals.len(), self.src.len());
-        self.csc_current = false;
-        let b = rhs.to_vec();
-        let bn = norm2(&b);
-        for try_diag in [true, false] {
-            let sym = try_diag && self.symmetric;
-            if sym {
-                gather_sum(&mut self.lower, &self.lower_ptr, &self.lower_src, vals);
-            } else {
-                self.gather_csc(vals);
-            }
-            let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
-            let lu = if try_diag {
-                match &mut self.diag {
-                    Some(d) => d,
-                    None => continue,
-                }
-            } else if self.have_pivots {
-                &mut self.lu
-            } else {
-                continue;
-            };
-            let r = if sym {
-                lu.refactor_symmetric(&self.lower)
-            } else {
-                lu.refactor(cp, ri, v)
-            };
-            let Ok(ratio) = r else {
-                continue;
-            };
-            rhs.copy_from_slice(&b);
-            lu.solve(rhs);
-            self.used = if try_diag { 1 } else { 2 };
-            if ratio >= MIN_PIVOT_RATIO {
-                return Ok(());
-            }
-            // small pivots: accept an accurate solution
-            if !self.csc_current {
-                self.gather_csc(vals);
-            }
-            let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
-            let (res, _) = crate::math::sparse_lu::csc_residual(cp, ri, v, rhs, &b);
-            // accurate for this right-hand side only: not kept for `solve_again`
-            self.used = 0;
-            if norm2(&res) <= MAX_LINEAR_RESIDUAL * bn {
-                return Ok(());
-            }
-        }
-        // factor with pivoting again
-        if !self.csc_current {
-            self.gather_csc(vals);
-        }
-        let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
-        self.have_pivots = false;
-        self.used = 0;
-        if self.lu.factor(cp, ri, v).is_err() {
-            return Err(());
-        }
-        self.have_pivots = true;
-        rhs.copy_from_slice(&b);
-        self.lu.solve(rhs);
-        self.used = 2;
-        Ok(())
-    }
-
-    /// Whether [`KktSolver::solve_again`] has a factorisation to use.
-    pub(crate) fn reusable(&self) -> bool {
-        self.used != 0
-    }
-
-    /// Solve with the factorisation of the last successful [`KktSolver::solve`] whose pivots
-    /// were all sound (a modified Newton iteration); `Err` when there is none.
-    pub(crate) fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), ()> {
-        match self.used {
-            1 => match &mut self.diag {
-                Some(d) => d.solve(rhs),
-                None => return Err(()),
-            },
-            2 => self.lu.solve(rhs),
-            _ => return Err(()),
-        }
-        Ok(())
-    }
-
-    /// The CSC values of the matrix with entries `vals`.
-    fn gather_csc(&mut self, vals: &[f64]) {
-        gather_sum(&mut self.values, &self.src_ptr, &self.src, vals);
-        self.csc_current = true;
-    }
-}
-
-/// out[k] = Σ vals[src[ptr[k]..ptr[k + 1]]] (in parallel).
-fn gather_sum(out: &mut [f64], ptr: &[usize], src: &[u32], vals: &[f64]) {
-    const CHUNK: usize = 4096;
-    out.par_chunks_mut(CHUNK)
-        .enumerate()
-        .for_each(|(c, chunk)| {
-            for (o, v) in chunk.iter_mut().enumerate() {
-                let k = c * CHUNK + o;
-                *v = src[ptr[k]..ptr[k + 1]]
-                    .iter()
-                    .map(|&i| vals[i as usize])
-                    .sum();
-            }
-        });
-}
-
-fn norm2(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-/// Largest accepted ‖K z − b‖/‖b‖ of a solution from a refactorisation with small pivots.
-const MAX_LINEAR_RESIDUAL: f64 = 1e-6;
-
-/// Refactoring with the previous pivots is accepted when every pivot is at least this fraction
-/// of the largest entry of its column (threshold partial pivoting); otherwise the matrix is
-/// factored with pivoting again.
-const MIN_PIVOT_RATIO: f64 = 1e-3;
-
-/// A Newton solve is abandoned (and the load step halved) when the residual exceeds this factor
-/// times the largest of its initial residual and the residual after the first iteration.
-const DIVERGENCE: f64 = 1e3;
-
-/// Smallest line-search step before a step is taken anyway.
-const MIN_STEP: f64 = 1.0 / 16.0;
-
-/// Outcome of one Newton solve.
-enum Newton {
-    /// Converged; `state` is the assembly at the solution.
-    Converged {
-        iterations: usize,
-        residual: f64,
-        state: Box<Assembled>,
-    },
-    Failed {
-        reason: String,
-    },
-}
-
-fn newton(
-    model: &Model,
-    su: &Setup,
-    opts: &StaticOptions,
-    x: &mut [f64],
-    mu: &mut [f64],
-    t: f64,
-    kkt: &mut Option<KktSolver>,
-    prev: Option<Box<Assembled>>,
-) -> Newton {
-    let (nf, nk) = (su.nf, su.nk);
-    let red = &su.red;
-    normalise_lambda(su, x);
-    // `prev`: the reduced assembly at this x and μ for another load factor (the last
-    // converged state): only its load part changes
-    let mut a = match prev {
-        Some(mut p) if p.reduced => {
-            apply_loads(model, su, x, mu, t, Part::Full, &mut p);
-            *p
-        }
-        _ => assemble_values(model, su, x, mu, t, Part::Full, true, Vec::new()),
-    };
-    solve_single_multipliers(su, x, mu, &mut a);
-    let mut last_inc = f64::INFINITY;
-    // reference stiffness: the largest diagonal entry of the tangent (translations only: the
-    // Euler-parameter entries are in other units)
-    let n_el = red.n_entries;
-    let k_ref = red
-        .diag_trans
-        .iter()
-        .map(|&i| a.vals[i])
-        .chain(
-            a.tail
-                .iter()
-                .zip(&a.vals[n_el..])
-                .filter(|((r, c), _)| r == c && *r < red.nfr && red.is_trans[*r])
-                .map(|(_, v)| *v),
-        )
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let scale_inc = |dx: &[f64]| -> f64 {
-        let mut m: f64 = 0.0;
-        for i in 0..model.nx {
-            if let Some(u) = su.unknown[i] {
-                let v = if su.is_lambda[i] {
-                    dx[u].abs()
-                } else {
-                    dx[u].abs() / su.l_ref
-                };
-                m = m.max(v);
-            }
-        }
-        m
-    };
-    let mut r_start: f64 = 0.0;
-    for it in 0..=opts.max_iterations {
-        let (rn, gn) = (inf_norm(&a.r), inf_norm(&a.g));
-        if !(rn.is_finite() && gn.is_finite()) {
-            return Newton::Failed {
-                reason: "the residual is not finite".into(),
-            };
-        }
-        // the residual cannot be smaller than the backward error of evaluating internal forces
-        // from positions of size l_ref: about ε ‖K‖ l_ref (factor 10 for the sums)
-        let floor = 10.0 * f64::EPSILON * k_ref * su.l_ref;
-        let force_ok = rn <= (opts.tol_force * a.f_scale).max(floor) || rn == 0.0;
-        let geom_ok = gn <= opts.tol_disp * su.l_ref;
-        if force_ok && geom_ok && (last_inc <= opts.tol_disp || it == 0 && rn == 0.0 && gn == 0.0) {
-            return Newton::Converged {
-                iterations: it,
-                residual: rn,
-                state: Box::new(a),
-            };
-        }
-        if it == opts.max_iterations {
-            return Newton::Failed {
-                reason: format!("{it} iterations, residual {rn:.3e} N, constraint error {gn:.3e}"),
-            };
-        }
-        // divergence: the residual grew far beyond those of the start and of the first Newton
-        // step (the first step may raise it a lot, e.g. by stretching axially stiff elements);
-        // give up early so that the step is halved instead of spending all iterations
-        if it <= 1 {
-            r_start = r_start.max(rn);
-        } else if rn > DIVERGENCE * r_start.max(floor) {
-            return Newton::Failed {
-                reason: format!(
-                    "diverging: residual {rn:.3e} N after {it} iterations (at most {r_start:.3e} N at the start)"
-                ),
-            };
-        }
-        // Newton direction from the KKT system (structure and symbolic LU reused)
-        if kkt.is_none() {
-            match KktSolver::new(su, &a.tail) {
-                Ok(k) => *kkt = Some(k),
-                Err(reason) => return Newton::Failed { reason },
-            }
-        }
-        let solver = kkt.as_mut().expect("created above");
-        // reduced right-hand side: −r on kept unknowns, −Nᵀ r_λ on the rotations of reduced
-        // nodes, −g on kept constraints
-        let mut dr = vec![0.0; red.n];
-        for (u, m) in red.map.iter().enumerate() {
-            if let Some(m) = *m {
-                dr[m] = if u < nf { -a.r[u] } else { -a.g[u - nf] };
-            }
-        }
-        for &(r, d0, _) in &red.nodes {
-            let nb = rot_basis(&x[r..r + 4]);
-            let rl: [f64; 4] = std::array::from_fn(|i| a.r[su.unknown[r + i].expect("free λ")]);
-            for j in 0..3 {
-                dr[d0 + j] = -(0..4).map(|i| nb[i][j] * rl[i]).sum::<f64>();
-            }
-        }
-        if solver.solve(&a.vals, &mut dr).is_err() || dr.iter().any(|v| !v.is_finite()) {
-            return Newton::Failed {
-                reason: "the tangent matrix is singular (a mechanism, or a buckled state)".into(),
-            };
-        }
-        // back to the full increment: Δλ = N δ, and the multiplier of the normalisation from
-        // its row of the full system, λᵀ(K Δx + 2 λ Δμ + r)_λ = 0, which by the invariance of
-        // the deformations and of the moment loads under scaling of λ reads
-        // μ + Δμ = (r_λ − 2μλ)·Δλ / (2 λᵀλ)
-        let mut dz = vec![0.0; nf + nk];
-        for (u, m) in red.map.iter().enumerate() {
-            if let Some(m) = *m {
-                dz[u] = dr[m];
-            }
-        }
-        for &(r, d0, kc) in &red.nodes {
-            let nb = rot_basis(&x[r..r + 4]);
-            let (mut work, mut l2) = (0.0, 0.0);
-            let sc = chord_consistent_scale((0..3).map(|j| dr[d0 + j] * dr[d0 + j]).sum());
-            for i in 0..4 {
-                let u = su.unknown[r + i].expect("free λ");
-                let dl: f64 = (0..3).map(|j| nb[i][j] * dr[d0 + j]).sum();
-                dz[u] = sc * dl;
-                work += (a.r[u] - 2.0 * mu[kc] * x[r + i]) * dl;
-                l2 += x[r + i] * x[r + i];
-            }
-            dz[nf + kc] = work / (2.0 * l2) - mu[kc];
-        }
-        // backtracking line search on the merit ‖r‖² + (k_ref ‖g‖)², k_ref a stiffness that
-        // gives the constraint violation force units
-        let merit = |a: &Assembled| {
-            let r2: f64 = a.r.iter().map(|v| v * v).sum();
-            let g2: f64 = a.g.iter().map(|v| v * v).sum();
-            r2 + k_ref * k_ref * g2
-        };
-        let m0 = merit(&a);
-        let mut spare = std::mem::take(&mut a.vals);
-        let mut alpha = 1.0;
-        let (x_old, mu_old) = (x.to_vec(), mu.to_vec());
-        loop {
-            for i in 0..model.nx {
-                if let Some(u) = su.unknown[i] {
-                    x[i] = x_old[i] + alpha * dz[u];
-                }
-            }
-            for k in 0..nk {
-                mu[k] = mu_old[k] + alpha * dz[nf + k];
-            }
-            normalise_lambda(su, x);
-            let mut trial = assemble_values(model, su, x, mu, t, Part::Full, true, spare);
-            solve_single_multipliers(su, x, mu, &mut trial);
-            let m = merit(&trial);
-            // accept a decrease, or the smallest step tried
-            if !opts.line_search || (m.is_finite() && m < m0) || alpha < MIN_STEP {
-                a = trial;
-                break;
-            }
-            spare = std::mem::take(&mut trial.vals);
-            alpha *= 0.5;
-        }
-        last_inc = alpha * scale_inc(&dz[..nf]);
-    }
-    unreachable!("the loop returns at it == max_iterations")
-}
-
-/// [`solve`] with `steps` load steps and default settings otherwise, no progress (tests).
-#[cfg(test)]
-pub(crate) fn solve_steps(model: &Model, steps: usize) -> Result<StaticSolution, SolveError> {
-    solve(
-        model,
-        &StaticOptions {
-            steps,
-            ..Default::default()
-        },
-        |_, _| {},
-    )
-}
-
-/// The last step of [`solve_steps`], which must converge (tests).
-#[cfg(test)]
-pub(crate) fn last_step(model: &Model, steps: usize) -> StepResult {
-    let mut sol = solve_steps(model, steps).expect("the static solution converges");
-    sol.steps.pop().expect("at least one step")
-}
-
-/// A static analysis: the equilibrium path and the linearised results at every step.
-#[derive(Clone, Debug)]
-pub struct StaticAnalysis {
-    /// The equilibrium at every load step.
-    pub solution: StaticSolution,
-    /// The linearised results at every step (same order; empty entries when none were asked).
-    pub linear: Vec<linear::StepLinear>,
-}
-
-/// The static analysis of a model: [`solve`] over the load steps, then the linearised results
-/// `req` (compliance, buckling, stability) at every step, in parallel over the steps.
-pub fn analyse(
-    model: &Model,
-    opts: &StaticOptions,
-    req: &linear::LinearRequest,
-    progress: impl FnMut(usize, usize),
-) -> Result<StaticAnalysis, SolveError> {
-    let solution = solve(model, opts, progress)?;
-    let linear = solution
-        .steps
-        .par_iter()
-        .map(|st| linear::at_step(model, st, req))
-        .collect();
-    Ok(StaticAnalysis { solution, linear })
-}
-
-/// Solve the static equilibrium over the load steps.
-pub fn solve(
-    model: &Model,
-    opts: &StaticOptions,
-    mut progress: impl FnMut(usize, usize),
-) -> Result<StaticSolution, SolveError> {
-    for (what, found, min, max) in [
-        ("steps", opts.steps, 0, MAX_STEPS),
-        ("max_iterations", opts.max_iterations, 0, MAX_ITERATIONS),
-    ] {
-        if !(min..=max).contains(&found) {
-            return Err(SolveError::BadOption {
-                what,
-                min,
-                max,
-                found,
-            });
-        }
-    }
-    let su = setup(model);
-    if su.nf == 0 && su.nk == 0 {
-        return Err(SolveError::NothingToSolve);
-    }
-    let mut x = model.x0();
-    let mut mu = vec![0.0; su.nk];
-    let mut kkt = None;
-    let steps = opts.steps.max(1);
-    let mut out = Vec::with_capacity(steps + 1);
-    // the step results from the assembly at the converged state
-    let record = |x: &[f64],
-                  mu: &[f64],
-                  a: &Assembled,
-                  t: f64,
-                  iterations,
-                  substeps,
-                  residual|
-     -> StepResult {
-        let mut reactions = vec![0.0; model.nx];
-        for i in 0..model.nx {
-            if model.partition.x[i] != CoordKind::Free {
-                reactions[i] = a.balance[i];
-            }
-        }
-        StepResult {
-            load_factor: t,
-            x: x.to_vec(),
-            e: a.e.clone(),
-            sigma: a.sigma.clone(),
-            reactions,
-            energy: a.energy,
-            iterations,
-            substeps,
-            residual,
-            multipliers: mu.to_vec(),
-        }
-    };
-    // step 0: the unloaded state (with prescribed values at t = 0)
-    // the assembly at the last converged state, reused by the next Newton solve when the
-    // prescribed coordinates leave x unchanged
-    let reuse = su.x_targets.is_empty();
-    apply_prescribed(model, &su, &mut x, 0.0);
-    let mut last = match newton(model, &su, opts, &mut x, &mut mu, 0.0, &mut kkt, None) {
-        Newton::Converged {
-            iterations,
-            residual,
-            state,
-        } => {
-            let st = record(&x, &mu, &state, 0.0, iterations, 1, residual);
-            let bad = non_finite_parts(&st);
-            if !bad.is_empty() {
-                return Err(SolveError::NonFinite {
-                    step: 0,
-                    load_factor: 0.0,
-                    what: bad.join(", "),
-                    last_good: None,
-                });
-            }
-            out.push(st);
-            Some(state)
-        }
-        Newton::Failed { reason } => {
-            return Err(SolveError::NoConvergence {
-                step: 0,
-                load_factor: 0.0,
-                last_converged: 0.0,
-                halvings: 0,
-                reason,
-            })
-        }
-    };
-    progress(0, steps);
-    let dt_nominal = 1.0 / steps as f64;
-    let mut t = 0.0;
-    let mut dt = dt_nominal;
-    let mut prev_x: Option<(Vec<f64>, f64)> = None; // previous converged x and its step size
-    for step in 1..=steps {
-        let t_end = step as f64 * dt_nominal;
-        let (mut iterations, mut substeps, mut halvings) = (0, 0, 0);
-        let mut residual = 0.0;
-        while t < t_end - 1e-14 {
-            let t_try = (t + dt).min(t_end);
-            let (x_save, mu_save) = (x.clone(), mu.clone());
-            // predictor: secant extrapolation of the free coordinates, only when coordinates
-            // are prescribed (otherwise the prescribed ones would move alone). Under loads
-            // alone the first Newton step from the converged state is the tangent predictor,
-            // and extrapolating positions and Euler parameters along straight lines would turn
-            // chords and node triads by different angles (third order in the step): on fine
-            // meshes the resulting spurious bending (∝ EI/l0³) makes Newton diverge.
-            if let (Some((xp, dtp)), false) = (&prev_x, su.x_targets.is_empty()) {
-                let s = (t_try - t) / dtp;
-                for i in 0..model.nx {
-                    if su.unknown[i].is_some() {
-                        x[i] += s * (x_save[i] - xp[i]);
-                    }
-                }
-            }
-            apply_prescribed(model, &su, &mut x, t_try);
-            let prev = if reuse { last.take() } else { None };
-            let mut result = newton(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev);
-            let mut inverted: Option<String> = None;
-            if matches!(result, Newton::Converged { .. }) {
-                if let Some(name) = inverted_element(model, &x, &x_save) {
-                    result = Newton::Failed {
-                        reason: format!("element `{name}` inverted"),
-                    };
-                    inverted = Some(name);
-                }
-            }
-            match result {
-                Newton::Converged {
-                    iterations: it,
-                    residual: r,
-                    state: a,
-                } => {
-                    iterations += it;
-                    substeps += 1;
-                    residual = r;
-                    last = Some(a);
-                    prev_x = Some((x_save, t_try - t));
-                    t = t_try;
-                    dt = (2.0 * dt).min(dt_nominal);
-                }
-                Newton::Failed { reason } => {
-                    x = x_save;
-                    mu = mu_save;
-                    halvings += 1;
-                    dt *= 0.5;
-                    if halvings > opts.max_halvings {
-                        if let Some(element) = inverted.take() {
-                            return Err(SolveError::Inverted {
-                                step,
-                                load_factor: t_try,
-                                last_converged: t,
-                                element,
-                            });
-                        }
-                        return Err(SolveError::NoConvergence {
-                            step,
-                            load_factor: t_try,
-                            last_converged: t,
-                            halvings: halvings - 1,
-                            reason,
-                        });
-                    }
-                }
-            }
-        }
-        let a = match last.take() {
-            Some(a) => a,
-            None => Box::new(assemble(model, &su, &x, &mu, t_end)),
-        };
-        let st = record(&x, &mu, &a, t_end, iterations, substeps, residual);
-        let bad = non_finite_parts(&st);
-        if !bad.is_empty() {
-            return Err(SolveError::NonFinite {
-                step,
-                load_factor: t_end,
-                what: bad.join(", "),
-                last_good: out.last().map(|s: &StepResult| s.load_factor),
-            });
-        }
-        out.push(st);
-        last = Some(a);
-        progress(step, steps);
-    }
-    Ok(StaticSolution {
-        roles: su.roles,
-        steps: out,
-    })
 }
 
 /// The linearised problem at a converged state in the reduced unknowns of the Newton system
@@ -2461,6 +1845,18 @@ fn deformation_change(entry: &crate::model::ElementEntry, d: &Mat<f64>, dx: &[f6
 }
 
 pub mod linear;
+mod newton;
+mod path;
+
+/// The sparse Newton matrix of statics (`newton.rs`), also for other analyses of the crate.
+pub(crate) use newton::KktSolver;
+use newton::{newton, Newton};
+
+pub use path::{analyse, solve, solve_path, StaticAnalysis, Stopped};
+
+mod arc;
+#[cfg(test)]
+pub(crate) use path::{last_step, solve_steps};
 
 #[cfg(test)]
 mod tests;

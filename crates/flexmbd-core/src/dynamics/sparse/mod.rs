@@ -90,6 +90,11 @@ pub(crate) struct SparseModes {
     /// node in uᵀ M u (the same split as in x: the rotation increments of a node map onto its
     /// own Euler parameters only).
     pub kinetic: Vec<NodeKinetic>,
+    /// Number of rigid-body modes at the start of `eigenvalues` (`rigid` module).
+    pub rigid: usize,
+    /// When the listed eigenvalues show no gap of their own: the number of eigenvalues below
+    /// the probe shift of the `rigid` module, by the inertia.
+    pub below_gap: Option<usize>,
 }
 
 /// Kinetic energy of one mode per node: (translation, rotation).
@@ -101,7 +106,7 @@ pub(crate) fn sparse_modes(
     step: &StepResult,
     count: usize,
 ) -> Result<SparseModes, ModalError> {
-    modes_of(&Problem::new(model, step), model, step, count)
+    rigid::modes_listing_rigid(&Problem::new(model, step), model, step, count)
 }
 
 /// A static field δx (length nx) with the multipliers of every constraint row.
@@ -170,7 +175,7 @@ impl SparseProblem {
         self.0.nc
     }
 
-    /// δx = K⁻¹ f of each load in x (module `sparse_static`).
+    /// δx = K⁻¹ f of each load in x (module `static_solve`).
     pub(crate) fn static_responses(
         &self,
         model: &Model,
@@ -258,6 +263,8 @@ fn modes_of(
             ndof,
             massless,
             kinetic: Vec::new(),
+            rigid: 0,
+            below_gap: None,
         });
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
@@ -385,14 +392,19 @@ fn modes_of(
         shapes.push(s);
         kinetic.push(t);
     }
+    let below_gap = rigid::probe(p, &mut op, sigma, lambda_ref, &eigenvalues, n_finite);
     Ok(SparseModes {
+        rigid: rigid::count(&eigenvalues, below_gap),
         eigenvalues,
         shapes,
         ndof,
         massless,
         kinetic,
+        below_gap,
     })
 }
+
+mod rigid;
 
 mod static_solve;
 use static_solve::{saddle_solutions, static_responses};

@@ -11,7 +11,7 @@ use crate::section::{BeamProps, Material, Shape};
 use crate::statics::{last_step, StepResult};
 
 fn run(model: &Model, step: &StepResult, count: usize, solver: EigenSolver) -> Modal {
-    let m = modes_with(model, step, count, &ModalOptions { solver }).unwrap();
+    let m = modes_with(model, step, count, &ModalOptions::with_solver(solver)).unwrap();
     assert_eq!(m.solver, solver);
     m
 }
@@ -470,7 +470,7 @@ fn massless_mechanism_and_no_mass_are_errors() {
     let model = b.build().unwrap();
     let step = last_step(&model, 1);
     let solver = EigenSolver::Sparse;
-    match modes_with(&model, &step, 4, &ModalOptions { solver }) {
+    match modes_with(&model, &step, 4, &ModalOptions::with_solver(solver)) {
         Err(e @ ModalError::MasslessMechanism { .. }) => {
             let text = e.to_string();
             assert!(text.contains("loose") && text.contains("Give them mass or fix them"));
@@ -495,9 +495,7 @@ fn massless_mechanism_and_no_mass_are_errors() {
         &model,
         &step,
         2,
-        &ModalOptions {
-            solver: EigenSolver::Sparse,
-        },
+        &ModalOptions::with_solver(EigenSolver::Sparse),
     );
     assert!(matches!(e, Err(ModalError::NoMass)), "{e:?}");
 }
@@ -522,9 +520,7 @@ fn automatic_choice_and_eigenvalues_only() {
     assert_eq!(auto.resolve(&large, 10), EigenSolver::Sparse);
     // most of the spectrum: dense
     assert_eq!(auto.resolve(&large, usize::MAX), EigenSolver::Dense);
-    let forced = ModalOptions {
-        solver: EigenSolver::Sparse,
-    };
+    let forced = ModalOptions::with_solver(EigenSolver::Sparse);
     assert_eq!(forced.resolve(&small, usize::MAX), EigenSolver::Sparse);
     let step = last_step(&large, 1);
     let lam = eigenvalues_with(&large, &step, 5, &auto).unwrap();
@@ -560,9 +556,7 @@ fn dense_path_resolves_thin_strips_or_says_it_cannot() {
         &model,
         &step,
         3,
-        &ModalOptions {
-            solver: EigenSolver::Dense,
-        },
+        &ModalOptions::with_solver(EigenSolver::Dense),
     )
     .unwrap_err();
     assert!(matches!(err, ModalError::DenseInaccurate { .. }), "{err}");

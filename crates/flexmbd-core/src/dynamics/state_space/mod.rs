@@ -93,6 +93,11 @@ pub struct StateSpaceOptions {
     /// with the static correction on more than [`crate::dynamics::SPARSE_THRESHOLD`] degrees of
     /// freedom; dense (all modes, massless directions condensed exactly) otherwise.
     pub solver: EigenSolver,
+    /// Memory limit of the dense state space in bytes
+    /// ([`super::dense_size::dense_bytes`]): above it the dense path stops with
+    /// [`crate::dynamics::ModalError::TooLarge`] before its matrices are allocated. Default
+    /// [`crate::linalg::DEFAULT_MAX_DENSE_BYTES`].
+    pub max_dense_bytes: u64,
 }
 
 /// [`EigenSolver::Auto`] builds a state space of all modes densely up to this many degrees of
@@ -106,6 +111,7 @@ impl Default for StateSpaceOptions {
             modes: None,
             static_correction: false,
             solver: EigenSolver::Auto,
+            max_dense_bytes: crate::linalg::DEFAULT_MAX_DENSE_BYTES,
         }
     }
 }
@@ -144,6 +150,7 @@ pub fn state_space_with_motions(
         };
         return build_sparse(model, step, inputs, motions, outputs, count, opts);
     }
+    check_dense_size(model, opts)?;
     let lin = linearize(model, step);
     let red = reduced_matrices_with(model, step, &lin)?;
     build(model, step, &red, inputs, motions, outputs, opts)
@@ -160,6 +167,15 @@ pub fn uses_sparse(model: &Model, opts: &StateSpaceOptions) -> bool {
         }
         s => s == EigenSolver::Sparse,
     }
+}
+
+/// The size guard of the dense state space: [`crate::dynamics::ModalError::TooLarge`] when the options choose
+/// the dense path and its matrices would exceed `opts.max_dense_bytes`.
+pub fn check_dense_size(model: &Model, opts: &StateSpaceOptions) -> Result<(), StateSpaceError> {
+    if !uses_sparse(model, opts) {
+        super::dense_size::check_dense_modal(model, opts.max_dense_bytes, true)?;
+    }
+    Ok(())
 }
 
 /// Validate the options and the input/output counts.

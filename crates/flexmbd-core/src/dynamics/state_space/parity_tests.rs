@@ -30,6 +30,7 @@ fn compare(
         modes,
         static_correction: true,
         solver,
+        ..Default::default()
     };
     let dense = state_space_with_motions(
         model,

@@ -12,6 +12,7 @@ fn opts(solver: EigenSolver, modes: usize, static_correction: bool) -> StateSpac
         modes: Some(modes),
         static_correction,
         solver,
+        ..Default::default()
     }
 }
 

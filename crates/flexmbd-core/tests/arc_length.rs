@@ -1,0 +1,371 @@
+//! Arc-length path following (issue 17, item 1) against closed forms: the shallow two-bar
+//! (von Mises) truss through both limit points under load control, and with a soft spring in
+//! series, through a snap-back of the loaded end that displacement control cannot follow.
+
+mod common;
+
+use flexmbd_core::model::{Dof, ElementSpec, ModelBuilder};
+use flexmbd_core::statics::{solve_path, PathEvent, PathMethod, StaticOptions, StaticSolution};
+use flexmbd_core::Model;
+
+/// Half span, rise [m] and axial stiffness EA [N] of the truss; the load at full load [N].
+const A: f64 = 1.0;
+const H: f64 = 0.1;
+const EA: f64 = 1e6;
+const P: f64 = 1000.0;
+
+/// The truss's vertical load at the apex height y, from the equilibrium of the apex with the
+/// axial forces N = EA (L − L0)/L0 of the bars (L = √(a² + y²), the truss element's law):
+/// P(y) = −2 N y/L = 2 EA (y/L − y/L0).
+fn load_at(y: f64) -> f64 {
+    let (l, l0) = ((A * A + y * y).sqrt(), (A * A + H * H).sqrt());
+    2.0 * EA * (y / l - y / l0)
+}
+
+/// The two limit points: dP/dy = 2 EA (a²/L³ − 1/L0) = 0 at L = (a² L0)^⅓, y = ±√(L² − a²).
+fn limit_height() -> f64 {
+    let l0 = (A * A + H * H).sqrt();
+    let l = (A * A * l0).cbrt();
+    (l * l - A * A).sqrt()
+}
+
+/// The truss in the x-y plane: supports at (±a, 0), apex c at (0, h) free in x and y; with a
+/// spring (a truss of stiffness k and length ls) from c up to the loaded node q, free in y
+/// only, when `spring` is given; the load −P along y on the loaded node, or its displacement
+/// `stroke` prescribed instead.
+fn truss(spring: Option<(f64, f64)>, stroke: Option<f64>) -> Model {
+    let mut b = ModelBuilder::new("von Mises truss");
+    b.add_node("a", [-A, 0.0, 0.0], false).unwrap();
+    b.add_node("b", [A, 0.0, 0.0], false).unwrap();
+    b.add_node("c", [0.0, H, 0.0], false).unwrap();
+    b.fix("a", None).unwrap();
+    b.fix("b", None).unwrap();
+    b.fix("c", Some(&[Dof::Z])).unwrap();
+    for (name, end) in [("ac", "a"), ("bc", "b")] {
+        b.add_element(name, &[end, "c"], ElementSpec::Truss { ea: EA }, &[], &[])
+            .unwrap();
+    }
+    let loaded = match spring {
+        Some((k, ls)) => {
+            b.add_node("q", [0.0, H + ls, 0.0], false).unwrap();
+            b.fix("q", Some(&[Dof::X, Dof::Z])).unwrap();
+            b.add_element(
+                "s",
+                &["c", "q"],
+                ElementSpec::Truss { ea: k * ls },
+                &[],
+                &[],
+            )
+            .unwrap();
+            "q"
+        }
+        None => "c",
+    };
+    match stroke {
+        Some(v) => b.prescribe_coordinate(loaded, Dof::Y, v).unwrap(),
+        None => b.add_load(loaded, [0.0, -P, 0.0], [0.0; 3]).unwrap(),
+    }
+    b.build().unwrap()
+}
+
+fn arc(model: &Model, steps: usize) -> StaticSolution {
+    let opts = StaticOptions {
+        steps,
+        path: PathMethod::ArcLength,
+        ..Default::default()
+    };
+    solve_path(model, &opts, |_, _| {}).expect("the path reaches the full load")
+}
+
+/// y of node `name` at every step.
+fn heights(model: &Model, sol: &StaticSolution, name: &str) -> Vec<f64> {
+    let i = model.nodes[model.node_id(name).unwrap()].ix_pos + 1;
+    sol.steps.iter().map(|s| s.x[i]).collect()
+}
+
+#[test]
+fn von_mises_truss_through_both_limit_points() {
+    let model = truss(None, None);
+    let sol = arc(&model, 40);
+    let y = heights(&model, &sol, "c");
+    let n = sol.steps.len();
+    assert_eq!(sol.path.len(), n);
+    // every point of the path on the closed-form path
+    for (st, &y) in sol.steps.iter().zip(&y) {
+        let want = load_at(y);
+        assert!(
+            (st.load_factor * P - want).abs() < 1e-7 * EA * H * H * H,
+            "y = {y}: P = {} vs {want}",
+            st.load_factor * P
+        );
+    }
+    // from the unloaded state to the full load on the far branch, through y = 0
+    assert_eq!(sol.steps[n - 1].load_factor, 1.0);
+    assert!(y[n - 1] < -limit_height() && y.iter().any(|&v| v.abs() < 0.2 * H));
+    // both limit points found, each at the sampled extreme of the load: P_max = P(y*) and
+    // −P_max = P(−y*)
+    let p_max = load_at(limit_height());
+    let limits: Vec<(usize, f64)> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::LimitPoint { step, load_factor } => Some((step, load_factor)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(limits.len(), 2, "{:?}", sol.events);
+    assert!(
+        (limits[0].1 * P - p_max).abs() < 0.01 * p_max,
+        "{limits:?} {p_max}"
+    );
+    assert!(
+        (limits[1].1 * P + p_max).abs() < 0.01 * p_max,
+        "{limits:?} {p_max}"
+    );
+    // no load on the unstable branch beyond them
+    let (i0, i1) = (limits[0].0, limits[1].0);
+    assert!(sol.steps[i0..=i1]
+        .iter()
+        .all(|s| s.load_factor.abs() <= limits[0].1.max(-limits[1].1)));
+    // stability from the inertia: stable outside the limit points, one unstable direction
+    // between them (y* > y > −y*; points within 10 % of y* of a limit point left out)
+    let ys = limit_height();
+    for (p, &y) in sol.path.iter().zip(&y) {
+        if (y.abs() - ys).abs() < 0.1 * ys {
+            continue;
+        }
+        let want = if y.abs() < ys { 1 } else { 0 };
+        assert_eq!(p.unstable_directions, Some(want), "y = {y}");
+    }
+    // the path parameter grows
+    assert!(sol
+        .path
+        .windows(2)
+        .all(|w| w[1].arc_length > w[0].arc_length));
+}
+
+#[test]
+fn a_snap_back_that_displacement_control_cannot_follow() {
+    // a spring of k = 2000 N/m (ls = 1 m) in series: softer than the steepest unstable slope
+    // of the truss, max dP/dy = 2 EA (1/a − 1/L0) = 9950 N/m at y = 0, so the loaded end q
+    // (y_q = y_c + ls (1 − P/(k ls)), the spring's law) moves back up while the apex snaps
+    let (k, ls) = (2000.0, 1.0);
+    let model = truss(Some((k, ls)), None);
+    let sol = arc(&model, 40);
+    let (yc, yq) = (heights(&model, &sol, "c"), heights(&model, &sol, "q"));
+    for ((st, &c), &q) in sol.steps.iter().zip(&yc).zip(&yq) {
+        let p = st.load_factor * P;
+        assert!((p - load_at(c)).abs() < 1e-7 * EA * H * H * H, "y_c = {c}");
+        assert!(
+            (q - (c + ls * (1.0 - p / (k * ls)))).abs() < 1e-9,
+            "y_q = {q}"
+        );
+    }
+    assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
+    // the snap-back: q first goes down, then back up, then down again
+    let turns = yq
+        .windows(3)
+        .filter(|w| (w[1] - w[0]) * (w[2] - w[1]) < 0.0)
+        .count();
+    assert!(turns >= 2, "{yq:?}");
+    let q_low = yq.iter().cloned().fold(f64::INFINITY, f64::min);
+    let q_turn = yq
+        .windows(3)
+        .find(|w| w[1] < w[0] && w[2] > w[1])
+        .map(|w| w[1])
+        .expect("q turns back");
+    // displacement control of q down to the same end point: y_q is the step variable, so it
+    // cannot follow the path where y_q turns back; it stops at the first turn of q (or jumps
+    // across the states between the turns within one step)
+    let end = *yq.last().unwrap() - (H + ls);
+    let stroke = truss(Some((k, ls)), Some(end));
+    let opts = StaticOptions {
+        steps: 200,
+        ..Default::default()
+    };
+    let gap = |y: &[f64]| {
+        y.windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0f64, f64::max)
+    };
+    match solve_path(&stroke, &opts, |_, _| {}) {
+        Ok(s) => assert!(gap(&heights(&stroke, &s, "c")) > 0.1 * H),
+        Err(s) => {
+            let yq_stroke = heights(&stroke, &s.analysis.solution, "q");
+            let last = *yq_stroke.last().unwrap();
+            assert!((last - q_turn).abs() < 0.01 * ls, "{last} vs {q_turn}");
+        }
+    }
+    // the arc-length path goes on in small steps of the apex, and q comes back down below its
+    // turn
+    assert!(gap(&yc) < 0.2 * H, "{}", gap(&yc));
+    assert!(q_low < q_turn);
+}
+
+/// The vertex (x, y) of the parabola through three points.
+fn vertex(p: [(f64, f64); 3]) -> (f64, f64) {
+    let [(x0, y0), (x1, y1), (x2, y2)] = p;
+    // divided differences: y = y0 + d1 (x − x0) + d2 (x − x0)(x − x1)
+    let d1 = (y1 - y0) / (x1 - x0);
+    let d2 = ((y2 - y1) / (x2 - x1) - d1) / (x2 - x0);
+    let x = 0.5 * (x0 + x1) - d1 / (2.0 * d2);
+    (x, y0 + d1 * (x - x0) + d2 * (x - x0) * (x - x1))
+}
+
+#[test]
+fn s05_toggle_under_load_control_by_arc_length() {
+    // validation.md S05: P_max = 33.870 lbf at δ = 0.2325 in, then the minimum 31.282 lbf at
+    // δ = 0.3925 in (loads ±0.5 %, deflections ±3 %); at 40 lbf the frame has snapped through:
+    // between δ = 0.5 in (36.097 lbf) and 0.6 in (53.313 lbf)
+    let model = common::toggle_under_load(40.0);
+    let sol = arc(&model, 40);
+    let iy = model.nodes[model.node_id("n20").unwrap()].ix_pos + 1;
+    let pts: Vec<(f64, f64)> = sol
+        .steps
+        .iter()
+        .map(|s| (0.386 - s.x[iy], 40.0 * s.load_factor))
+        .collect();
+    let limits: Vec<usize> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::LimitPoint { step, .. } => Some(step),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(limits.len(), 2, "{:?}", sol.events);
+    let at = |k: usize| vertex([pts[k - 1], pts[k], pts[k + 1]]);
+    let (d_max, p_max) = at(limits[0]);
+    assert!((p_max - 33.870).abs() < 5e-3 * 33.870, "P_max {p_max}");
+    assert!((d_max - 0.2325).abs() < 0.03 * 0.2325, "δ at P_max {d_max}");
+    let (d_min, p_min) = at(limits[1]);
+    assert!((p_min - 31.282).abs() < 5e-3 * 31.282, "P_min {p_min}");
+    assert!((d_min - 0.3925).abs() < 0.03 * 0.3925, "δ at P_min {d_min}");
+    let (d_end, p_end) = *pts.last().unwrap();
+    assert_eq!(p_end, 40.0);
+    assert!(d_end > 0.5 && d_end < 0.6, "{d_end}");
+    // stable up to the limit point, unstable between the limit points, stable after
+    for (k, p) in sol.path.iter().enumerate() {
+        if k + 1 < limits[0] || (k > limits[0] + 1 && k + 1 < limits[1]) || k > limits[1] + 1 {
+            let want = usize::from(k > limits[0] && k < limits[1]);
+            assert_eq!(p.unstable_directions, Some(want), "step {k}");
+        }
+    }
+}
+
+#[test]
+fn s05_toggle_under_a_stroke_by_arc_length() {
+    // the same frame with the apex deflection prescribed to 0.7 in (a stroke): the load is the
+    // reaction, P = −2 r_y; validation.md S05: P_max = 33.870 lbf at δ = 0.2325 in, P = 88.184
+    // lbf at 0.7 in (±0.5 %, δ ±3 %); the stroke itself never turns back: no limit point
+    let mut b = common::toggle_builder();
+    b.prescribe_coordinate("n20", Dof::Y, -0.7).unwrap();
+    let model = b.build().unwrap();
+    let iy = model.nodes[model.node_id("n20").unwrap()].ix_pos + 1;
+    let sol = arc(&model, 40);
+    assert!(sol.events.is_empty(), "{:?}", sol.events);
+    let pts: Vec<(f64, f64)> = sol
+        .steps
+        .iter()
+        .map(|s| (0.386 - s.x[iy], -2.0 * s.reactions[iy]))
+        .collect();
+    assert!(pts.windows(2).all(|w| w[1].0 > w[0].0));
+    let (d_end, p_end) = *pts.last().unwrap();
+    assert!((d_end - 0.7).abs() < 1e-12);
+    assert!((p_end - 88.184).abs() < 5e-3 * 88.184, "{p_end}");
+    // the largest load before the snap (δ < 0.35 in: the frame stiffens again after it)
+    let k = (1..pts.len() - 1)
+        .filter(|&k| pts[k].0 < 0.35)
+        .max_by(|&a, &b| pts[a].1.total_cmp(&pts[b].1))
+        .expect("a maximum before the snap");
+    let (d_max, p_max) = vertex([pts[k - 1], pts[k], pts[k + 1]]);
+    assert!((p_max - 33.870).abs() < 5e-3 * 33.870, "P_max {p_max}");
+    assert!((d_max - 0.2325).abs() < 0.03 * 0.2325, "δ at P_max {d_max}");
+}
+
+/// A column of length 1 m, EIy = 1 N·m² (EIz = 4, EA = 1e7: extensibility negligible), 20
+/// Euler–Bernoulli elements along x, clamped at x = 0, with the tip load (−p, 0, q).
+fn column(p: f64, q: f64) -> Model {
+    let props = flexmbd_core::section::BeamProps {
+        ea: 1e7,
+        gj: 1.0,
+        eiy: 1.0,
+        eiz: 4.0,
+        ..Default::default()
+    };
+    let mut b = ModelBuilder::new("column");
+    b.add_beam_chain(
+        "",
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        20,
+        Some([0.0, 1.0, 0.0]),
+        Some(props),
+    )
+    .unwrap();
+    b.fix("n0", None).unwrap();
+    b.add_load("n20", [-p, 0.0, q], [0.0; 3]).unwrap();
+    b.build().unwrap()
+}
+
+/// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut g) = (1.0f64, (1.0 - k * k).sqrt());
+    while (a - g).abs() > 1e-15 * a {
+        (a, g) = (0.5 * (a + g), (a * g).sqrt());
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
+
+#[test]
+fn a_column_into_post_buckling_bifurcates_and_follows_the_elastica() {
+    // Euler load of the cantilever column: P_cr = π² EI / (4 L²)
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    // the perfect column under 2 P_cr stays straight by symmetry, and the path passes the
+    // bifurcation at P_cr: one unstable direction from there (buckling about the weak axis)
+    let sol = arc(&column(2.0 * p_cr, 0.0), 40);
+    let bif: Vec<(f64, [usize; 2])> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                load_factor,
+                unstable,
+                ..
+            } => Some((load_factor, unstable)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    assert_eq!(bif[0].1, [0, 1]);
+    // the first step past P_cr: within one step (at most 1/40 of the load) above t = 1/2
+    assert!(bif[0].0 > 0.5 && bif[0].0 < 0.5 + 0.03, "{}", bif[0].0);
+    // with a small lateral load (1e-3 P_cr) the column bends smoothly into the elastica of the
+    // cantilever: P/P_cr = (2 K(k)/π)² with k = sin(α/2), α the tip rotation (Timoshenko &
+    // Gere §2.7), up to 3 P_cr (α about 2.6 rad)
+    let model = column(3.0 * p_cr, 1e-3 * p_cr);
+    let sol = arc(&model, 60);
+    let r = model.nodes[model.node_id("n20").unwrap()].ix_rot.unwrap();
+    let (mut far, mut alpha_max) = (0, 0.0f64);
+    for st in &sol.steps {
+        let l = &st.x[r..r + 4];
+        let alpha = 2.0
+            * (l[1] * l[1] + l[2] * l[2] + l[3] * l[3])
+                .sqrt()
+                .atan2(l[0].abs());
+        if alpha < 0.3 {
+            continue;
+        }
+        let want = (2.0 * elliptic_k((0.5 * alpha).sin()) / std::f64::consts::PI).powi(2);
+        let got = 3.0 * st.load_factor;
+        assert!(
+            (got - want).abs() < 0.01 * want,
+            "α = {alpha}: {got} vs {want}"
+        );
+        far += 1;
+        alpha_max = alpha_max.max(alpha);
+    }
+    // at 3 P_cr: 2K(k)/π = √3, k = 0.96, α = 2.6 rad
+    assert!(far > 10 && alpha_max > 2.5, "{far} {alpha_max}");
+    assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
+}
