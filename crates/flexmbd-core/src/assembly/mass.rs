@@ -5,7 +5,7 @@
 //! entries.
 
 use crate::elements::ElementKind;
-use crate::math::inertia::{lambda_body, lambda_velocity_force, node_inertia_block};
+use crate::math::inertia::{lambda_inertia_force, lambda_velocity_force, node_inertia_block};
 use crate::model::Model;
 use faer::Mat;
 
@@ -157,14 +157,9 @@ pub fn inertia_forces(model: &Model, x: &[f64], v: &[f64], a: &[f64]) -> Vec<f64
         let Some(r) = model.nodes[*node].ix_rot else {
             continue;
         };
-        let (l, ld, ldd) = (&x[r..r + 4], &v[r..r + 4], &a[r..r + 4]);
-        let lb = lambda_body(l);
-        let wd: [f64; 3] = std::array::from_fn(|i| (0..4).map(|c| lb[i][c] * ldd[c]).sum::<f64>());
-        let iw: [f64; 3] =
-            std::array::from_fn(|i| (0..3).map(|j| tensor[i][j] * wd[j]).sum::<f64>());
-        let h = lambda_velocity_force(l, ld, tensor);
+        let f = lambda_inertia_force(&x[r..r + 4], &v[r..r + 4], &a[r..r + 4], tensor);
         for c in 0..4 {
-            out[r + c] += 4.0 * (0..3).map(|i| lb[i][c] * iw[i]).sum::<f64>() + h[c];
+            out[r + c] += f[c];
         }
     }
     out

@@ -134,6 +134,22 @@ pub fn lambda_velocity_force(l: &[f64], ld: &[f64], i_body: &[[f64; 3]; 3]) -> [
     std::array::from_fn(|c| 4.0 * (0..3).map(|r| ldb[r][c] * iw[r]).sum::<f64>())
 }
 
+/// The inertia force on the Euler parameters of a body with the inertia tensor `i_body` in its
+/// own axes: 4 Λᵀ I Λ λ̈ + [`lambda_velocity_force`] (the mass block of [`lambda_block`] for
+/// unit λ, where Rᵀ Λ̄ = Λ, times λ̈, without forming it).
+pub fn lambda_inertia_force(
+    l: &[f64],
+    ld: &[f64],
+    ldd: &[f64],
+    i_body: &[[f64; 3]; 3],
+) -> [f64; 4] {
+    let lb = lambda_body(l);
+    let wd: [f64; 3] = std::array::from_fn(|r| (0..4).map(|c| lb[r][c] * ldd[c]).sum::<f64>());
+    let iw: [f64; 3] = std::array::from_fn(|r| dot(i_body[r], wd));
+    let h = lambda_velocity_force(l, ld, i_body);
+    std::array::from_fn(|c| 4.0 * (0..3).map(|r| lb[r][c] * iw[r]).sum::<f64>() + h[c])
+}
+
 /// The kinetic energy ½ ω_bᵀ I ω_b of a body with the inertia tensor `i_body` in its own axes,
 /// ω_b = 2 Λ(λ) λ̇ ([`lambda_velocity_force`]).
 pub fn lambda_kinetic_energy(l: &[f64], ld: &[f64], i_body: &[[f64; 3]; 3]) -> f64 {

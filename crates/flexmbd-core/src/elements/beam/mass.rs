@@ -22,8 +22,7 @@
 use super::Beam;
 use crate::elements::AccelerationField;
 use crate::math::inertia::{
-    d_rotated, lambda_block, lambda_body, lambda_velocity_force, rotated_tensor, second_rotated,
-    unit,
+    d_rotated, lambda_block, lambda_inertia_force, rotated_tensor, second_rotated, unit,
 };
 use crate::math::{cross, dot, rotate};
 use crate::section::BeamProps;
@@ -110,44 +109,8 @@ pub(crate) fn local_mass(
 ///
 /// `None` for a beam without mass data.
 pub(crate) fn velocity_forces(b: &Beam, xk: &[f64], vk: &[f64]) -> Option<[f64; 14]> {
-    let p = b.props.as_ref()?;
-    let ex = b.frame[0];
-    let mut h = [0.0; 14];
-    let ml = p.rho_a * b.l0;
-    // c of the two tangent terms, and their Jacobians
-    let ends = [(1usize, 3usize), (3, 10)];
-    let mut c = [[0.0; 3]; 4];
-    let mut jt = [[[0.0; 4]; 3]; 4];
-    for &(term, r0) in &ends {
-        let (l, ld) = (&xk[r0..r0 + 4], &vk[r0..r0 + 4]);
-        c[term] = second_rotated(l, ld, ex).map(|v| b.l0 * v);
-        jt[term] = d_rotated(l, ex);
-    }
-    let first_row = [0usize, 3, 7, 10];
-    for a in 0..4 {
-        // Σⱼ Hₐⱼ cⱼ (3-vector), then Jₐᵀ of it
-        let s: [f64; 3] =
-            std::array::from_fn(|k| ml * (0..4).map(|j| HERMITE[a][j] * c[j][k]).sum::<f64>());
-        let r0 = first_row[a];
-        if a % 2 == 0 {
-            for k in 0..3 {
-                h[r0 + k] += s[k];
-            }
-        } else {
-            for col in 0..4 {
-                h[r0 + col] += b.l0 * (0..3).map(|k| jt[a][k][col] * s[k]).sum::<f64>();
-            }
-        }
-    }
-    let identity = [1.0, 0.0, 0.0, 0.0];
-    let i_body = end_inertia(b, p, &identity);
-    for r0 in [3usize, 10] {
-        let f = lambda_velocity_force(&xk[r0..r0 + 4], &vk[r0..r0 + 4], &i_body);
-        for k in 0..4 {
-            h[r0 + k] += f[k];
-        }
-    }
-    Some(h)
+    // M ẍ + h at ẍ = 0
+    inertia_forces(b, xk, vk, &[0.0; 14])
 }
 
 /// The inertia forces M(x) ẍ + h(x, ẋ) of the beam at `xk` with rates `vk` and accelerations
@@ -194,13 +157,9 @@ pub(crate) fn inertia_forces(b: &Beam, xk: &[f64], vk: &[f64], ak: &[f64]) -> Op
     let i_body = end_inertia(b, p, &identity);
     for r0 in [3usize, 10] {
         let (l, ld, ldd) = (&xk[r0..r0 + 4], &vk[r0..r0 + 4], &ak[r0..r0 + 4]);
-        let lb = lambda_body(l);
-        // 4 Λᵀ I (Λ λ̈)
-        let wd: [f64; 3] = std::array::from_fn(|r| (0..4).map(|c| lb[r][c] * ldd[c]).sum::<f64>());
-        let iw: [f64; 3] = std::array::from_fn(|r| dot(i_body[r], wd));
-        let h = lambda_velocity_force(l, ld, &i_body);
+        let g = lambda_inertia_force(l, ld, ldd, &i_body);
         for c in 0..4 {
-            f[r0 + c] += 4.0 * (0..3).map(|r| lb[r][c] * iw[r]).sum::<f64>() + h[c];
+            f[r0 + c] += g[c];
         }
     }
     Some(f)
