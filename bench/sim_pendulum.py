@@ -41,6 +41,8 @@ def model_toml(n, t_end, dt, spatial=True):
         "[simulate]", f"t_end = {t_end}", f"dt = {dt}", 'step = "fixed"', f"output_step = {t_end}",
     ]
     if spatial:
+        # the pivot node starts at rest, as in the peer script (Exudyn's default)
+        lines += ["[[velocity]]", 'node = "p0"', "v = [0.0, 0.0, 0.0]"]
         for k in range(1, n + 1):
             x = L * k / n
             name = "p1" if k == n else f"s:{k}"

@@ -52,6 +52,10 @@ pub enum TimeFunction {
         /// Duration T of the run-up [s].
         duration: f64,
     },
+    /// The polynomial φ = c₀ + c₁ t + c₂ t² + … (coefficients from the constant term up): a
+    /// motion at constant acceleration is [x₀, v₀, a₀/2] (SPACAR's `INPUTX` with a position,
+    /// a velocity and an acceleration).
+    Polynomial(Vec<f64>),
 }
 
 /// What is wrong with a time function.
@@ -107,6 +111,12 @@ impl TimeFunction {
             Self::SpeedRamp { duration } => {
                 if !duration.is_finite() || *duration <= 0.0 {
                     return bad("a speed ramp needs a finite duration > 0");
+                }
+                Ok(())
+            }
+            Self::Polynomial(c) => {
+                if c.is_empty() || c.len() > 16 || !finite(c) {
+                    return bad("a polynomial needs 1 to 16 finite coefficients");
                 }
                 Ok(())
             }
@@ -185,6 +195,16 @@ impl TimeFunction {
                     (1.0 - c) / tt,
                 ]
             }
+            Self::Polynomial(c) => {
+                // Horner for φ, φ', φ'' together
+                let mut r = [0.0; 3];
+                for &ck in c.iter().rev() {
+                    r[2] = r[2] * t + 2.0 * r[1];
+                    r[1] = r[1] * t + r[0];
+                    r[0] = r[0] * t + ck;
+                }
+                r
+            }
         }
     }
 
@@ -222,7 +242,7 @@ impl TimeFunction {
     /// The times in (t0, t1) where φ or one of its first two derivatives jumps.
     pub fn kinks(&self, t0: f64, t1: f64) -> Vec<f64> {
         let all: Vec<f64> = match self {
-            Self::Constant | Self::Sine { .. } => Vec::new(),
+            Self::Constant | Self::Sine { .. } | Self::Polynomial(_) => Vec::new(),
             Self::Table(p) => p.iter().map(|q| q[0]).collect(),
             Self::Ramp { start, end } => vec![*start, *end],
             Self::Step { at, .. } => vec![*at],
@@ -252,6 +272,7 @@ mod tests {
                 offset: 1.0,
             },
             TimeFunction::SpeedRamp { duration: 0.8 },
+            TimeFunction::Polynomial(vec![0.5, -1.0, 2.0, 0.7]),
         ];
         for f in &fs {
             for &t in &[0.1, 0.33, 0.61, 0.77, 0.9, 1.3] {
@@ -264,6 +285,23 @@ mod tests {
                 assert!((d2 - fd2).abs() < 1e-5, "{f:?} at {t}: {d2} vs {fd2}");
             }
         }
+    }
+
+    /// Constant acceleration: [x₀, v₀, a₀/2] gives x₀ + v₀ t + a₀ t²/2, v₀ + a₀ t and a₀.
+    #[test]
+    fn polynomial_is_motion_at_constant_acceleration() {
+        let (x0, v0, a0) = (0.25, -1.5, 3.0);
+        let f = TimeFunction::Polynomial(vec![x0, v0, 0.5 * a0]);
+        for t in [0.0, 0.4, 2.5] {
+            let [p, d1, d2] = f.eval(t);
+            assert!((p - (x0 + v0 * t + 0.5 * a0 * t * t)).abs() < 1e-14);
+            assert!((d1 - (v0 + a0 * t)).abs() < 1e-14);
+            assert!((d2 - a0).abs() < 1e-14);
+        }
+        assert!(TimeFunction::Polynomial(vec![]).validate().is_err());
+        assert!(TimeFunction::Polynomial(vec![1.0, f64::NAN])
+            .validate()
+            .is_err());
     }
 
     /// The spin-up angle of validation.md N01 at the end of the run-up: Ω_s T/2, and

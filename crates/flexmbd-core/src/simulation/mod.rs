@@ -80,6 +80,24 @@ pub enum Start {
     Static,
 }
 
+/// How the velocities at t = 0 are completed from the given ones (paper eq. (5) needs
+/// velocities that meet the constraints: the rigid deformations stay rigid, the inputs move at
+/// their rates).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum StartVelocity {
+    /// The given node velocities are kept; every other coordinate takes the velocity with the
+    /// least rate of elastic deformation, ė_mᵀ S ė_m with the elements' stiffness S (zero
+    /// where the inputs allow it: a driven mechanism starts moving as the rigid-body motion of
+    /// its inputs, a driven flexure with its quasi-static velocity field). Directions that
+    /// deform nothing (free rigid-body motion) start at rest, in the sense of the least kinetic
+    /// energy.
+    #[default]
+    LeastDeformation,
+    /// The velocity closest to the given one (zero where none is given) in the plain Euclidean
+    /// norm of x, projected onto the constraints.
+    Projected,
+}
+
 /// Integrator settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimOptions {
@@ -108,6 +126,8 @@ pub struct SimOptions {
     pub rayleigh: [f64; 2],
     /// The initial state.
     pub start: Start,
+    /// How the initial velocities are completed.
+    pub start_velocity: StartVelocity,
     /// Load steps of the static start.
     pub static_steps: usize,
     /// Largest number of steps (accepted and rejected) before the run stops.
@@ -131,6 +151,7 @@ impl SimOptions {
             max_iterations: 12,
             rayleigh: [0.0, 0.0],
             start: Start::Reference,
+            start_velocity: StartVelocity::LeastDeformation,
             static_steps: 10,
             max_steps: 10_000_000,
         }

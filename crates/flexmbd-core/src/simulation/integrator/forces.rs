@@ -81,23 +81,33 @@ impl Engine<'_> {
         let [alpha, beta] = self.opts.rayleigh;
         let mut d: Vec<f64> = mv.iter().map(|m| alpha * m).collect();
         if beta > 0.0 {
-            for (el, entry) in self.model.elements.iter().enumerate() {
-                let xk = crate::assembly::gather(entry, x);
-                let jac = entry.element.jacobian(&xk);
-                let s = &self.su.s_eff[el];
-                let ne = jac.nrows();
-                let ed: Vec<f64> = (0..ne)
-                    .map(|m| (0..xk.len()).map(|c| jac[(m, c)] * v[entry.xmap[c]]).sum())
-                    .collect();
-                let sd: Vec<f64> = (0..ne)
-                    .map(|m| (0..ne).map(|n| s[(m, n)] * ed[n]).sum())
-                    .collect();
-                for (c, &xi) in entry.xmap.iter().enumerate() {
-                    d[xi] += beta * (0..ne).map(|m| jac[(m, c)] * sd[m]).sum::<f64>();
-                }
+            for (di, ki) in d.iter_mut().zip(self.material_times(x, v)) {
+                *di += beta * ki;
             }
         }
         d
+    }
+
+    /// K_m w = Dᵀ S D w on all of x: the material stiffness applied to a vector, element by
+    /// element.
+    pub(super) fn material_times(&self, x: &[f64], w: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.model.nx];
+        for (el, entry) in self.model.elements.iter().enumerate() {
+            let xk = crate::assembly::gather(entry, x);
+            let jac = entry.element.jacobian(&xk);
+            let s = &self.su.s_eff[el];
+            let ne = jac.nrows();
+            let ed: Vec<f64> = (0..ne)
+                .map(|m| (0..xk.len()).map(|c| jac[(m, c)] * w[entry.xmap[c]]).sum())
+                .collect();
+            let sd: Vec<f64> = (0..ne)
+                .map(|m| (0..ne).map(|n| s[(m, n)] * ed[n]).sum())
+                .collect();
+            for (c, &xi) in entry.xmap.iter().enumerate() {
+                out[xi] += (0..ne).map(|m| jac[(m, c)] * sd[m]).sum::<f64>();
+            }
+        }
+        out
     }
 
     /// Evaluate at a state.

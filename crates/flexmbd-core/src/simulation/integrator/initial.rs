@@ -91,26 +91,27 @@ impl Engine<'_> {
         for &(kc, tv) in &targets {
             b[kc] += tv[1];
         }
-        let ev = self.evaluate(&x, &v, &a, &mu, 0.0);
-        let vals = self.values(
-            &ev,
-            &x,
-            0.0,
-            Coefs {
-                k: 0.0,
-                m: 0.0,
-                km: 0.0,
-                diag: 1.0,
-            },
-        );
-        let mut rhs = vec![0.0; nf + nk];
-        for u in 0..nf {
-            rhs[u] = v[self.free[u]];
-        }
-        rhs[nf..].copy_from_slice(&b);
+        let given = self.given_unknowns();
+        let (vals, mut rhs) = match self.opts.start_velocity {
+            StartVelocity::Projected => {
+                let ev = self.evaluate(&x, &v, &a, &mu, 0.0);
+                let c = Coefs {
+                    k: 0.0,
+                    m: 0.0,
+                    km: 0.0,
+                    diag: 1.0,
+                };
+                let mut rhs: Vec<f64> = self.free.iter().map(|&i| v[i]).collect();
+                rhs.extend_from_slice(&b);
+                (self.values(&ev, &x, 0.0, c), rhs)
+            }
+            StartVelocity::LeastDeformation => {
+                self.least_deformation_system(&x, &mu, &v, &vp, &given, &b)
+            }
+        };
         self.solver.solve(&vals, &mut rhs).map_err(|_| {
             SimError::Initial(
-                "the constraints are dependent (singular constraint Jacobian): check the kinematics"
+                "the constraints are dependent (singular constraint Jacobian), or a coordinate has neither mass nor stiffness: check the kinematics"
                     .into(),
             )
         })?;
@@ -173,5 +174,113 @@ impl Engine<'_> {
             acc: a,
             mu,
         })
+    }
+
+    /// The free unknowns of the nodes with a given initial velocity.
+    fn given_unknowns(&self) -> Vec<bool> {
+        let mut given = vec![false; self.su.nf];
+        for iv in &self.exc.velocities {
+            let n = &self.model.nodes[iv.node];
+            let rot = n.ix_rot.map_or(0..0, |r| r..r + 4);
+            for i in (n.ix_pos..n.ix_pos + 3).chain(rot) {
+                if let Some(u) = self.su.unknown[i] {
+                    if u < self.su.nf {
+                        given[u] = true;
+                    }
+                }
+            }
+        }
+        given
+    }
+
+    /// The system of [`StartVelocity::LeastDeformation`]: minimise ½ ẋᵀ (K_m + ε M) ẋ over the
+    /// free velocities subject to the constraint rates G ẋ = b, with the prescribed rates `vp`
+    /// moved to the right-hand side and the given node velocities (`v` at `given`) held by a
+    /// penalty. K_m = Dᵀ S D weighs the rates of elastic deformation; ε M (ε = 1e-8 · tr K_m /
+    /// tr M over the free unknowns) only decides the directions that deform nothing.
+    fn least_deformation_system(
+        &self,
+        x: &[f64],
+        mu: &[f64],
+        v: &[f64],
+        vp: &[f64],
+        given: &[bool],
+        b: &[f64],
+    ) -> (Vec<f64>, Vec<f64>) {
+        let (nf, nx) = (self.su.nf, self.model.nx);
+        let zero = vec![0.0; nx];
+        let mut ev = self.evaluate(x, &zero, &zero, mu, 0.0);
+        ev.km = Some(
+            assemble_values(
+                self.model,
+                &self.su,
+                x,
+                mu,
+                0.0,
+                Part::Material,
+                false,
+                Vec::new(),
+            )
+            .vals,
+        );
+        let only = |k: f64, m: f64, km: f64| Coefs {
+            k,
+            m,
+            km,
+            diag: 0.0,
+        };
+        let vals_k = self.values(&ev, x, 0.0, only(0.0, 0.0, 1.0));
+        let vals_m = self.values(&ev, x, 0.0, only(0.0, 1.0, 0.0));
+        let trace = |vals: &[f64]| -> f64 {
+            self.entries
+                .iter()
+                .zip(vals)
+                .filter(|((r, c), _)| r == c && *r < nf)
+                .map(|(_, v)| v.abs())
+                .sum()
+        };
+        let (tr_k, tr_m) = (trace(&vals_k), trace(&vals_m));
+        let eps = if tr_k > 0.0 && tr_m > 0.0 {
+            1e-8 * tr_k / tr_m
+        } else {
+            1.0
+        };
+        let mut vals: Vec<f64> = self
+            .entries
+            .iter()
+            .enumerate()
+            .map(|(i, &(r, c))| {
+                if r < nf && c < nf {
+                    vals_k[i] + eps * vals_m[i]
+                } else {
+                    vals_k[i]
+                }
+            })
+            .collect();
+        // the prescribed rates: −(K_m + ε M) ẋ_p on the free rows
+        let km_vp = self.material_times(x, vp);
+        let m_vp = mass_times(self.model, x, &[vp]).pop().unwrap_or_default();
+        let mut rhs: Vec<f64> = self
+            .free
+            .iter()
+            .map(|&i| -(km_vp[i] + eps * m_vp[i]))
+            .collect();
+        rhs.extend_from_slice(b);
+        // the given velocities: a penalty 1e8 times the largest diagonal term, which keeps them
+        // to about 1e-8 where they meet the constraints and projects them (weighted least
+        // squares) where they do not
+        let largest = self
+            .entries
+            .iter()
+            .zip(&vals)
+            .filter(|((r, c), _)| r == c && *r < nf)
+            .map(|(_, v)| v.abs())
+            .fold(0.0, f64::max);
+        let w = 1e8 * if largest > 0.0 { largest } else { 1.0 };
+        for u in (0..nf).filter(|&u| given[u]) {
+            vals[self.diag_start + u] += w;
+            rhs[u] += w * v[self.free[u]];
+        }
+        (vals, rhs)
     }
 }

@@ -3,7 +3,7 @@
 
 use super::{
     Energies, Excitation, Frame, Progress, SimError, SimFailure, SimOptions, SimStats, Simulation,
-    Start, Stopped, TimeFunction,
+    Start, StartVelocity, Stopped, TimeFunction,
 };
 use crate::assembly::loads::field_loads_at;
 use crate::assembly::mass::{for_each_entry, inertia_forces, mass_times};

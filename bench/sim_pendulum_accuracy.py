@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""flexmbd simulate vs Exudyn at equal accuracy (issue 13's benchmark): the flexible pendulum of
+sim_pendulum.py (the peer kit's pendulum_sim, model 3d), each program at a sequence of fixed
+steps h, the tip error of each run against the same program's run at a much smaller step (its
+own converged tip: the two beam models differ, so each program is measured against itself), and
+the wall time each program needs for a given tip error, interpolated log-log between its runs.
+
+flexmbd runs as a user runs it (the whole process, from a TOML file); Exudyn's time is its
+in-process solve (`t_solve_s` of the peer script, without Python start-up and model building),
+which favours Exudyn.
+
+Usage: sim_pendulum_accuracy.py --flexmbd BIN --peers DIR [--python PY] [--n N ...]
+       [--h H ...] [--targets E ...] [--out FILE]
+Prints two tables (runs; time at equal error and the ratio); --out writes JSON lines.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+sys.dont_write_bytecode = True
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sim_pendulum import run_flexmbd  # noqa: E402
+
+
+def run_exudyn(python, peers, n, h, t_end):
+    p = subprocess.run([python, os.path.join(peers, "pendulum_sim_exudyn.py"), "--n", str(n),
+                        "--model", "3d", "--h", str(h), "--t-end", str(t_end)],
+                       capture_output=True, text=True)
+    lines = [ln for ln in p.stdout.splitlines() if ln.startswith("{")]
+    if not lines:
+        return {"status": "error", "message": p.stderr[-300:]}
+    d = json.loads(lines[-1])
+    if d.get("status") != "ok":
+        return d
+    return {"status": "ok", "wall_s": d["t_solve_s"], "tip": d["tip_position_m"]}
+
+
+def dist(a, b):
+    return max(abs(u - v) for u, v in zip(a, b))
+
+
+def time_at(runs, target):
+    """Wall time for a tip error `target`: log-log interpolation between the two runs whose
+    errors bracket it (None if no run is as accurate)."""
+    pts = sorted((r["error_m"], r["wall_s"]) for r in runs if r.get("error_m"))
+    ok = [p for p in pts if p[0] <= target]
+    if not ok:
+        return None
+    e1, w1 = max(ok)
+    worse = [p for p in pts if p[0] > target]
+    if not worse:
+        return w1
+    e0, w0 = min(worse)
+    s = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
+    return math.exp(math.log(w0) + s * (math.log(w1) - math.log(w0)))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--flexmbd", required=True)
+    ap.add_argument("--peers", required=True)
+    ap.add_argument("--python", default=os.path.expanduser("~/.cache/flexmbd-peers/venv/bin/python"))
+    ap.add_argument("--n", type=int, nargs="+", default=[10, 100, 1000])
+    ap.add_argument("--h", type=float, nargs="+", default=[4e-3, 2e-3, 1e-3, 5e-4])
+    ap.add_argument("--targets", type=float, nargs="+", default=[1e-3, 1e-4])
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    records = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in a.n:
+            t_end = 1.0 if n < 1000 else 0.2
+            h_ref = min(a.h) / 16
+            rec = {"problem": "pendulum_sim", "model": "3d", "n": n, "t_end": t_end,
+                   "h_ref": h_ref}
+            for name, run in (("flexmbd", lambda h: run_flexmbd(a.flexmbd, n, t_end, h, tmp)),
+                              ("exudyn", lambda h: run_exudyn(a.python, a.peers, n, h, t_end))):
+                ref = run(h_ref)
+                runs = []
+                for h in a.h:
+                    r = run(h)
+                    r["h"] = h
+                    if r["status"] == "ok" and ref["status"] == "ok":
+                        r["error_m"] = dist(r["tip"], ref["tip"])
+                    runs.append(r)
+                rec[name] = {"ref": ref, "runs": runs,
+                             "time_at": {str(e): time_at(runs, e) for e in a.targets}}
+                print(json.dumps({"n": n, name: rec[name]}), file=sys.stderr)
+            records.append(rec)
+    print(f"{'N':>6} {'h':>8} {'flexmbd s':>10} {'tip err (m)':>12} {'Exudyn s':>10} {'tip err (m)':>12}")
+    for r in records:
+        for f, x in zip(r["flexmbd"]["runs"], r["exudyn"]["runs"]):
+            print(f"{r['n']:>6} {f['h']:>8.1e} {f.get('wall_s', float('nan')):>10.3f} "
+                  f"{f.get('error_m', float('nan')):>12.2e} {x.get('wall_s', float('nan')):>10.3f} "
+                  f"{x.get('error_m', float('nan')):>12.2e}")
+    print(f"\n{'N':>6} {'tip error':>10} {'flexmbd s':>10} {'Exudyn s':>10} {'ratio':>7}")
+    for r in records:
+        for e in a.targets:
+            tf, tx = r["flexmbd"]["time_at"][str(e)], r["exudyn"]["time_at"][str(e)]
+            ratio = f"{tx / tf:7.1f}" if tf and tx else "      -"
+            print(f"{r['n']:>6} {e:>10.0e} {tf or float('nan'):>10.3f} {tx or float('nan'):>10.3f} {ratio}")
+    if a.out:
+        with open(a.out, "w") as fo:
+            for r in records:
+                fo.write(json.dumps(r) + "\n")
+
+
+if __name__ == "__main__":
+    main()
