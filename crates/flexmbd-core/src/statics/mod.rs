@@ -1491,7 +1491,7 @@ fn apply_prescribed(model: &Model, su: &Setup, x: &mut [f64], t: f64) {
 /// kept constraints (rigid and input deformations, normalisations of partly held nodes). The
 /// matrix is the Newton matrix of statics at the state, [K, Gᵀ; G, 0] with K = K_m + K_g
 /// (material and geometric stiffness, normalisation terms, load stiffness of moments): the same
-/// stiffness as the dense [`linear::linearize`], in other coordinates.
+/// stiffness as the dense [`crate::linearized::linearize`], in other coordinates.
 pub(crate) struct ReducedLinear {
     su: Setup,
     /// Row and column of the entries after the element blocks (moments, normalisations).
@@ -1578,34 +1578,7 @@ impl ReducedLinear {
         x: &[f64],
         shapes: &[Vec<f64>],
     ) -> Vec<f64> {
-        let per_element = |el: usize| -> Vec<f64> {
-            let entry = &model.elements[el];
-            let s = &self.su.s_eff[el];
-            let ne = entry.element.ne();
-            if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
-                return vec![0.0; shapes.len()];
-            }
-            deformation_energies(entry, s, x, shapes)
-                .chunks_exact(ne)
-                .map(|e| e.iter().sum())
-                .collect()
-        };
-        let parts: Vec<Vec<f64>> = if model.elements.len() < 256 {
-            (0..model.elements.len()).map(per_element).collect()
-        } else {
-            (0..model.elements.len())
-                .into_par_iter()
-                .with_min_len(64)
-                .map(per_element)
-                .collect()
-        };
-        let mut out = vec![0.0; shapes.len()];
-        for p in &parts {
-            for (o, v) in out.iter_mut().zip(p) {
-                *o += v;
-            }
-        }
-        out
+        material_energy2(model, &self.su, x, shapes)
     }
 
     /// The material stiffness times a displacement, K_m δx = Σ Dᵀ S (D δx) over the elements'
@@ -1793,6 +1766,45 @@ impl ReducedLinear {
     }
 }
 
+/// Twice the material strain energy Σ δeᵀ S δe of each shape δx (length nx) over the
+/// elements' flexible deformations (the effective stiffnesses of `su`), δe = D δx
+/// ([`ReducedLinear::material_energy2`]).
+pub(crate) fn material_energy2(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    shapes: &[Vec<f64>],
+) -> Vec<f64> {
+    let per_element = |el: usize| -> Vec<f64> {
+        let entry = &model.elements[el];
+        let s = &su.s_eff[el];
+        let ne = entry.element.ne();
+        if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
+            return vec![0.0; shapes.len()];
+        }
+        deformation_energies(entry, s, x, shapes)
+            .chunks_exact(ne)
+            .map(|e| e.iter().sum())
+            .collect()
+    };
+    let parts: Vec<Vec<f64>> = if model.elements.len() < 256 {
+        (0..model.elements.len()).map(per_element).collect()
+    } else {
+        (0..model.elements.len())
+            .into_par_iter()
+            .with_min_len(64)
+            .map(per_element)
+            .collect()
+    };
+    let mut out = vec![0.0; shapes.len()];
+    for p in &parts {
+        for (o, v) in out.iter_mut().zip(p) {
+            *o += v;
+        }
+    }
+    out
+}
+
 /// δeₐ (S δe)ₐ of every deformation a of an element for each displacement δx (length nx),
 /// δe = D δx: twice the strain energy of the deformation (with the coupling terms of S split
 /// by rows); flat, shape k's values at k ne … (k + 1) ne. Closed-form D in fixed-size arrays
@@ -1852,7 +1864,7 @@ mod path;
 pub(crate) use newton::KktSolver;
 use newton::{newton, Newton};
 
-pub use path::{analyse, solve, solve_path, StaticAnalysis, Stopped};
+pub use path::{solve, solve_path, StaticAnalysis, Stopped};
 
 mod arc;
 #[cfg(test)]
