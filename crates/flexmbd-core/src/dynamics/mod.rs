@@ -92,23 +92,30 @@ pub fn rigid_body_count(eigenvalues: &[f64]) -> usize {
     0
 }
 
-/// The most modes whose Rayleigh quotients [`dense_rigid_count`] evaluates: every rigid-body
-/// mode (a free body has 6, a free mechanism a few more) and the first elastic one.
-const RIGID_LIST: usize = 32;
-
 /// A dense eigenvalue above this fraction of the largest |ω²| is no rigid-body mode: the dense
 /// solver resolves the eigenvalues to about 1e3 n ε max |ω²| (`dense.rs`), below it for any
-/// model the dense path takes.
+/// model the dense path takes. Below it, the null space of the stiffness decides.
 const RIGID_CANDIDATE: f64 = 1e-6;
 
-/// The number of rigid-body modes at the start of the dense spectrum `lam` (modes `phi` in the
-/// minimal coordinates of `red`): [`rigid_body_count`] on the Rayleigh quotients
-/// δxᵀ K δx of the lowest modes ([`Tangent::stiffness_quotients`], strain energy through the
-/// element deformations), not on the dense eigenvalues. A rigid-body mode is a null vector of
-/// K; the dense eigenvalues resolve it only to about ε max ω², which on fine meshes of thin
-/// parts (rotary inertia 1e-8 of the translational mass) comes within the gap of the first
-/// elastic ω², while its quotient is the round-off of the deformations, far below.
-fn dense_rigid_count(t: &Tangent, red: &Reduced, lam: &[f64], phi: &Mat<f64>) -> usize {
+/// Tolerance of the null space of the scaled reduced stiffness, in units of n ε max |μ|
+/// ([`dense_rigid_count`]): a hundred times the round-off of the eigenvalues of an n × n
+/// matrix.
+pub const RIGID_NULL_TOL: f64 = 100.0;
+
+/// The number of rigid-body modes at the start of the dense spectrum `lam` of `red`: the
+/// dimension of the null space of the reduced stiffness K0 + G0 = Zᵀ K Z, counted as its
+/// eigenvalues μ with |μ| ≤ [`RIGID_NULL_TOL`] n ε max |μ| after the symmetric diagonal scaling
+/// diag(K0)^-½ (which makes the count independent of the units of the coordinates, metres and
+/// Euler parameters), at most the number of eigenvalues ω² at the round-off of the dense
+/// solver ([`RIGID_CANDIDATE`]).
+///
+/// Not a gap in ω²: the dense eigenvalues of rigid-body modes are round-off of about ε max ω²,
+/// and on fine meshes of thin parts (rotary inertia 1e-8 of the translational mass, the
+/// highest ω² growing with the fourth power of the number of elements) that round-off comes
+/// within any fixed gap of the first elastic ω² (a 0.2 mm strip of 40 elements: 5e-3 against
+/// 2.8e4 rad²/s²). The scaled stiffness alone does not see the mass: its rigid-body
+/// eigenvalues stay at 1e-15 of its largest, the first elastic one of that strip at 8e-6.
+fn dense_rigid_count(red: &Reduced, lam: &[f64]) -> usize {
     let lmax = lam.iter().fold(0.0f64, |m, l| m.max(l.abs()));
     let candidates = lam
         .iter()
@@ -117,14 +124,22 @@ fn dense_rigid_count(t: &Tangent, red: &Reduced, lam: &[f64], phi: &Mat<f64>) ->
     if candidates == 0 {
         return 0;
     }
-    // the candidates and the first mode above them (the first elastic one)
-    let m = (candidates + 1).min(lam.len()).min(RIGID_LIST);
-    let low = Mat::from_fn(red.ndof(), m, |i, k| phi[(i, k)]);
-    let dx = &red.z * &low;
-    let shapes: Vec<Vec<f64>> = (0..m)
-        .map(|k| (0..dx.nrows()).map(|i| dx[(i, k)]).collect())
+    let k = &red.k0;
+    let n = k.nrows();
+    let dmax = (0..n).fold(0.0f64, |m, i| m.max(k[(i, i)].abs()));
+    if !(dmax > 0.0 && dmax.is_finite()) {
+        return 0;
+    }
+    let d: Vec<f64> = (0..n)
+        .map(|i| 1.0 / k[(i, i)].abs().max(f64::EPSILON * dmax).sqrt())
         .collect();
-    rigid_body_count(&t.stiffness_quotients(&shapes))
+    let ks = Mat::from_fn(n, n, |i, j| d[i] * k[(i, j)] * d[j]);
+    let Ok(mu) = ks.self_adjoint_eigenvalues(faer::Side::Lower) else {
+        return 0;
+    };
+    let mu_max = mu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let tol = RIGID_NULL_TOL * n as f64 * f64::EPSILON * mu_max;
+    mu.iter().filter(|v| v.abs() <= tol).count().min(candidates)
 }
 
 /// Result of a modal analysis.
@@ -342,7 +357,7 @@ fn lowest(t: &Tangent, count: usize, opts: &ModalOptions) -> Result<Lowest, Moda
         })
         .collect();
     Ok(Lowest {
-        rigid: dense_rigid_count(t, &red, &lam, &phi).min(nm),
+        rigid: dense_rigid_count(&red, &lam).min(nm),
         eigenvalues: lam[..nm].to_vec(),
         shapes,
         ndof: red.ndof(),

@@ -83,8 +83,9 @@ pub const DENSE_FALLBACK_DOF: usize = 3000;
 /// - dense when more than a third of them are wanted, whatever the size (all eigenpairs: a
 ///   shift-invert Lanczos run for most of the spectrum of a large model would take far longer
 ///   than the dense solve); where the dense matrices exceed the memory limit of the options,
-///   the request is refused ([`super::ModalError::TooManyModes`]: ask for fewer modes, or choose the
-///   solver explicitly) instead of starting an impractical sparse solve;
+///   the request is refused ([`super::ModalError::TooManyModes`] above
+///   [`DENSE_FALLBACK_DOF`] degrees of freedom: ask for fewer modes, or choose the solver
+///   explicitly) instead of starting an impractical sparse solve;
 /// - for all modes (`None`, a state space without the static correction): dense up to
 ///   [`DENSE_FALLBACK_DOF`] degrees of freedom, sparse above (which then needs a number of
 ///   modes).
@@ -103,12 +104,12 @@ pub fn auto_solver(ndof: usize, wanted: Option<usize>) -> EigenSolver {
 }
 
 /// Whether the automatic choice of `opts` took the dense path for `count` modes of a model of
-/// `ndof` degrees of freedom only because more than a third of its modes are wanted
-/// ([`auto_solver`]): a dense path that does not fit the memory limit is then refused as
-/// [`super::ModalError::TooManyModes`] (ask for fewer modes) rather than as
-/// [`super::ModalError::TooLarge`].
+/// more than [`DENSE_FALLBACK_DOF`] degrees of freedom because more than a third of its modes
+/// are wanted ([`auto_solver`]): a dense path that does not fit the memory limit is then
+/// refused as [`super::ModalError::TooManyModes`] (ask for fewer modes). (On smaller models
+/// it is [`super::ModalError::TooLarge`], which names the sparse solver.)
 pub(crate) fn dense_for_many_modes(opts: &ModalOptions, ndof: usize, count: usize) -> bool {
-    opts.solver == EigenSolver::Auto && ndof > SPARSE_THRESHOLD && count.saturating_mul(3) > ndof
+    opts.solver == EigenSolver::Auto && ndof > DENSE_FALLBACK_DOF && count.saturating_mul(3) > ndof
 }
 
 /// Number of velocity coordinates of the free nodal coordinates (translations, and one per

@@ -150,45 +150,6 @@ impl<'a> Tangent<'a> {
         Ok(&t * &z2)
     }
 
-    /// δxᵀ K δx of each shape δx (length nx), K = K_m + K_g − Ω² M_P: the material part as
-    /// Σ δeᵀ S δe through the element deformations δe = D δx (on fine meshes the entries of K_m
-    /// exceed the stiffness of a smooth or rigid motion by many orders of magnitude and the
-    /// matrix product loses it to round-off), the geometric part and the softening from their
-    /// matrices. With mass-normalised shapes these are the Rayleigh quotients ω² of the modes,
-    /// resolved down to the round-off of the deformations (the rigid-body count of the dense
-    /// eigen path, `dynamics`).
-    pub fn stiffness_quotients(&self, shapes: &[Vec<f64>]) -> Vec<f64> {
-        let (model, x) = (self.model, &self.step.x[..]);
-        let su = crate::statics::setup(model);
-        let mut q = crate::statics::material_energy2(model, &su, x, shapes);
-        let lin = self.dense();
-        let free: Vec<(usize, usize)> = lin
-            .unknown
-            .iter()
-            .enumerate()
-            .filter_map(|(i, u)| u.map(|u| (i, u)))
-            .collect();
-        for (qk, dx) in q.iter_mut().zip(shapes) {
-            let mut geo = 0.0;
-            for &(i, ui) in &free {
-                let row: f64 = free.iter().map(|&(j, uj)| lin.kg[(ui, uj)] * dx[j]).sum();
-                geo += dx[i] * row;
-            }
-            *qk += geo;
-        }
-        if let Some(spin) = model.loads.spin {
-            let w = spin.projector();
-            let mut soft = vec![0.0; shapes.len()];
-            crate::assembly::mass::for_each_entry(model, x, Some(&w), false, |r, c, v| {
-                for (sk, dx) in soft.iter_mut().zip(shapes) {
-                    *sk -= v * dx[r] * dx[c];
-                }
-            });
-            q.iter_mut().zip(soft).for_each(|(qk, sk)| *qk += sk);
-        }
-        q
-    }
-
     /// The sparse form of the stage in the reduced unknowns of the statics Newton system:
     /// K (with the softening) and M on the Newton matrix's pattern (`sparse.rs`).
     pub(crate) fn sparse(&self) -> sparse::SparseTangent {
