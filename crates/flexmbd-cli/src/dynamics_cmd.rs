@@ -693,7 +693,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
             .context("modal analysis refused")?;
     }
     if !ids.is_empty() {
-        flexmbd_core::statics::linear::check_dense_size(&model, modal.max_dense_bytes)
+        flexmbd_core::linearized::check_dense_size(&model, modal.max_dense_bytes)
             .context("support stiffness refused")?;
     }
     let opts = static_options(&settings, a.steps, a.path)?;

@@ -4,7 +4,7 @@
 use flexmbd_core::dynamics::state_space::StateSpaceError;
 use flexmbd_core::dynamics::ModalError;
 use flexmbd_core::kinematics::classify::{ClassifyError, Stage};
-use flexmbd_core::statics::linear::LinearError;
+use flexmbd_core::linearized::LinearError;
 use flexmbd_core::statics::SolveError;
 
 /// The options that act on the failure of `e` (searched through its chain of causes), if flexmbd
@@ -22,9 +22,6 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
                 StateSpaceError::Modal(m) => modal(m),
                 StateSpaceError::SparseNeedsModes { .. } => {
                     Some("give --modes N (e.g. --modes 20), with --static-correction for the exact static gain")
-                }
-                StateSpaceError::ForceOfHeldDeformation { .. } => {
-                    Some("use --solver dense (or auto) on models of at most 3000 degrees of freedom")
                 }
                 StateSpaceError::NoRotation { .. } => {
                     Some("in a TOML model, `rot = true` gives a node rotation coordinates")
@@ -70,6 +67,9 @@ fn modal(m: &ModalError) -> Option<&'static str> {
         ModalError::TooLarge(_) => {
             Some("use --solver sparse (or auto), which computes the lowest --count N modes only")
         }
+        ModalError::TooManyModes { .. } => Some(
+            "ask for fewer modes (--count N, at most a third of the degrees of freedom), or choose the solver explicitly: --solver sparse (slow for many modes) or --solver dense",
+        ),
         ModalError::SparseSingular => Some("run `flexmbd check` on the model, or use --solver dense"),
         ModalError::NotConverged { .. } => Some("ask for fewer modes (--count), or use --solver dense"),
         _ => None,

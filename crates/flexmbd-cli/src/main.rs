@@ -525,7 +525,7 @@ fn run_static(
     csv: Option<PathBuf>,
     line_search: bool,
 ) -> anyhow::Result<ExitCode> {
-    use flexmbd_core::statics::linear::LinearRequest;
+    use flexmbd_core::linearized::LinearRequest;
     use flexmbd_io::static_report::{static_json, static_text, write_csv};
     if let Some(dir) = &csv {
         outputs::check_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
@@ -566,7 +566,7 @@ fn run_static(
     };
     if !request.is_empty() {
         // the size guard of the dense linearised results, before the static solve
-        flexmbd_core::statics::linear::check_dense_size(&model, request.max_dense_bytes)
+        flexmbd_core::linearized::check_dense_size(&model, request.max_dense_bytes)
             .context("compliance and buckling refused")?;
     }
     let run = partial::Path::of_analysis(

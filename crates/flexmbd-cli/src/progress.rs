@@ -68,11 +68,11 @@ pub fn solve_static(
 pub fn analyse_static(
     model: &flexmbd_core::Model,
     opts: &flexmbd_core::statics::StaticOptions,
-    req: &flexmbd_core::statics::linear::LinearRequest,
+    req: &flexmbd_core::linearized::LinearRequest,
 ) -> Result<flexmbd_core::statics::StaticAnalysis, flexmbd_core::statics::Stopped> {
     let b = bar(opts.steps, "load step");
     let s = std::cell::Cell::new(None);
-    let r = flexmbd_core::statics::analyse(model, opts, req, |k, n| {
+    let r = flexmbd_core::linearized::analyse(model, opts, req, |k, n| {
         b.set_position(k as u64);
         if k == n && !req.is_empty() {
             b.finish_and_clear();

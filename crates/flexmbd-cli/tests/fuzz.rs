@@ -22,7 +22,7 @@
 
 use flexmbd_core::dynamics::modes;
 use flexmbd_core::kinematics::classify::{classify, ClassifyOptions};
-use flexmbd_core::statics::linear::{at_step, LinearRequest};
+use flexmbd_core::linearized::{at_step, LinearRequest};
 use flexmbd_core::statics::{non_finite_parts, solve, StaticOptions};
 use flexmbd_core::Model;
 use flexmbd_io::InputError;

@@ -230,17 +230,10 @@ fn dense_paths_refuse_models_above_the_memory_limit() {
     // the F01 strip in 1200 beams: 1200 free nodes of 6 velocity components, 7200 degrees of
     // freedom, whose dense modal analysis, state space and linearisation need more than the
     // default 4 GiB; each is refused before the static solve (exit 1), and the hint names the
-    // sparse solver where there is one. (The automatic choice takes the sparse path on a
-    // model of more than 3000 degrees of freedom, for any number of modes: dynamics::auto_solver;
-    // its dense refusal is tested in the core, tests/dense_limits.rs, with a lower limit.)
-    let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/strip_f01.toml"),
-    )
-    .expect("read");
-    let big = text.replace("segments = 10\n", "segments = 1200\n");
-    assert_ne!(big, text);
-    let p = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("strip_1200.toml");
-    std::fs::write(&p, big).expect("write");
+    // sparse solver where there is one. (The automatic choice takes the sparse path for a few
+    // lowest modes, the dense one for more than a third of them: dynamics::auto_solver; its
+    // refusal is `automatic_choice_refuses_most_modes_of_a_large_model`.)
+    let p = strip_1200("strip_1200.toml");
     for (args, what, hint) in [
         (
             &["modes", "--solver", "dense"][..],
@@ -302,4 +295,44 @@ fn dense_paths_refuse_models_above_the_memory_limit() {
             t.elapsed()
         );
     }
+}
+
+#[test]
+fn automatic_choice_refuses_most_modes_of_a_large_model() {
+    // the F01 strip in 1200 beams (7200 degrees of freedom): 5000 modes are more than a third
+    // of them, which the automatic choice computes densely, but the dense matrices exceed the
+    // default 4 GiB; refused at once (exit 1) with the remedy: fewer modes or an explicit solver
+    let p = strip_1200("strip_1200_many.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args(["modes", "--count", "5000"])
+        .arg(&p)
+        .arg("--quiet")
+        .output()
+        .expect("run flexmbd");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("5000 modes of a model with 7200 degrees of freedom"),
+        "{err}"
+    );
+    assert!(
+        err.lines()
+            .any(|l| l.starts_with("hint: ") && l.contains("--count") && l.contains("--solver")),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+/// The F01 strip in 1200 beams (7200 degrees of freedom), written as `name` in the test's
+/// temporary folder.
+fn strip_1200(name: &str) -> PathBuf {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/strip_f01.toml"),
+    )
+    .expect("read");
+    let big = text.replace("segments = 10\n", "segments = 1200\n");
+    assert_ne!(big, text);
+    let p = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&p, big).expect("write");
+    p
 }

@@ -21,6 +21,7 @@ pub mod dynamics;
 pub mod elements;
 pub mod kinematics;
 pub mod linalg;
+pub mod linearized;
 pub mod math;
 pub mod model;
 pub mod results;

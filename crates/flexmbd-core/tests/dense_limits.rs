@@ -13,8 +13,8 @@ use flexmbd_core::dynamics::{
     check_dense_size, dense_size::dense_bytes, modes_with, EigenSolver, ModalError, ModalOptions,
 };
 use flexmbd_core::linalg::DenseTooLarge;
+use flexmbd_core::linearized::{self as linear, LinearError, LinearFailure, LinearRequest};
 use flexmbd_core::model::Dof;
-use flexmbd_core::statics::linear::{self, LinearError, LinearFailure, LinearRequest};
 use flexmbd_core::Model;
 
 /// The steel strip of `n` beams, 0.2 m long, clamped at the root.
@@ -145,19 +145,48 @@ fn dense_paths_refuse_a_model_above_the_limit() {
 }
 
 #[test]
-fn the_automatic_choice_is_sparse_above_the_dense_fallback_size() {
-    // 1200 beams: 7200 degrees of freedom, above DENSE_FALLBACK_DOF: the one automatic rule
-    // (`dynamics::auto_solver`) takes the sparse path even for most of the modes, so the dense
-    // guard does not apply (the explicit dense solver is refused with the default limit)
+fn the_automatic_choice_refuses_most_modes_of_a_model_too_large_for_the_dense_path() {
+    // 1200 beams: 7200 degrees of freedom, above DENSE_FALLBACK_DOF. The one automatic rule
+    // (`dynamics::auto_solver`) takes the sparse path for a few lowest modes; for more than a
+    // third of the modes it takes the dense path (a shift-invert run for most of the spectrum is
+    // impractical), whose matrices (about 6 GiB here) exceed the default limit of 4 GiB: the
+    // request is refused before anything is allocated, naming the remedy (fewer modes)
     let n = 1200;
     let model = clamped_strip(n);
     let (_, nv) = sizes(n);
     assert!(nv > flexmbd_core::dynamics::DENSE_FALLBACK_DOF);
     let auto = ModalOptions::default();
-    assert_eq!(auto.resolve(&model, 5000), EigenSolver::Sparse);
-    assert!(check_dense_size(&model, 5000, &auto).is_ok());
+    assert_eq!(auto.resolve(&model, 5), EigenSolver::Sparse);
+    assert!(check_dense_size(&model, 5, &auto).is_ok());
+    assert_eq!(auto.resolve(&model, nv / 3), EigenSolver::Sparse);
+    assert_eq!(auto.resolve(&model, nv / 3 + 1), EigenSolver::Dense);
+    assert_eq!(auto.resolve(&model, 5000), EigenSolver::Dense);
+    match check_dense_size(&model, 5000, &auto) {
+        Err(ModalError::TooManyModes { wanted, ndof, .. }) => {
+            assert_eq!((wanted, ndof), (5000, nv));
+        }
+        other => panic!("{other:?}"),
+    }
+    let step = last_step(&model, 1);
+    let e = modes_with(&model, &step, 5000, &auto).unwrap_err();
+    assert!(matches!(e, ModalError::TooManyModes { .. }), "{e:?}");
+    let text = e.to_string();
+    assert!(text.contains("at most 2400 modes"), "{text}");
+    let pts = sweep_with(&model, std::slice::from_ref(&step), 5000, &[], &auto);
+    assert!(matches!(
+        pts[0].eigenvalues,
+        Err(ModalError::TooManyModes { .. })
+    ));
+    // the explicit dense solver is refused as too large, as before
     assert!(matches!(
         check_dense_size(&model, 5000, &ModalOptions::with_solver(EigenSolver::Dense)),
         Err(ModalError::TooLarge(_))
     ));
+    // with a limit that admits the dense matrices, the automatic choice goes dense
+    let roomy = ModalOptions {
+        max_dense_bytes: 16 << 30,
+        ..ModalOptions::default()
+    };
+    assert_eq!(roomy.resolve(&model, 5000), EigenSolver::Dense);
+    assert!(check_dense_size(&model, 5000, &roomy).is_ok());
 }

@@ -4,9 +4,10 @@
 mod common;
 
 use common::toggle_under_load;
+use flexmbd_core::linearized::analyse;
+use flexmbd_core::linearized::LinearRequest;
 use flexmbd_core::model::ModelBuilder;
-use flexmbd_core::statics::linear::LinearRequest;
-use flexmbd_core::statics::{analyse, solve, solve_path, SolveError, StaticOptions};
+use flexmbd_core::statics::{solve, solve_path, SolveError, StaticOptions};
 
 /// The limit load of S05 under load control: P_max = 33.870 lbf (validation.md, ±0.5 %).
 const P_MAX: f64 = 33.870;

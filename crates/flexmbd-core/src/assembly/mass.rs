@@ -5,7 +5,7 @@
 //! entries.
 
 use crate::elements::ElementKind;
-use crate::math::inertia::{lambda_inertia_force, lambda_velocity_force, node_inertia_block};
+use crate::math::inertia::{lambda_inertia_force, node_inertia_block};
 use crate::model::Model;
 use faer::Mat;
 
@@ -44,21 +44,100 @@ pub(crate) fn for_each_element(
     rotary: bool,
     mut f: impl FnMut(&[usize], &[f64]),
 ) {
-    let (mut xk, mut me) = ([0.0; SMALL], [0.0; SMALL * SMALL]);
-    let (mut xk_big, mut me_big) = (Vec::new(), Vec::new());
     for entry in &model.elements {
-        let n = entry.xmap.len();
-        let (xk, me) = if n <= SMALL {
-            (&mut xk[..n], &mut me[..n * n])
-        } else {
-            xk_big.resize(n, 0.0);
-            me_big.resize(n * n, 0.0);
-            (&mut xk_big[..], &mut me_big[..])
-        };
-        xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
-        if entry.element.mass(xk, weight, rotary, me) {
-            f(&entry.xmap, me);
+        element_mass(entry, x, weight, rotary, |me| f(&entry.xmap, me));
+    }
+}
+
+/// The mass matrix of one element at x ([`ElementKind::mass`], row-major on the element's
+/// `xmap`), handed to `f` unless the element has no mass: the one evaluation of an element's
+/// mass (or, with a `weight`, of its centrifugal softening) for every global form, dense in x
+/// or sparse in the reduced unknowns (`linearized::sparse`).
+pub(crate) fn element_mass(
+    entry: &crate::model::ElementEntry,
+    x: &[f64],
+    weight: Option<&[[f64; 3]; 3]>,
+    rotary: bool,
+    f: impl FnOnce(&[f64]),
+) {
+    let n = entry.xmap.len();
+    // a beam's coordinates on the stack, larger elements on the heap
+    let (mut xk_s, mut me_s) = ([0.0; SMALL], [0.0; SMALL * SMALL]);
+    let (mut xk_h, mut me_h) = (Vec::new(), Vec::new());
+    let (xk, me) = if n <= SMALL {
+        (&mut xk_s[..n], &mut me_s[..n * n])
+    } else {
+        xk_h.resize(n, 0.0);
+        me_h.resize(n * n, 0.0);
+        (&mut xk_h[..], &mut me_h[..])
+    };
+    xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
+    if entry.element.mass(xk, weight, rotary, me) {
+        f(me);
+    }
+}
+
+/// The mass carried by a node, apart from the elements: a point mass on its position or an
+/// inertia tensor on its Euler parameters ([`for_each_node_mass`]).
+pub(crate) enum NodeMass {
+    /// A point mass `mass` on the position at x index `ix` (3 coordinates).
+    Point {
+        /// x index of the node's position.
+        ix: usize,
+        /// The mass m.
+        mass: f64,
+    },
+    /// The 4 × 4 block 4 Λ̄ᵀ I Λ̄ of an inertia tensor on the Euler parameters at x index `r`.
+    Tensor {
+        /// x index of λ0.
+        r: usize,
+        /// The block on λ.
+        block: [[f64; 4]; 4],
+    },
+}
+
+impl NodeMass {
+    /// The entries (row, column, value) of a point mass's 3 × 3 block relative to its position:
+    /// m I, or m W with a `weight` W (every entry, zeros included).
+    pub(crate) fn point_entries(
+        mass: f64,
+        weight: Option<&[[f64; 3]; 3]>,
+        mut f: impl FnMut(usize, usize, f64),
+    ) {
+        for r in 0..3 {
+            match weight {
+                Some(w) => (0..3).for_each(|c| f(r, c, mass * w[r][c])),
+                None => f(r, r, mass),
+            }
         }
+    }
+}
+
+/// The point masses, then (with `rotary`) the inertia tensors of the model at x, in model
+/// order: the one source of the node masses for M, its products and the softening.
+pub(crate) fn for_each_node_mass(
+    model: &Model,
+    x: &[f64],
+    rotary: bool,
+    mut f: impl FnMut(NodeMass),
+) {
+    for &(node, mass) in &model.loads.point_masses {
+        f(NodeMass::Point {
+            ix: model.nodes[node].ix_pos,
+            mass,
+        });
+    }
+    if !rotary {
+        return;
+    }
+    for (node, tensor) in &model.loads.inertias {
+        let Some(r) = model.nodes[*node].ix_rot else {
+            continue;
+        };
+        f(NodeMass::Tensor {
+            r,
+            block: node_inertia_block(&x[r..r + 4], tensor),
+        });
     }
 }
 
@@ -71,29 +150,18 @@ fn for_each_node_entry(
     rotary: bool,
     mut f: impl FnMut(usize, usize, f64),
 ) {
-    for &(node, mass) in &model.loads.point_masses {
-        let ip = model.nodes[node].ix_pos;
-        for r in 0..3 {
-            match weight {
-                Some(w) => (0..3).for_each(|c| f(ip + r, ip + c, mass * w[r][c])),
-                None => f(ip + r, ip + r, mass),
+    for_each_node_mass(model, x, rotary, |nm| match nm {
+        NodeMass::Point { ix, mass } => {
+            NodeMass::point_entries(mass, weight, |r, c, v| f(ix + r, ix + c, v))
+        }
+        NodeMass::Tensor { r, block } => {
+            for a in 0..4 {
+                for c in 0..4 {
+                    f(r + a, r + c, block[a][c]);
+                }
             }
         }
-    }
-    if !rotary {
-        return;
-    }
-    for (node, tensor) in &model.loads.inertias {
-        let Some(r) = model.nodes[*node].ix_rot else {
-            continue;
-        };
-        let blk = node_inertia_block(&x[r..r + 4], tensor);
-        for a in 0..4 {
-            for c in 0..4 {
-                f(r + a, r + c, blk[a][c]);
-            }
-        }
-    }
+    });
 }
 
 /// Dense mass matrix M (nx × nx) at x.
@@ -160,38 +228,6 @@ pub fn inertia_forces(model: &Model, x: &[f64], v: &[f64], a: &[f64]) -> Vec<f64
         let f = lambda_inertia_force(&x[r..r + 4], &v[r..r + 4], &a[r..r + 4], tensor);
         for c in 0..4 {
             out[r + c] += f[c];
-        }
-    }
-    out
-}
-
-/// The velocity-dependent inertia forces h(x, ẋ) in x (nx), element by element
-/// ([`ElementKind::velocity_forces`]) plus the inertia tensors at nodes
-/// ([`lambda_velocity_force`]; point masses have none): with them the inertia forces of the
-/// equations of motion are M(x) ẍ + h (theory.md §9.2).
-pub fn velocity_forces(model: &Model, x: &[f64], v: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; model.nx];
-    let (mut xk, mut vk, mut hk) = (Vec::new(), Vec::new(), Vec::new());
-    for entry in &model.elements {
-        let n = entry.xmap.len();
-        xk.clear();
-        vk.clear();
-        xk.extend(entry.xmap.iter().map(|&i| x[i]));
-        vk.extend(entry.xmap.iter().map(|&i| v[i]));
-        hk.resize(n, 0.0);
-        if entry.element.velocity_forces(&xk, &vk, &mut hk) {
-            for (&i, h) in entry.xmap.iter().zip(&hk) {
-                out[i] += h;
-            }
-        }
-    }
-    for (node, tensor) in &model.loads.inertias {
-        let Some(r) = model.nodes[*node].ix_rot else {
-            continue;
-        };
-        let h = lambda_velocity_force(&x[r..r + 4], &v[r..r + 4], tensor);
-        for k in 0..4 {
-            out[r + k] += h[k];
         }
     }
     out

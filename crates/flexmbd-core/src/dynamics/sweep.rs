@@ -3,17 +3,15 @@
 //!
 //! Once the static solution exists the steps are independent, so they are linearised in
 //! parallel (rayon); faer's own parallelism inside a worker nests in the same rayon pool.
-//! The values are those of `dynamics::modes` and `statics::linear::compliance` at the step.
+//! The values are those of `dynamics::modes` and `linearized::compliance` at the step, from
+//! one linearised stage ([`Tangent`]) per step.
 
-use super::dense_size::check_dense_modal;
-use super::{
-    eigenvalues_rigid, reduced_matrices_with, rigid_body_count, EigenSolver, ModalError,
-    ModalOptions,
+use super::dense_size::check_dense_modes;
+use super::{eigenvalues_rigid, EigenSolver, ModalError, ModalOptions};
+use crate::linearized::{
+    check_dense_size as check_linear_size, compliance, Compliance, LinearError, Tangent,
 };
 use crate::model::Model;
-use crate::statics::linear::{
-    check_dense_size as check_linear_size, compliance, linearize, Compliance, LinearError,
-};
 use crate::statics::StepResult;
 use rayon::prelude::*;
 
@@ -82,7 +80,7 @@ pub fn sweep_with(
     // the size guards of the dense paths, before any step allocates
     let dense_modes = solver == EigenSolver::Dense && count > 0;
     let modal_size = match dense_modes {
-        true => check_dense_modal(model, opts.max_dense_bytes, false),
+        true => check_dense_modes(model, count, opts),
         false => Ok(()),
     };
     let linear_size = match nodes.is_empty() {
@@ -93,32 +91,22 @@ pub fn sweep_with(
         .par_iter()
         .enumerate()
         .map(|(k, st)| {
-            let lin = ((!nodes.is_empty() && linear_size.is_ok())
-                || (dense_modes && modal_size.is_ok()))
-            .then(|| linearize(model, st));
+            // one stage per step: its dense K_m, K_g, G are built once, for the compliance and
+            // the dense eigen path alike
+            let t = Tangent::new(model, st);
             // the eigenvalues with the number of rigid-body modes among them
-            let modal = match (&lin, solver) {
-                _ if count == 0 => Ok((Vec::new(), 0)),
-                _ if dense_modes && modal_size.is_err() => {
-                    modal_size.clone().map(|_| (Vec::new(), 0))
-                }
-                (Some(lin), EigenSolver::Dense) => reduced_matrices_with(model, st, lin)
-                    .and_then(|r| r.eigen())
-                    .map(|(lam, _)| {
-                        let rigid = rigid_body_count(&lam).min(count);
-                        (lam.into_iter().take(count).collect(), rigid)
-                    }),
-                _ => eigenvalues_rigid(model, st, count, opts),
+            let modal = if count == 0 {
+                Ok((Vec::new(), 0))
+            } else if dense_modes && modal_size.is_err() {
+                modal_size.clone().map(|_| (Vec::new(), 0))
+            } else {
+                eigenvalues_rigid(&t, count, opts)
             };
             let rigid_body = modal.as_ref().map_or(0, |m| m.1);
             let eigenvalues = modal.map(|m| m.0);
-            let compliance = match (&lin, &linear_size) {
-                (_, Err(e)) => nodes.iter().map(|_| Err(e.clone())).collect(),
-                (Some(lin), Ok(())) => nodes
-                    .iter()
-                    .map(|&n| compliance(model, lin, st, n))
-                    .collect(),
-                (None, Ok(())) => Vec::new(),
+            let compliance = match &linear_size {
+                Err(e) => nodes.iter().map(|_| Err(e.clone())).collect(),
+                Ok(()) => nodes.iter().map(|&n| compliance(&t, n)).collect(),
             };
             SweepPoint {
                 step: k,
@@ -189,9 +177,9 @@ mod tests {
                     b.frequency
                 );
             }
-            let lin = linearize(&model, st);
+            let lin = Tangent::new(&model, st);
             for (c, &n) in p.compliance.iter().zip(&[tip, mid]) {
-                let want = compliance(&model, &lin, st, n).unwrap().stiffness_global();
+                let want = compliance(&lin, n).unwrap().stiffness_global();
                 let got = c.as_ref().unwrap().stiffness_global();
                 for i in 0..6 {
                     assert!((got[i] - want[i]).abs() <= 1e-10 * want[i].abs());

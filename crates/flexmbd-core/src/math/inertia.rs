@@ -150,17 +150,18 @@ pub fn lambda_inertia_force(
     std::array::from_fn(|c| 4.0 * (0..3).map(|r| lb[r][c] * iw[r]).sum::<f64>() + h[c])
 }
 
-/// The kinetic energy ½ ω_bᵀ I ω_b of a body with the inertia tensor `i_body` in its own axes,
-/// ω_b = 2 Λ(λ) λ̇ ([`lambda_velocity_force`]).
-pub fn lambda_kinetic_energy(l: &[f64], ld: &[f64], i_body: &[[f64; 3]; 3]) -> f64 {
-    let lb = lambda_body(l);
-    let w: [f64; 3] = std::array::from_fn(|r| 2.0 * (0..4).map(|c| lb[r][c] * ld[c]).sum::<f64>());
-    0.5 * (0..3).map(|r| w[r] * dot(i_body[r], w)).sum::<f64>()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The kinetic energy ½ ω_bᵀ I ω_b of a body with the inertia tensor `i_body` in its own axes,
+    /// ω_b = 2 Λ(λ) λ̇ ([`lambda_velocity_force`]).
+    pub fn lambda_kinetic_energy(l: &[f64], ld: &[f64], i_body: &[[f64; 3]; 3]) -> f64 {
+        let lb = lambda_body(l);
+        let w: [f64; 3] =
+            std::array::from_fn(|r| 2.0 * (0..4).map(|c| lb[r][c] * ld[c]).sum::<f64>());
+        0.5 * (0..3).map(|r| w[r] * dot(i_body[r], w)).sum::<f64>()
+    }
 
     #[test]
     fn closed_form_rotation_derivative_matches_central_differences() {

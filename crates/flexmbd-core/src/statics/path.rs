@@ -1,5 +1,5 @@
-//! The equilibrium path over the load steps: [`solve_path`] (with [`solve`] and [`analyse`] on
-//! top of it), and what a path that stops part-way keeps ([`Stopped`]).
+//! The equilibrium path over the load steps: [`solve_path`] (with [`solve`] on top of it, and
+//! `crate::linearized::analyse` with the linearised results), and what a path that stops part-way keeps ([`Stopped`]).
 //!
 //! Nothing converged is lost: when a step fails (no convergence even with the smallest
 //! sub-step, an inverted element, a state that is not finite), the error comes with every step
@@ -12,7 +12,6 @@ use super::{
     MAX_ITERATIONS, MAX_STEPS,
 };
 use crate::model::{CoordKind, Model};
-use rayon::prelude::*;
 
 /// [`solve`] with `steps` load steps and default settings otherwise, no progress (tests).
 #[cfg(test)]
@@ -46,7 +45,8 @@ pub struct StaticAnalysis {
 /// A static path that stopped before its last load step: why ([`Stopped::error`], also its
 /// [`std::error::Error::source`]), and everything that converged before
 /// ([`Stopped::analysis`]): the steps, the last one possibly a sub-step between two output
-/// steps (the last converged state), with their linearised results when [`analyse`] was asked
+/// steps (the last converged state), with their linearised results when
+/// `crate::linearized::analyse` was asked
 /// for them.
 #[derive(Clone, Debug, thiserror::Error)]
 #[error("{}", stopped_text(&self.analysis.solution))]
@@ -73,34 +73,6 @@ impl Stopped {
     /// The converged part of the path and why it stopped.
     pub fn into_parts(self) -> (StaticAnalysis, SolveError) {
         (self.analysis, self.error)
-    }
-}
-
-/// The static analysis of a model: [`solve_path`] over the load steps, then the linearised
-/// results `req` (compliance, buckling, stability) at every step, in parallel over the steps.
-/// A path that stops part-way gives them at every converged step, with the error.
-#[allow(clippy::result_large_err)]
-pub fn analyse(
-    model: &Model,
-    opts: &StaticOptions,
-    req: &linear::LinearRequest,
-    progress: impl FnMut(usize, usize),
-) -> Result<StaticAnalysis, Stopped> {
-    let linearise = |sol: &StaticSolution| -> Vec<linear::StepLinear> {
-        sol.steps
-            .par_iter()
-            .map(|st| linear::at_step(model, st, req))
-            .collect()
-    };
-    match solve_path(model, opts, progress) {
-        Ok(solution) => Ok(StaticAnalysis {
-            linear: linearise(&solution),
-            solution,
-        }),
-        Err(mut s) => {
-            s.analysis.linear = linearise(&s.analysis.solution);
-            Err(s)
-        }
     }
 }
 

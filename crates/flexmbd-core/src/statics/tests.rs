@@ -196,8 +196,8 @@ fn prescribed_tip_rotation_gives_the_end_moment() {
 }
 
 mod linearised {
-    use super::super::linear::{buckling, compliance, linearize, unstable_directions};
     use super::*;
+    use crate::linearized::{buckling, compliance, unstable_directions, Tangent};
     use crate::section::{Material, Shape};
 
     #[test]
@@ -218,8 +218,8 @@ mod linearised {
         let model = b.build().unwrap();
         let sol = crate::statics::solve_steps(&model, 1).unwrap();
         let step = &sol.steps[1];
-        let lin = linearize(&model, step);
-        let c = compliance(&model, &lin, step, n).unwrap();
+        let lin = Tangent::new(&model, step);
+        let c = compliance(&lin, n).unwrap();
         let s = shape.props(steel.nu());
         let (eiz, ga) = (steel.e * s.iz, s.k * steel.g * s.a);
         let cases = [
@@ -296,15 +296,15 @@ mod linearised {
             let (model, ei) = column(8, supports);
             let sol = crate::statics::solve_steps(&model, 1).unwrap();
             let step = &sol.steps[1];
-            let lin = linearize(&model, step);
-            let bk = buckling(&model, &lin, 3).unwrap();
+            let lin = Tangent::new(&model, step);
+            let bk = buckling(&lin, 3).unwrap();
             let p_cr = bk.multipliers[0] * 1.0;
             let want = c * ei / (l * l);
             assert!(
                 (p_cr - want).abs() < 1e-3 * want,
                 "{supports}: {p_cr} vs {want}"
             );
-            assert_eq!(unstable_directions(&model, &lin).unwrap(), 0);
+            assert_eq!(unstable_directions(&lin).unwrap(), 0);
         }
     }
 
@@ -321,17 +321,17 @@ mod linearised {
         let last = &sol.steps[1];
         let tip = scaled.nodes.last().unwrap().ix_pos;
         assert!(last.x[tip + 1].abs() < 1e-12, "still straight");
-        let lin = linearize(&scaled, last);
-        assert_eq!(unstable_directions(&scaled, &lin).unwrap(), 1);
+        let lin = Tangent::new(&scaled, last);
+        assert_eq!(unstable_directions(&lin).unwrap(), 1);
         // and the buckling multiplier says the same: 1/1.2 of the current load
-        let mu = buckling(&scaled, &lin, 1).unwrap().multipliers[0];
+        let mu = buckling(&lin, 1).unwrap().multipliers[0];
         assert!((mu - 1.0 / 1.2).abs() < 1e-3, "{mu}");
     }
 }
 
 mod guided_leaf {
-    use super::super::linear::{compliance, linearize};
     use super::*;
+    use crate::linearized::{compliance, Tangent};
     use crate::section::{Material, Shape};
 
     /// validation.md X02: exact k·L³/EI of a guided leaf under a constant axial force P,
@@ -381,7 +381,7 @@ mod guided_leaf {
             let model = b.build().unwrap();
             let sol = crate::statics::solve_steps(&model, 1).unwrap();
             let step = &sol.steps[1];
-            let c = compliance(&model, &linearize(&model, step), step, n).unwrap();
+            let c = compliance(&Tangent::new(&model, step), n).unwrap();
             let k = 1.0 / c.global[1][1] * l.powi(3) / ei;
             assert!(
                 (k - want).abs() < 1e-3 * want,
@@ -476,8 +476,8 @@ mod toggle {
 }
 
 mod cross_spring {
-    use super::super::linear::{compliance, linearize};
     use super::*;
+    use crate::linearized::{compliance, Tangent};
     use crate::section::{Material, Shape};
 
     #[test]
@@ -524,7 +524,7 @@ mod cross_spring {
         let model = b.build().unwrap();
         let sol = crate::statics::solve_steps(&model, 1).unwrap();
         let step = &sol.steps[1];
-        let c = compliance(&model, &linearize(&model, step), step, 0).unwrap();
+        let c = compliance(&Tangent::new(&model, step), 0).unwrap();
         let k = 1.0 / c.global[4][4];
         let want = 2.0 * props.eiy / l;
         assert!((k - want).abs() < 1e-6 * want, "k = {k} vs 2EI/L = {want}");
@@ -537,8 +537,8 @@ mod cross_spring {
 }
 
 mod material_part {
-    use super::super::linear::linearize;
     use super::*;
+    use crate::linearized::linearize;
 
     #[test]
     fn material_stiffness_does_not_depend_on_the_applied_moment() {

@@ -4,7 +4,7 @@
 //! solved without any dense matrix of the size of the model:
 //!
 //! - **Coordinates**: the reduced unknowns of the statics Newton system
-//!   ([`crate::statics::ReducedLinear`]): free translations, three rotation increments δ per
+//!   ([`crate::statics::ReducedLinear`], the sparse form of the stage `linearized::sparse`): free translations, three rotation increments δ per
 //!   rotational node (angular velocity ω = 2δ, so these are velocity coordinates), the Euler
 //!   parameters of partly held rotational nodes, and one multiplier per kept constraint (rigid
 //!   and input deformations, normalisations of partly held nodes). The stiffness is the Newton
@@ -57,6 +57,7 @@ mod shifted;
 
 use super::ModalError;
 use crate::linalg::EigenError;
+use crate::linearized::Tangent;
 use crate::model::Model;
 use crate::statics::StepResult;
 #[cfg(test)]
@@ -101,12 +102,8 @@ pub(crate) struct SparseModes {
 type NodeKinetic = Vec<(f64, f64)>;
 
 /// The lowest `count` eigenpairs on the sparse path.
-pub(crate) fn sparse_modes(
-    model: &Model,
-    step: &StepResult,
-    count: usize,
-) -> Result<SparseModes, ModalError> {
-    rigid::modes_listing_rigid(&Problem::new(model, step), model, step, count)
+pub(crate) fn sparse_modes(t: &Tangent, count: usize) -> Result<SparseModes, ModalError> {
+    rigid::modes_listing_rigid(&Problem::new(t), t.model(), t.step(), count)
 }
 
 /// A static field δx (length nx) with the multipliers of every constraint row.
@@ -122,13 +119,12 @@ pub(crate) struct SparseProblem(Problem);
 /// for the state space, which frees held coordinates in a copy of the model and holds them
 /// again by these rows.
 pub(crate) fn sparse_modes_held(
-    model: &Model,
-    step: &StepResult,
+    t: &Tangent,
     count: usize,
     rows: &[Vec<f64>],
 ) -> Result<(SparseModes, SparseProblem), ModalError> {
-    let p = Problem::with_rows(model, step, rows);
-    let sm = modes_of(&p, model, step, count)?;
+    let p = Problem::with_rows(t, rows);
+    let sm = modes_of(&p, t.model(), t.step(), count)?;
     Ok((sm, SparseProblem(p)))
 }
 

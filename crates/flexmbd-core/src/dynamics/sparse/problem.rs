@@ -1,12 +1,13 @@
-//! The sparse problem: the statics Newton matrix [K, Gᵀ; G, 0] at the state with the mass
-//! and the centrifugal softening in the same reduced coordinates, in CSC form, and the
-//! fill-reducing saddle-point order of its factorisation.
+//! The sparse problem: K and M of the stage (`linearized::sparse`: the statics Newton matrix
+//! [K, Gᵀ; G, 0] at the state with the softening, and the mass in the same reduced
+//! coordinates), with optional added constraint rows, in CSC form, and the fill-reducing
+//! saddle-point order of its factorisation.
 
 use super::basis::PAR_MIN;
-use crate::elements::ElementKind;
+use crate::linearized::sparse::SparseTangent;
+use crate::linearized::Tangent;
 use crate::math::sparse_lu::{amd_order, sort_small};
-use crate::model::Model;
-use crate::statics::{ReducedLinear, StepResult};
+use crate::statics::ReducedLinear;
 use rayon::prelude::*;
 
 /// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
@@ -62,16 +63,22 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64]
 }
 
 impl Problem {
-    pub(super) fn new(model: &Model, step: &StepResult) -> Self {
-        Self::with_rows(model, step, &[])
+    pub(super) fn new(t: &Tangent) -> Self {
+        Self::with_rows(t, &[])
     }
 
     /// The problem with constraint rows added after those of the Newton system: row j holds
     /// the vector `rows[j]` in x (length nx) mapped onto the coordinate unknowns. The state space uses them to hold again
     /// the coordinates it freed in a copy of the model, so that their multipliers are the
     /// reactions and their right-hand sides the enforced motions.
-    pub(super) fn with_rows(model: &Model, step: &StepResult, rows: &[Vec<f64>]) -> Self {
-        let mut lin = ReducedLinear::new(model, step);
+    pub(super) fn with_rows(t: &Tangent, rows: &[Vec<f64>]) -> Self {
+        let (model, step) = (t.model(), t.step());
+        // K (with the softening) and M of the stage, in the reduced unknowns
+        let SparseTangent {
+            lin,
+            m_el,
+            nodes: mut extra,
+        } = t.sparse();
         let rows: Vec<Vec<(usize, f64)>> = rows
             .iter()
             .map(|w| {
@@ -85,100 +92,7 @@ impl Problem {
             .collect();
         let (n0, nc) = (lin.n(), lin.n_coords());
         let n = n0 + rows.len();
-        let x = &step.x;
-        // element mass blocks, in the order of the element entries
         let ne = lin.vals.len();
-        let mut m_el = vec![0.0; ne];
-        let ranges: Vec<(usize, std::ops::Range<usize>)> = (0..model.elements.len())
-            .map(|el| (el, lin.element_entries(el)))
-            .collect();
-        {
-            // split m_el at the element ranges (ascending, disjoint) and fill in parallel
-            let mut pieces: Vec<(usize, &mut [f64])> = Vec::with_capacity(ranges.len());
-            let mut rest: &mut [f64] = &mut m_el;
-            let mut offset = 0;
-            for (el, r) in &ranges {
-                let (_, tail) = rest.split_at_mut(r.start - offset);
-                let (piece, tail) = tail.split_at_mut(r.end - r.start);
-                pieces.push((*el, piece));
-                rest = tail;
-                offset = r.end;
-            }
-            let fill = |(el, out): (usize, &mut [f64])| {
-                let entry = &model.elements[el];
-                let n = entry.xmap.len();
-                // a beam's 14 coordinates on the stack, larger elements on the heap
-                let (mut xk_s, mut me_s) = ([0.0; 14], [0.0; 14 * 14]);
-                let (mut xk_h, mut me_h) = (Vec::new(), Vec::new());
-                let (xk, me) = if n <= 14 {
-                    (&mut xk_s[..n], &mut me_s[..n * n])
-                } else {
-                    xk_h.resize(n, 0.0);
-                    me_h.resize(n * n, 0.0);
-                    (&mut xk_h[..], &mut me_h[..])
-                };
-                xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
-                if entry.element.mass(xk, None, true, me) {
-                    lin.element_block(model, el, x, &|a, c| me[a * n + c], out);
-                }
-            };
-            if pieces.len() < 256 {
-                pieces.into_iter().for_each(fill);
-            } else {
-                pieces.into_par_iter().with_min_len(64).for_each(fill);
-            }
-        }
-        // centrifugal softening of a steady rotation (model::Spin): −Ω² M_P on the elements, on
-        // the element pattern, counted with the geometric part (it enters the Rayleigh quotients)
-        let w = model.loads.spin.map(|sp| sp.projector());
-        if let Some(w) = &w {
-            for (el, r) in &ranges {
-                let entry = &model.elements[*el];
-                let n = entry.xmap.len();
-                let xk: Vec<f64> = entry.xmap.iter().map(|&i| x[i]).collect();
-                let mut ms = vec![0.0; n * n];
-                if entry.element.mass(&xk, Some(w), false, &mut ms) {
-                    let mut soft = vec![0.0; r.end - r.start];
-                    lin.element_block(model, *el, x, &|a, c| -ms[a * n + c], &mut soft);
-                    for (i, v) in r.clone().zip(soft) {
-                        lin.vals[i] += v;
-                        lin.geo[i] += v;
-                    }
-                }
-            }
-        }
-        // node masses: point masses (with their softening) and inertia tensors, as
-        // (row, column, K value, M value)
-        let mut extra: Vec<(usize, usize, f64, f64)> = Vec::new();
-        for &(node, mass) in &model.loads.point_masses {
-            let ip = model.nodes[node].ix_pos;
-            for a in 0..3 {
-                let Some(i) = lin.coord_index(ip + a) else {
-                    continue;
-                };
-                for c in 0..3 {
-                    let Some(j) = lin.coord_index(ip + c) else {
-                        continue;
-                    };
-                    let kv = w.map_or(0.0, |w| -mass * w[a][c]);
-                    let mv = if a == c { mass } else { 0.0 };
-                    if kv != 0.0 || mv != 0.0 {
-                        extra.push((i, j, kv, mv));
-                    }
-                }
-            }
-        }
-        for (node, tensor) in &model.loads.inertias {
-            let Some(r) = model.nodes[*node].ix_rot else {
-                continue;
-            };
-            let blk = crate::math::inertia::node_inertia_block(&x[r..r + 4], tensor);
-            extra.extend(
-                lin.lambda_block(x, r, &blk)
-                    .into_iter()
-                    .map(|(i, j, v)| (i, j, 0.0, v)),
-            );
-        }
         let extra_k: Vec<(usize, usize, f64)> = extra
             .iter()
             .filter(|e| e.2 != 0.0)

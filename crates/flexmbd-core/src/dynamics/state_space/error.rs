@@ -49,28 +49,6 @@ pub enum StateSpaceError {
         /// The dense limit.
         limit: usize,
     },
-    /// Prescribed-motion inputs on the sparse path.
-    #[error("prescribed-motion inputs ({input}) need the dense state space, which takes models of at most {limit} degrees of freedom (this one has {ndof}); use force or moment inputs, or a smaller model")]
-    SparseMotion {
-        /// The first motion input.
-        input: String,
-        /// Degrees of freedom.
-        ndof: usize,
-        /// The dense limit.
-        limit: usize,
-    },
-    /// A force output on a rigid or prescribed deformation.
-    #[error("output {output}: this deformation is rigid or prescribed, so its force is a constraint reaction, which the dense state space gives (models up to 3000 degrees of freedom, with the dense or the automatic solver choice) but the sparse one does not")]
-    ForceOfHeldDeformation {
-        /// Output name.
-        output: String,
-    },
-    /// A support reaction on the sparse path.
-    #[error("output {output}: reactions are given by the dense state space only (models up to 3000 degrees of freedom)")]
-    SparseReaction {
-        /// Output name.
-        output: String,
-    },
     /// A reaction at a coordinate that is not held.
     #[error("output {output}: this coordinate is free, so it has no reaction; a reaction needs a coordinate held by a support, an input or a prescribed value")]
     ReactionNotHeld {

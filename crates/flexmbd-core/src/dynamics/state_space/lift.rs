@@ -5,9 +5,9 @@
 use super::{Motion, Output, OutputKind, Probe, StateSpaceError};
 use crate::dynamics::Reduced;
 use crate::elements::ElementKind;
+use crate::linearized::Tangent;
 use crate::math::lambda_bar;
 use crate::model::{CoordKind, Dof, Model};
-use crate::statics::linear::linearize;
 use crate::statics::StepResult;
 use faer::Mat;
 
@@ -61,7 +61,7 @@ pub(super) fn motion_loads(
         })
         .collect();
     let nx = model.nx;
-    let kx = linearize(&free, step).tangent_in_x(&free, &step.x);
+    let kx = Tangent::new(&free, step).stiffness_in_x();
     // the velocity basis of the free coordinates
     let ev = crate::assembly::evaluate(model, &step.x);
     let gt = if rows.is_empty() {
@@ -337,11 +337,10 @@ pub(super) fn output_row(
     out: &Output,
 ) -> Result<Vec<f64>, StateSpaceError> {
     let (element, mode, force) = match out.probe {
-        Probe::Node { node, dof } => return unit_vector(model, step, node, dof),
-        Probe::Reaction { .. } => {
-            return Err(StateSpaceError::SparseReaction {
-                output: out.name(model),
-            })
+        // a reaction output is combined from its reaction rows by the callers ([`reactions`]),
+        // never from this row; the row of its held coordinate keeps the match total
+        Probe::Node { node, dof } | Probe::Reaction { node, dof } => {
+            return unit_vector(model, step, node, dof)
         }
         Probe::Deformation { element, mode } => (element, mode, false),
         Probe::Force { element, mode } => (element, mode, true),
@@ -350,12 +349,9 @@ pub(super) fn output_row(
     let ne = entry.element.ne();
     let coef: Vec<f64> = if force {
         let role = crate::statics::element_roles(model, element);
+        // the force of a rigid or prescribed deformation is a reaction ([`Output::is_reaction`]),
+        // which never reaches this row
         let flexible = |b: usize| role[b] == crate::statics::Role::Flexible;
-        if !flexible(mode) {
-            return Err(StateSpaceError::ForceOfHeldDeformation {
-                output: out.name(model),
-            });
-        }
         let s = entry.element.stiffness();
         (0..ne)
             .map(|b| if flexible(b) { s[(mode, b)] } else { 0.0 })

@@ -66,12 +66,12 @@ pub use error::StateSpaceError;
 pub use signals::{Input, InputInfo, Motion, Output, OutputKind, Probe};
 pub use system::{log_space, magnitude_phase, to_rows, StateSpace};
 
-use super::{auto_solver, reduced_matrices_with, velocity_dof, EigenSolver, Reduced};
+use super::{auto_solver, reduced_matrices, velocity_dof, EigenSolver, Reduced};
 use crate::elements::ElementKind;
+use crate::linearized::Tangent;
 #[cfg(test)]
 use crate::model::Dof;
 use crate::model::Model;
-use crate::statics::linear::linearize;
 use crate::statics::StepResult;
 use build::build;
 #[cfg(test)]
@@ -138,6 +138,18 @@ pub fn state_space_with_motions(
     outputs: &[Output],
     opts: &StateSpaceOptions,
 ) -> Result<StateSpace, StateSpaceError> {
+    state_space_at(&Tangent::new(model, step), inputs, motions, outputs, opts)
+}
+
+/// [`state_space_with_motions`] at a linearised stage already at hand.
+pub fn state_space_at(
+    t: &Tangent,
+    inputs: &[Input],
+    motions: &[Motion],
+    outputs: &[Output],
+    opts: &StateSpaceOptions,
+) -> Result<StateSpace, StateSpaceError> {
+    let (model, step) = (t.model(), t.step());
     check_ids(model, inputs, motions, outputs)?;
     let ndof = velocity_dof(model);
     if uses_sparse(model, opts) {
@@ -151,8 +163,7 @@ pub fn state_space_with_motions(
         return build_sparse(model, step, inputs, motions, outputs, count, opts);
     }
     check_dense_size(model, opts)?;
-    let lin = linearize(model, step);
-    let red = reduced_matrices_with(model, step, &lin)?;
+    let red = reduced_matrices(t)?;
     build(model, step, &red, inputs, motions, outputs, opts)
 }
 

@@ -25,6 +25,7 @@ use super::lift::{freed_model, output_row, reactions, unit_vector, Target};
 use super::{Input, Motion, Output, OutputKind, StateSpace, StateSpaceError, StateSpaceOptions};
 use crate::dynamics::sparse::sparse_modes_held;
 use crate::dynamics::EigenSolver;
+use crate::linearized::Tangent;
 use crate::model::{CoordKind, Model};
 use crate::statics::StepResult;
 use faer::Mat;
@@ -73,7 +74,7 @@ pub(super) fn build_sparse(
             e
         })
         .collect();
-    let (sm, problem) = sparse_modes_held(&free, step, count, &rows)?;
+    let (sm, problem) = sparse_modes_held(&Tangent::new(&free, step), count, &rows)?;
     let nc = problem.n_coords();
     // constraint values c_a of every held quantity (rows of the saddle system)
     let first = problem.first_added_row();

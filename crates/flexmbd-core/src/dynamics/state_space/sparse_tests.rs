@@ -3,8 +3,8 @@
 
 use super::tests::{all_io, cantilever, rel_err};
 use super::*;
+use crate::linearized::{compliance, Tangent};
 use crate::statics::last_step;
-use crate::statics::linear::compliance;
 
 fn opts(solver: EigenSolver, modes: usize, static_correction: bool) -> StateSpaceOptions {
     StateSpaceOptions {
@@ -74,8 +74,8 @@ fn sparse_state_space_equals_dense_with_static_correction() {
                     }
                 }
             }
-            let lin = linearize(&model, &step);
-            let c = compliance(&model, &lin, &step, tip).unwrap();
+            let lin = Tangent::new(&model, &step);
+            let c = compliance(&lin, tip).unwrap();
             let dc = sparse.dc_gain().unwrap();
             let dc6 = Mat::from_fn(6, 6, |i, j| dc[(i, j)]);
             assert!(rel_err(&dc6, &c.global) < 1e-6, "{case}");
@@ -106,8 +106,8 @@ fn sparse_state_space_with_massless_directions_keeps_the_static_gain() {
         "{:?}",
         ss.warnings
     );
-    let lin = linearize(&model, &step);
-    let c = compliance(&model, &lin, &step, tip).unwrap();
+    let lin = Tangent::new(&model, &step);
+    let c = compliance(&lin, tip).unwrap();
     let dc = ss.dc_gain().unwrap();
     assert!(rel_err(&dc, &c.global) < 1e-6);
 }

@@ -2,10 +2,10 @@
 
 use super::*;
 use crate::dynamics::modes;
+use crate::linearized::{compliance, Tangent};
 use crate::model::ModelBuilder;
 use crate::section::BeamProps;
 use crate::statics::last_step;
-use crate::statics::linear::compliance;
 
 /// Cantilever of `n` beams along x, clamped at n0, tip mass at the free end. With
 /// `rotary` the beams carry rotary inertia; without it the twist of every node is massless
@@ -73,8 +73,8 @@ fn check_dc_gain(model: &Model, opts: &StateSpaceOptions) -> (StateSpace, f64) {
         .unwrap();
     let (inputs, outputs) = all_io(model, tip);
     let ss = state_space(model, &step, &inputs, &outputs, opts).unwrap();
-    let lin = linearize(model, &step);
-    let c = compliance(model, &lin, &step, tip).unwrap();
+    let lin = Tangent::new(model, &step);
+    let c = compliance(&lin, tip).unwrap();
     let dc = ss.dc_gain().unwrap();
     (ss.clone(), rel_err(&dc, &c.global))
 }

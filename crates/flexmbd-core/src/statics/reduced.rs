@@ -1,0 +1,384 @@
+//! The linearised problem at a converged state in the reduced unknowns of the Newton system
+//! ([`ReducedLinear`], the sparse form of `crate::linearized`), and the strain energies of
+//! displacements through the element deformations.
+
+use super::*;
+
+/// The linearised problem at a converged state in the reduced unknowns of the Newton system
+/// ([`Reduction`]), as sparse entries: the basis of the sparse eigen path of
+/// [`crate::dynamics`].
+///
+/// The unknowns are the free translations and other free coordinates, three rotation
+/// increments δ per rotational node whose Euler parameters are all free (Δλ = N(λ) δ with
+/// N = Λ̄ᵀ, so the angular velocity is ω = 2 δ: velocity coordinates), and the multipliers of the
+/// kept constraints (rigid and input deformations, normalisations of partly held nodes). The
+/// matrix is the Newton matrix of statics at the state, [K, Gᵀ; G, 0] with K = K_m + K_g
+/// (material and geometric stiffness, normalisation terms, load stiffness of moments): the same
+/// stiffness as the dense [`crate::linearized::linearize`], in other coordinates.
+pub(crate) struct ReducedLinear {
+    pub(super) su: Setup,
+    /// Row and column of the entries after the element blocks (moments, normalisations).
+    pub(super) tail: Vec<(usize, usize)>,
+    /// Value of every entry: the element blocks (in [`Reduction`] order, see
+    /// [`ReducedLinear::for_each_entry`]), then the tail.
+    pub vals: Vec<f64>,
+    /// The geometric (load-proportional) part K_g of the values: zero in the constraint rows
+    /// and columns.
+    pub geo: Vec<f64>,
+}
+
+impl ReducedLinear {
+    /// The reduced tangent at a converged step.
+    pub(crate) fn new(model: &Model, step: &StepResult) -> Self {
+        let su = setup(model);
+        let a = assemble_values(
+            model,
+            &su,
+            &step.x,
+            &step.multipliers,
+            step.load_factor,
+            Part::Full,
+            true,
+            Vec::new(),
+        );
+        debug_assert_eq!(su.red.n_entries + a.tail.len(), a.vals.len());
+        // the geometric part vanishes in a state without stress resultants, multipliers and
+        // moment loads (the unloaded reference state)
+        let unstressed = step.sigma.iter().all(|&v| v == 0.0)
+            && step.multipliers.iter().all(|&v| v == 0.0)
+            && (su.moments.is_empty() || step.load_factor == 0.0);
+        let mut geo = if unstressed {
+            vec![0.0; a.vals.len()]
+        } else {
+            let g = assemble_values(
+                model,
+                &su,
+                &step.x,
+                &step.multipliers,
+                step.load_factor,
+                Part::Geometric,
+                true,
+                Vec::new(),
+            );
+            debug_assert_eq!(g.tail, a.tail);
+            g.vals
+        };
+        let nfr = su.red.nfr;
+        let mut i = 0;
+        let mut clear_constraints = |r: usize, c: usize| {
+            if r >= nfr || c >= nfr {
+                geo[i] = 0.0;
+            }
+            i += 1;
+        };
+        su.red.for_each_entry(&mut clear_constraints);
+        for &(r, c) in &a.tail {
+            clear_constraints(r, c);
+        }
+        Self {
+            su,
+            tail: a.tail,
+            vals: a.vals,
+            geo,
+        }
+    }
+
+    /// Row and column of every entry, in the order of `vals`.
+    pub(crate) fn for_each_entry(&self, mut f: impl FnMut(usize, usize)) {
+        self.su.red.for_each_entry(&mut f);
+        for &(r, c) in &self.tail {
+            f(r, c);
+        }
+    }
+
+    /// Twice the material strain energy, Σ δeᵀ S δe over the elements' flexible deformations
+    /// with δe = D δx, of each shape δx (length nx). Evaluated through the deformations, not as
+    /// δxᵀ K_m δx: on fine meshes the entries of K_m are many orders of magnitude larger than
+    /// the stiffness of a smooth mode, and the matrix product loses it to round-off.
+    pub(crate) fn material_energy2(
+        &self,
+        model: &Model,
+        x: &[f64],
+        shapes: &[Vec<f64>],
+    ) -> Vec<f64> {
+        material_energy2(model, &self.su, x, shapes)
+    }
+
+    /// The material stiffness times a displacement, K_m δx = Σ Dᵀ S (D δx) over the elements'
+    /// flexible deformations, as forces in x (length nx). Evaluated through the deformations δe
+    /// = D δx, for the reason given at [`ReducedLinear::material_energy2`]: the product with the
+    /// assembled K_m loses the small elastic forces of a smooth displacement to round-off.
+    pub(crate) fn material_forces(&self, model: &Model, x: &[f64], dx: &[f64]) -> Vec<f64> {
+        let mut f = vec![0.0; model.nx];
+        for (el, entry) in model.elements.iter().enumerate() {
+            let s = &self.su.s_eff[el];
+            let ne = entry.element.ne();
+            if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
+                continue;
+            }
+            let d = entry.element.jacobian(&gather(entry, x));
+            let de = deformation_change(entry, &d, dx);
+            let sigma: Vec<f64> = (0..ne)
+                .map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum())
+                .collect();
+            for (c, &i) in entry.xmap.iter().enumerate() {
+                f[i] += (0..ne).map(|r| d[(r, c)] * sigma[r]).sum::<f64>();
+            }
+        }
+        f
+    }
+
+    /// Whether the model has applied moments (also those of a spin): their load stiffness is
+    /// not symmetric.
+    pub(crate) fn has_moment_loads(&self) -> bool {
+        !self.su.moments.is_empty()
+    }
+
+    /// The row of the system that holds deformation `e` (a rigid or input deformation).
+    pub(crate) fn constraint_row(&self, e: usize) -> Option<usize> {
+        self.su.constraint[e].and_then(|k| self.su.red.map[self.su.nf + k])
+    }
+
+    /// Size of the system (coordinates and kept constraints).
+    pub(crate) fn n(&self) -> usize {
+        self.su.red.n
+    }
+
+    /// Number of coordinate unknowns (they come first; the constraints follow).
+    pub(crate) fn n_coords(&self) -> usize {
+        self.su.red.nfr
+    }
+
+    /// The entries of element `el` (a contiguous range of `rows`/`cols`/`vals`).
+    pub(crate) fn element_entries(&self, el: usize) -> std::ops::Range<usize> {
+        self.su.red.elem_start[el]..self.su.red.elem_start[el + 1]
+    }
+
+    /// Tᵀ L T for a matrix L on the local coordinates of element `el` (`local(a, b)`, local
+    /// order of its `xmap`), written into `out` in the order of the element's entries; the
+    /// entries of its constraint rows get zero.
+    pub(crate) fn element_block(
+        &self,
+        model: &Model,
+        el: usize,
+        x: &[f64],
+        local: &dyn Fn(usize, usize) -> f64,
+        out: &mut [f64],
+    ) {
+        let entry = &model.elements[el];
+        let nxk = entry.xmap.len();
+        let mut kt = vec![0.0; nxk * self.su.red.elem_cols[el].len()];
+        write_reduced(
+            &self.su,
+            el,
+            entry.ie,
+            entry.element.ne(),
+            &|a| x[entry.xmap[a]],
+            nxk,
+            local,
+            &|_, _| 0.0,
+            out,
+            &mut kt,
+        );
+    }
+
+    /// The reduced index of x coordinate `i` when it is an unknown of its own (a free
+    /// translation, or an Euler parameter of a node that is not reduced).
+    pub(crate) fn coord_index(&self, i: usize) -> Option<usize> {
+        self.su.unknown[i].and_then(|u| self.su.red.map[u])
+    }
+
+    /// Entries (row, column, value) of Tᵀ B T for a 4 × 4 block B on the Euler parameters of
+    /// the rotational node with λ0 at x index `r` (an inertia tensor).
+    pub(crate) fn lambda_block(
+        &self,
+        x: &[f64],
+        r: usize,
+        blk: &[[f64; 4]; 4],
+    ) -> Vec<(usize, usize, f64)> {
+        let mut out = Vec::new();
+        if let Some(k) = self.su.red.node_at[r] {
+            let nb = rot_basis(&x[r..r + 4]);
+            let d0 = self.su.red.nodes[k].1;
+            for p in 0..3 {
+                for q in 0..3 {
+                    let mut v = 0.0;
+                    for i in 0..4 {
+                        for j in 0..4 {
+                            v += nb[i][p] * blk[i][j] * nb[j][q];
+                        }
+                    }
+                    out.push((d0 + p, d0 + q, v));
+                }
+            }
+            return out;
+        }
+        for i in 0..4 {
+            let Some(ri) = self.coord_index(r + i) else {
+                continue;
+            };
+            for j in 0..4 {
+                if let Some(rj) = self.coord_index(r + j) {
+                    out.push((ri, rj, blk[i][j]));
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether coordinate unknown `m` is a translation (else an Euler parameter or a rotation
+    /// increment).
+    pub(crate) fn is_translation(&self, m: usize) -> bool {
+        self.su.red.is_trans[m]
+    }
+
+    /// The node of every coordinate unknown (a node `at` a host owns only its rotation): the
+    /// unknowns of one node share their couplings, which a fill-reducing ordering can use.
+    pub(crate) fn coord_nodes(&self, model: &Model) -> Vec<usize> {
+        let mut owner = vec![usize::MAX; model.nx];
+        for (id, n) in model.nodes.iter().enumerate() {
+            for i in n.own_range() {
+                owner[i] = id;
+            }
+        }
+        let mut out = vec![usize::MAX; self.su.red.nfr];
+        for (i, &o) in owner.iter().enumerate() {
+            if let Some(m) = self.coord_index(i) {
+                out[m] = o;
+            }
+        }
+        for &(r, d0, _) in &self.su.red.nodes {
+            out[d0..d0 + 3].iter_mut().for_each(|v| *v = owner[r]);
+        }
+        out
+    }
+
+    /// Generalised forces on the reduced coordinates of a force vector `f` in x (length nx):
+    /// the transpose of [`ReducedLinear::to_x`], so that uᵀ (this) = (to_x u)ᵀ f.
+    pub(crate) fn force_to_coords(&self, x: &[f64], f: &[f64]) -> Vec<f64> {
+        let mut fc = vec![0.0; self.n_coords()];
+        for (i, fi) in f.iter().enumerate() {
+            if let Some(m) = self.coord_index(i) {
+                fc[m] += fi;
+            }
+        }
+        for &(r, d0, _) in &self.su.red.nodes {
+            let nb = rot_basis(&x[r..r + 4]);
+            for (j, v) in fc[d0..d0 + 3].iter_mut().enumerate() {
+                *v += (0..4).map(|i| nb[i][j] * f[r + i]).sum::<f64>();
+            }
+        }
+        fc
+    }
+
+    /// δx (length nx) of a vector `u` of the coordinate unknowns at the state `x`.
+    pub(crate) fn to_x(&self, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
+        let mut dx = vec![0.0; model.nx];
+        for (i, d) in dx.iter_mut().enumerate() {
+            if let Some(m) = self.coord_index(i) {
+                *d = u[m];
+            }
+        }
+        for &(r, d0, _) in &self.su.red.nodes {
+            let nb = rot_basis(&x[r..r + 4]);
+            for i in 0..4 {
+                dx[r + i] = (0..3).map(|j| nb[i][j] * u[d0 + j]).sum();
+            }
+        }
+        dx
+    }
+}
+
+/// Twice the material strain energy Σ δeᵀ S δe of each shape δx (length nx) over the
+/// elements' flexible deformations (the effective stiffnesses of `su`), δe = D δx
+/// ([`ReducedLinear::material_energy2`]).
+pub(crate) fn material_energy2(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    shapes: &[Vec<f64>],
+) -> Vec<f64> {
+    let per_element = |el: usize| -> Vec<f64> {
+        let entry = &model.elements[el];
+        let s = &su.s_eff[el];
+        let ne = entry.element.ne();
+        if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
+            return vec![0.0; shapes.len()];
+        }
+        deformation_energies(entry, s, x, shapes)
+            .chunks_exact(ne)
+            .map(|e| e.iter().sum())
+            .collect()
+    };
+    let parts: Vec<Vec<f64>> = if model.elements.len() < 256 {
+        (0..model.elements.len()).map(per_element).collect()
+    } else {
+        (0..model.elements.len())
+            .into_par_iter()
+            .with_min_len(64)
+            .map(per_element)
+            .collect()
+    };
+    let mut out = vec![0.0; shapes.len()];
+    for p in &parts {
+        for (o, v) in out.iter_mut().zip(p) {
+            *o += v;
+        }
+    }
+    out
+}
+
+/// δeₐ (S δe)ₐ of every deformation a of an element for each displacement δx (length nx),
+/// δe = D δx: twice the strain energy of the deformation (with the coupling terms of S split
+/// by rows); flat, shape k's values at k ne … (k + 1) ne. Closed-form D in fixed-size arrays
+/// for the beam.
+pub(crate) fn deformation_energies(
+    entry: &crate::model::ElementEntry,
+    s: &Mat<f64>,
+    x: &[f64],
+    shapes: &[Vec<f64>],
+) -> Vec<f64> {
+    let ne = entry.element.ne();
+    let mut out = Vec::with_capacity(ne * shapes.len());
+    if let (Some(cf), 6, 14) = (entry.element.closed_form(), ne, entry.xmap.len()) {
+        // the same sums as below, without allocations per shape
+        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+        let d = cf.first(&xk).d;
+        for dx in shapes {
+            let de: [f64; 6] = std::array::from_fn(|r| {
+                entry
+                    .xmap
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &i)| d[r][c] * dx[i])
+                    .sum()
+            });
+            out.extend((0..6).map(|a| de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
+        }
+        return out;
+    }
+    let d = entry.element.jacobian(&gather(entry, x));
+    for dx in shapes {
+        let de = deformation_change(entry, &d, dx);
+        out.extend((0..ne).map(|a| de[a] * (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
+    }
+    out
+}
+
+/// δe = D δx_k of an element for a displacement δx (length nx).
+pub(super) fn deformation_change(
+    entry: &crate::model::ElementEntry,
+    d: &Mat<f64>,
+    dx: &[f64],
+) -> Vec<f64> {
+    (0..d.nrows())
+        .map(|r| {
+            entry
+                .xmap
+                .iter()
+                .enumerate()
+                .map(|(c, &i)| d[(r, c)] * dx[i])
+                .sum()
+        })
+        .collect()
+}

@@ -1,0 +1,154 @@
+//! The problem data derived once from a model: unknowns, constraints, effective stiffnesses,
+//! loads and targets at t = 1 ([`Setup`]).
+
+use super::*;
+
+/// Problem data derived once from the model.
+pub(crate) struct Setup {
+    pub(crate) roles: Vec<Role>,
+    /// x index → unknown index (free coordinates).
+    pub(crate) unknown: Vec<Option<usize>>,
+    pub(crate) nf: usize,
+    /// e index → constraint index.
+    pub(crate) constraint: Vec<Option<usize>>,
+    pub(crate) nk: usize,
+    /// Flexible part of each element's stiffness (other rows and columns zeroed).
+    pub(crate) s_eff: Vec<Mat<f64>>,
+    /// Dead nodal forces in x (translations only), at t = 1, including gravity.
+    pub(crate) f_dead: Vec<f64>,
+    /// Moments at t = 1: (λ0 index, M).
+    pub(crate) moments: Vec<(usize, [f64; 3])>,
+    /// Prescribed values at t = 1: coordinate targets (index, reference, final).
+    pub(crate) x_targets: Vec<(usize, f64)>,
+    /// Deformation targets at t = 1.
+    pub(crate) e_targets: Vec<f64>,
+    /// λ0 index of every rotational node.
+    pub(crate) lambda: Vec<usize>,
+    /// Normalisation constraints: (λ0 index, constraint index) of nodes with a free λ.
+    pub(crate) norm: Vec<(usize, usize)>,
+    /// Model size (reference for displacement tolerances).
+    pub(crate) l_ref: f64,
+    /// Whether x index i is a rotation parameter.
+    pub(crate) is_lambda: Vec<bool>,
+    /// Order of the KKT entries written by the element assembly.
+    pub(super) pattern: Pattern,
+    /// The reduced Newton system (rotations of fully free nodes in tangent coordinates).
+    pub(super) red: Reduction,
+}
+
+pub(crate) fn setup(model: &Model) -> Setup {
+    let roles = roles(model);
+    let mut unknown = vec![None; model.nx];
+    let mut nf = 0;
+    for i in 0..model.nx {
+        if model.partition.x[i] == CoordKind::Free {
+            unknown[i] = Some(nf);
+            nf += 1;
+        }
+    }
+    let mut constraint = vec![None; model.ne];
+    let mut nk = 0;
+    for i in 0..model.ne {
+        if roles[i] != Role::Flexible {
+            constraint[i] = Some(nk);
+            nk += 1;
+        }
+    }
+    let pattern = Pattern::new(model, &unknown, &constraint, nf);
+    let s_eff = model
+        .elements
+        .iter()
+        .map(|entry| {
+            let s = entry.element.stiffness();
+            let flex = |m: usize| roles[entry.ie + m] == Role::Flexible;
+            Mat::from_fn(s.nrows(), s.ncols(), |a, b| {
+                if flex(a) && flex(b) {
+                    s[(a, b)]
+                } else {
+                    0.0
+                }
+            })
+        })
+        .collect();
+    // dead loads and gravity
+    let mut f_dead = vec![0.0; model.nx];
+    let mut moments = Vec::new();
+    for l in &model.loads.nodal {
+        let n = &model.nodes[l.node];
+        for k in 0..3 {
+            f_dead[n.ix_pos + k] += l.force[k];
+        }
+        if let Some(r) = n.ix_rot {
+            if l.moment.iter().any(|m| *m != 0.0) {
+                moments.push((r, l.moment));
+            }
+        }
+    }
+    // gravity and the centrifugal loads of a steady rotation, consistent with the mass model
+    // (dead, on the reference configuration)
+    if model.loads.acceleration_field().is_some() {
+        for (node, (f, m)) in crate::assembly::loads::field_loads(model)
+            .iter()
+            .enumerate()
+        {
+            let n = &model.nodes[node];
+            for k in 0..3 {
+                f_dead[n.ix_pos + k] += f[k];
+            }
+            if let Some(r) = n.ix_rot {
+                if m.iter().any(|v| *v != 0.0) {
+                    moments.push((r, *m));
+                }
+            }
+        }
+    }
+    // prescribed values
+    let mut x_targets = Vec::new();
+    let mut e_targets = vec![0.0; model.ne];
+    for p in &model.loads.prescribed {
+        match p.target {
+            Target::Coordinate(i) => x_targets.push((i, p.value)),
+            Target::Deformation(i) => e_targets[i] = p.value,
+        }
+    }
+    let lambda: Vec<usize> = model.nodes.iter().filter_map(|n| n.ix_rot).collect();
+    let mut norm = Vec::new();
+    for &r in &lambda {
+        if (r..r + 4).any(|i| unknown[i].is_some()) {
+            norm.push((r, nk));
+            nk += 1;
+        }
+    }
+    let mut is_lambda = vec![false; model.nx];
+    for &r in &lambda {
+        is_lambda[r..r + 4].iter_mut().for_each(|v| *v = true);
+    }
+    // model size
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for n in &model.nodes {
+        for k in 0..3 {
+            lo[k] = lo[k].min(n.x0[k]);
+            hi[k] = hi[k].max(n.x0[k]);
+        }
+    }
+    let l_ref = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max).max(1e-12);
+    let red = Reduction::new(model, &unknown, &constraint, nf, nk, &norm, &is_lambda);
+    Setup {
+        roles,
+        unknown,
+        nf,
+        constraint,
+        nk,
+        s_eff,
+        f_dead,
+        moments,
+        x_targets,
+        e_targets,
+        lambda,
+        norm,
+        l_ref,
+        is_lambda,
+        pattern,
+        red,
+    }
+}

@@ -1,0 +1,531 @@
+//! The element assembly of residual and tangent at a state ([`assemble`], [`assemble_part`],
+//! [`assemble_values`]), the loads and the prescribed values.
+
+use super::*;
+
+/// Everything assembled at one state.
+pub(crate) struct Assembled {
+    /// Residual on the free coordinates.
+    pub(crate) r: Vec<f64>,
+    /// Constraint violations.
+    pub(crate) g: Vec<f64>,
+    /// KKT matrix entries, in the order of [`Pattern`] (or of [`Reduction`] for the reduced
+    /// system) followed by the tail entries (moments, normalisations) whose row and column are
+    /// in `tail`.
+    pub(crate) vals: Vec<f64>,
+    /// Number of element entries at the start of `vals`.
+    pub(crate) n_el: usize,
+    /// Row and column of the entries after the element blocks.
+    pub(crate) tail: Vec<(usize, usize)>,
+    /// KKT matrix entries as triplets (only from [`assemble_part`], for the linearisation).
+    pub(crate) triplets: Vec<Triplet<usize, usize, f64>>,
+    /// Force scale for the convergence test.
+    pub(crate) f_scale: f64,
+    /// Full generalised force balance f_int − f_ext + ∇p on all of x (reactions).
+    pub(crate) balance: Vec<f64>,
+    /// Element part of `balance` (internal forces Dᵀσ) and the sums of their magnitudes.
+    pub(crate) int_force: Vec<f64>,
+    pub(crate) int_abs: Vec<f64>,
+    pub(crate) e: Vec<f64>,
+    pub(crate) sigma: Vec<f64>,
+    pub(crate) energy: f64,
+    /// Whether `vals` holds the reduced system ([`Reduction`]).
+    pub(crate) reduced: bool,
+}
+
+/// Which part of the tangent to assemble.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Part {
+    /// K = K_material + K_geometric (Newton).
+    Full,
+    /// Dᵀ S D only.
+    Material,
+    /// Σ σᵢ ∂²eᵢ/∂x² + normalisation multipliers + load stiffness (proportional to the load).
+    Geometric,
+    /// No tangent: forces, deformations and constraint violations only (the matrix values
+    /// are left as they are; a modified Newton iteration that reuses its matrix).
+    Residual,
+}
+
+pub(crate) fn assemble(model: &Model, su: &Setup, x: &[f64], mu: &[f64], t: f64) -> Assembled {
+    assemble_values(model, su, x, mu, t, Part::Full, false, Vec::new())
+}
+
+/// [`assemble_values`] with the KKT entries as triplets.
+pub(crate) fn assemble_part(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+) -> Assembled {
+    let mut a = assemble_values(model, su, x, mu, t, part, false, Vec::new());
+    let pat = su.pattern.layout();
+    let n_el = pat.rows.len();
+    a.triplets = (0..n_el)
+        .map(|i| Triplet::new(pat.rows[i], pat.cols[i], a.vals[i]))
+        .chain(
+            a.tail
+                .iter()
+                .zip(&a.vals[n_el..])
+                .map(|(&(r, c), &v)| Triplet::new(r, c, v)),
+        )
+        .collect();
+    a
+}
+
+/// One element's contribution, written into its own slices (parallel part): deformations,
+/// stress resultants, internal forces Dᵀσ on its local coordinates, and its block of KKT
+/// entries in [`Pattern`] order (with `reduced`, [`Reduction`] order). Returns the elastic
+/// energy.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn element_local(
+    su: &Setup,
+    el: usize,
+    entry: &crate::model::ElementEntry,
+    x: &[f64],
+    mu: &[f64],
+    part: Part,
+    reduced: bool,
+    e_out: &mut [f64],
+    sigma_out: &mut [f64],
+    f_out: &mut [f64],
+    vals: &mut [f64],
+) -> f64 {
+    let s = &su.s_eff[el];
+    let ne = e_out.len();
+    let free = &su.pattern.elem_free[el];
+    // σ = S_eff e, plus multipliers on constrained modes
+    let stress = |e: &[f64], sigma: &mut [f64]| -> f64 {
+        let mut energy = 0.0;
+        for a in 0..ne {
+            sigma[a] = (0..ne).map(|b| s[(a, b)] * e[b]).sum();
+            energy += 0.5 * sigma[a] * e[a];
+            if let Some(c) = su.constraint[entry.ie + a] {
+                sigma[a] += mu[c];
+            }
+        }
+        energy
+    };
+    // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
+    let write =
+        |vals: &mut [f64], k: &dyn Fn(usize, usize) -> f64, d: &dyn Fn(usize, usize) -> f64| {
+            let mut i = 0;
+            for &(a, _) in free {
+                for &(b, _) in free {
+                    vals[i] = k(a, b);
+                    i += 1;
+                }
+            }
+            for m in 0..ne {
+                if su.constraint[entry.ie + m].is_some() {
+                    for &(b, _) in free {
+                        let v = d(m, b);
+                        vals[i] = v;
+                        vals[i + 1] = v;
+                        i += 2;
+                    }
+                }
+            }
+            debug_assert_eq!(i, vals.len());
+        };
+    if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
+        // closed-form derivatives in fixed-size arrays (elements/beam/closed_form.rs)
+        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+        let first = cf.first(&xk);
+        e_out.copy_from_slice(&first.e);
+        let energy = stress(&first.e, sigma_out);
+        let d = &first.d;
+        for (c, f) in f_out.iter_mut().enumerate() {
+            *f = (0..6).map(|a| d[a][c] * sigma_out[a]).sum();
+        }
+        if part == Part::Residual {
+            return energy;
+        }
+        let s6: [[f64; 6]; 6] = std::array::from_fn(|a| std::array::from_fn(|b| s[(a, b)]));
+        let w: [f64; 6] = std::array::from_fn(|a| sigma_out[a]);
+        if reduced && su.red.beam_full[el] && part == Part::Full {
+            // Tᵀ K T directly in the tangent coordinates of both rotations
+            let (bp, bq) = (rot_basis(&xk[3..7]), rot_basis(&xk[10..14]));
+            let k = first.hessian_tangent(&w, Some(&s6), &bp, &bq);
+            for (o, v) in vals.chunks_exact_mut(12).zip(&k) {
+                o.copy_from_slice(v);
+            }
+            return energy;
+        }
+        let k = match part {
+            Part::Full => first.hessian(&w, Some(&s6)),
+            Part::Material => first.hessian(&[0.0; 6], Some(&s6)),
+            Part::Geometric | Part::Residual => first.hessian(&w, None),
+        };
+        if reduced {
+            // at most 14 reduced columns
+            let mut kt = [0.0; 14 * 14];
+            write_reduced(
+                su,
+                el,
+                entry.ie,
+                ne,
+                &|a| xk[a],
+                14,
+                &|a, b| k[a][b],
+                &|m, b| d[m][b],
+                vals,
+                &mut kt,
+            );
+        } else {
+            write(vals, &|a, b| k[a][b], &|m, b| d[m][b]);
+        }
+        return energy;
+    }
+    let xk = gather(entry, x);
+    let e = entry.element.deformations(&xk);
+    let d = entry.element.jacobian(&xk);
+    e_out.copy_from_slice(&e);
+    let energy = stress(&e, sigma_out);
+    for (c, f) in f_out.iter_mut().enumerate() {
+        *f = (0..ne).map(|a| d[(a, c)] * sigma_out[a]).sum();
+    }
+    if part == Part::Residual {
+        return energy;
+    }
+    // K_k = Dᵀ S D + Σ σᵢ ∂²eᵢ/∂x²
+    let nxk = xk.len();
+    let mut k = if part == Part::Material {
+        Mat::zeros(nxk, nxk)
+    } else {
+        entry.element.hessian_weighted(&xk, sigma_out)
+    };
+    if part != Part::Geometric {
+        let sd = s * &d;
+        k += d.transpose() * &sd;
+    }
+    if reduced {
+        let mut kt = vec![0.0; nxk * su.red.elem_cols[el].len()];
+        write_reduced(
+            su,
+            el,
+            entry.ie,
+            ne,
+            &|a| xk[a],
+            nxk,
+            &|a, b| k[(a, b)],
+            &|m, b| d[(m, b)],
+            vals,
+            &mut kt,
+        );
+    } else {
+        write(vals, &|a, b| k[(a, b)], &|m, b| d[(m, b)]);
+    }
+    energy
+}
+
+/// Models with fewer elements are assembled on the calling thread.
+pub(super) const PAR_ELEMENTS: usize = 256;
+
+/// An element's index with its slices of the KKT values, deformations, stress resultants and
+/// internal forces (the parallel part of the assembly).
+pub(super) type ElementSlices<'a> = (
+    usize,
+    (
+        ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]),
+        &'a mut [f64],
+    ),
+);
+
+/// Split `v` into consecutive pieces at the given offsets (`starts` ascending, first 0).
+pub(super) fn split_at_starts<'a>(mut v: &'a mut [f64], starts: &[usize]) -> Vec<&'a mut [f64]> {
+    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
+    for w in starts.windows(2) {
+        let (head, rest) = v.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        v = rest;
+    }
+    out
+}
+
+/// Assemble at (x, μ, t): the KKT entries of the full system (order of [`Pattern`]) or, with
+/// `reduced`, of the reduced one ([`Reduction`]); `spare` is a buffer to reuse for them.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn assemble_values(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+    reduced: bool,
+    spare: Vec<f64>,
+) -> Assembled {
+    let pat = &su.pattern;
+    let (n_el, elem_start) = if reduced {
+        (su.red.n_entries, &su.red.elem_start)
+    } else {
+        let layout = pat.layout();
+        (layout.rows.len(), &layout.elem_start)
+    };
+    // every element entry is written by its element: no need to clear a reused buffer
+    let mut vals = spare;
+    vals.truncate(n_el);
+    vals.resize(n_el, 0.0);
+    let mut e = vec![0.0; model.ne];
+    let mut sigma = vec![0.0; model.ne];
+    let mut fbuf = vec![0.0; *pat.f_start.last().unwrap_or(&0)];
+    let e_starts: Vec<usize> = model
+        .elements
+        .iter()
+        .map(|en| en.ie)
+        .chain(std::iter::once(model.ne))
+        .collect();
+    let energy: f64 = {
+        let vals_k = split_at_starts(&mut vals, elem_start);
+        let e_k = split_at_starts(&mut e, &e_starts);
+        let sigma_k = split_at_starts(&mut sigma, &e_starts);
+        let f_k = split_at_starts(&mut fbuf, &pat.f_start);
+        let one = |(el, (((v, ek), sk), fk)): ElementSlices<'_>| {
+            element_local(
+                su,
+                el,
+                &model.elements[el],
+                x,
+                mu,
+                part,
+                reduced,
+                ek,
+                sk,
+                fk,
+                v,
+            )
+        };
+        if model.elements.len() < PAR_ELEMENTS {
+            // small models: the hand-over to worker threads costs more than it saves
+            vals_k
+                .into_iter()
+                .zip(e_k)
+                .zip(sigma_k)
+                .zip(f_k)
+                .enumerate()
+                .map(one)
+                .sum()
+        } else {
+            vals_k
+                .into_par_iter()
+                .zip(e_k)
+                .zip(sigma_k)
+                .zip(f_k)
+                .enumerate()
+                .with_min_len(64)
+                .map(one)
+                .sum()
+        }
+    };
+
+    let mut int_force = vec![0.0; model.nx];
+    let mut int_abs = vec![0.0; model.nx];
+    for (el, entry) in model.elements.iter().enumerate() {
+        // internal forces Dᵀσ
+        let f = &fbuf[pat.f_start[el]..pat.f_start[el + 1]];
+        for (&xi, &fi) in entry.xmap.iter().zip(f) {
+            int_force[xi] += fi;
+            int_abs[xi] += fi.abs();
+        }
+    }
+    let n_el = vals.len();
+    let mut a = Assembled {
+        r: Vec::new(),
+        g: Vec::new(),
+        vals,
+        n_el,
+        tail: Vec::new(),
+        triplets: Vec::new(),
+        f_scale: 0.0,
+        balance: Vec::new(),
+        int_force,
+        int_abs,
+        e,
+        sigma,
+        energy,
+        reduced,
+    };
+    apply_loads(model, su, x, mu, t, part, &mut a);
+    a
+}
+
+/// The parts of an assembly that depend on the load factor t, the multipliers of the
+/// normalisations and the prescribed deformations, on top of its element part: external
+/// forces and load stiffness, normalisation terms, constraint violations, residual and force
+/// scale. Replaces those of an earlier call, so an assembly at the same state can be reused
+/// for another t. The load stiffness of moments and the normalisation term 2μ I are
+/// load-proportional: they belong to the geometric part, so `Part::Material` writes zeros in
+/// their (fixed) matrix positions.
+pub(super) fn apply_loads(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+    a: &mut Assembled,
+) {
+    let geo = if part == Part::Material { 0.0 } else { 1.0 };
+    let (nf, nk) = (su.nf, su.nk);
+    let reduced = a.reduced;
+    let mut balance = a.int_force.clone();
+    let mut f_abs = a.int_abs.clone();
+    let mut g = vec![0.0; nk];
+    a.vals.truncate(a.n_el);
+    let vals = &mut a.vals;
+    // constraint violations of the elements
+    for entry in &model.elements {
+        for m in 0..entry.element.ne() {
+            let i = entry.ie + m;
+            let Some(kc) = su.constraint[i] else {
+                continue;
+            };
+            let target = match su.roles[i] {
+                Role::Input => t * su.e_targets[i],
+                _ => 0.0,
+            };
+            g[kc] = a.e[i] - target;
+        }
+    }
+    let mut tail = Vec::new();
+    // external dead forces
+    for i in 0..model.nx {
+        balance[i] -= t * su.f_dead[i];
+        f_abs[i] += (t * su.f_dead[i]).abs();
+    }
+    // moments: f_λ = 2 Λ̄(λ)ᵀ M, load stiffness −∂f/∂λ = −2 A(M)
+    for &(r, m) in &su.moments {
+        let f1 = moment_forces(x, r, &m);
+        for c in 0..4 {
+            let f = t * f1[c];
+            balance[r + c] -= f;
+            f_abs[r + c] += f.abs();
+        }
+        let am = [
+            [0.0, -m[0], -m[1], -m[2]],
+            [m[0], 0.0, -m[2], m[1]],
+            [m[1], m[2], 0.0, -m[0]],
+            [m[2], -m[1], m[0], 0.0],
+        ];
+        if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
+            // Nᵀ (−2 t A) N on the node's rotation increments
+            let nb = rot_basis(&x[r..r + 4]);
+            let d0 = su.red.nodes[k].1;
+            for p in 0..3 {
+                for q in 0..3 {
+                    let mut v = 0.0;
+                    for i in 0..4 {
+                        for j in 0..4 {
+                            v += nb[i][p] * am[i][j] * nb[j][q];
+                        }
+                    }
+                    tail.push((d0 + p, d0 + q));
+                    vals.push(-2.0 * t * v * geo);
+                }
+            }
+            continue;
+        }
+        let idx = |u: usize| if reduced { su.red.map[u] } else { Some(u) };
+        for i in 0..4 {
+            let Some(ui) = su.unknown[r + i].and_then(idx) else {
+                continue;
+            };
+            for j in 0..4 {
+                if let Some(uj) = su.unknown[r + j].and_then(idx) {
+                    tail.push((ui, uj));
+                    vals.push(-2.0 * t * am[i][j] * geo);
+                }
+            }
+        }
+    }
+    // Euler normalisation constraints λᵀλ − 1 = 0 with multipliers μ_n
+    for &(r, kc) in &su.norm {
+        let l = &x[r..r + 4];
+        g[kc] = l.iter().map(|v| v * v).sum::<f64>() - 1.0;
+        for i in 0..4 {
+            balance[r + i] += 2.0 * mu[kc] * l[i];
+        }
+        if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
+            // Nᵀ (2μ I) N = 2μ I on the rotation increments (N orthonormal)
+            let d0 = su.red.nodes[k].1;
+            for j in 0..3 {
+                tail.push((d0 + j, d0 + j));
+                vals.push(2.0 * mu[kc] * geo);
+            }
+            continue;
+        }
+        let idx = |u: usize| if reduced { su.red.map[u] } else { Some(u) };
+        let Some(kr) = idx(nf + kc) else {
+            continue;
+        };
+        for i in 0..4 {
+            let Some(ui) = su.unknown[r + i].and_then(idx) else {
+                continue;
+            };
+            tail.extend([(ui, ui), (kr, ui), (ui, kr)]);
+            vals.extend([2.0 * mu[kc] * geo, 2.0 * l[i], 2.0 * l[i]]);
+        }
+    }
+    let mut r = vec![0.0; nf];
+    for i in 0..model.nx {
+        if let Some(u) = su.unknown[i] {
+            r[u] = balance[i];
+        }
+    }
+    a.f_scale = f_abs.iter().cloned().fold(0.0, f64::max);
+    a.r = r;
+    a.g = g;
+    a.tail = tail;
+    a.balance = balance;
+}
+
+/// The generalised forces 2 Λ̄(λ)ᵀ M on the Euler parameters (λ0 at x index `r`) of a moment M
+/// (global axes) at load factor 1.
+pub(super) fn moment_forces(x: &[f64], r: usize, m: &[f64; 3]) -> [f64; 4] {
+    let lb = lambda_bar(&[x[r], x[r + 1], x[r + 2], x[r + 3]]);
+    std::array::from_fn(|c| 2.0 * (0..3).map(|k| lb[k][c] * m[k]).sum::<f64>())
+}
+
+pub(super) fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, a| m.max(a.abs()))
+}
+
+/// Project every rotational node's λ back onto the unit sphere, scaling only its free
+/// components so that fixed and prescribed components keep their values. Element deformations
+/// do not depend on ‖λ‖, so this changes nothing physical; it keeps λᵀλ − 1 = 0 so that the
+/// normalisation constraint holds exactly after every update.
+pub(super) fn normalise_lambda(su: &Setup, x: &mut [f64]) {
+    for &r in &su.lambda {
+        let (mut free2, mut fixed2) = (0.0, 0.0);
+        for i in r..r + 4 {
+            if su.unknown[i].is_some() {
+                free2 += x[i] * x[i];
+            } else {
+                fixed2 += x[i] * x[i];
+            }
+        }
+        if free2 > 0.0 && fixed2 < 1.0 {
+            let s = ((1.0 - fixed2) / free2).sqrt();
+            for i in r..r + 4 {
+                if su.unknown[i].is_some() {
+                    x[i] *= s;
+                }
+            }
+        }
+    }
+}
+
+/// Set fixed and input coordinates for load factor t.
+pub(super) fn apply_prescribed(model: &Model, su: &Setup, x: &mut [f64], t: f64) {
+    let x0 = model.x0();
+    for &(i, v) in &su.x_targets {
+        x[i] = if su.is_lambda[i] {
+            (0.5 * t * v).sin()
+        } else {
+            x0[i] + t * v
+        };
+    }
+}
