@@ -29,10 +29,11 @@ use super::mapping::{fmt_num, fmt_values, header, NodeMap};
 use super::*;
 use crate::error::{at_line, InputError};
 use crate::limits::MAX_STEPS;
-use crate::toml_writer::{
-    LoadEntry, MassEntry, ModelSpec, PrescribeEntry, PrescribeTarget, StaticSpec,
+use crate::spec::{
+    ElementKind as Kind, LoadEntry, MassEntry, ModelSpec, PrescribeEntry, PrescribeTarget, Src,
+    StaticSpec,
 };
-use flexmbd_core::model::{Dof, ElementSpec};
+use flexmbd_core::model::Dof;
 use flexmbd_core::section::BeamProps;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -154,7 +155,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         // parse_dat guarantees three numbers
         if let Ok(v) = <[f64; 3]>::try_from(&g.values[..]) {
             statics.gravity = Some(v);
-            statics.line = Some(g.line);
+            statics.src = Src::line(g.line);
             statics.comments.push(format!(
                 "GRAVITY {} (line {})",
                 fmt_values(&g.values),
@@ -235,7 +236,14 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
                             "rotary inertias (EM columns 2-4) are not written: they matter for dynamics only".into(),
                         );
                     }
-                    entry.props = Some(p);
+                    if let Kind::Beam(b) = &mut entry.kind {
+                        let some = |v: f64| Some(v).filter(|v| *v != 0.0);
+                        (b.ea, b.gj, b.eiy, b.eiz) =
+                            (Some(p.ea), Some(p.gj), Some(p.eiy), Some(p.eiz));
+                        b.rho_a = some(p.rho_a);
+                        b.shear = Some(p.shear).filter(|v| *v != [0.0; 2]);
+                        b.rho_i = Some(p.rho_i).filter(|v| *v != [0.0; 3]);
+                    }
                 }
                 let (ea, gj, eiy, eiz) = (
                     col(&estiff, 0),
@@ -299,13 +307,13 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
             warn(line, format!("DYNE {n}: deformation(s) {} have no stiffness (ESTIFF): in statics they are held at their reference value (SPACAR would have a degree of freedom without stiffness)", join(&held_dyne)));
         }
         if !kept_rigid.is_empty() {
-            match &mut entry.spec {
-                ElementSpec::Beam { .. } => {
-                    entry.rigid = kept_rigid.iter().map(|&k| i64::from(k)).collect();
+            match &mut entry.kind {
+                Kind::Beam(b) => {
+                    b.fixed = kept_rigid.iter().map(|&k| i64::from(k)).collect();
                 }
-                ElementSpec::Truss { ea } => *ea = 0.0,
-                ElementSpec::Hinge { k, .. } => *k = 0.0,
-                ElementSpec::Rigid => {}
+                Kind::Truss { ea } => *ea = 0.0,
+                Kind::Hinge { k, .. } => *k = 0.0,
+                Kind::Rigid => {}
             }
         }
         let mut roles = Vec::new();
@@ -324,7 +332,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         if !kept_rigid.is_empty() {
             roles.push(format!(
                 "rigid although ESTIFF gives stiffness (not listed in SPACAR){}: {}",
-                if matches!(entry.spec, ElementSpec::Beam { .. }) {
+                if matches!(entry.kind, Kind::Beam(_)) {
                     ""
                 } else {
                     ", so EA/k is not written"
@@ -374,7 +382,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
                     fmt_num(v.values[0]),
                     v.line
                 )],
-                line: Some(v.line),
+                src: Src::line(v.line),
             });
         }
         // inertia tensors of rotational nodes: no static effect (the header lists them)
@@ -441,7 +449,7 @@ fn lumped_mass(
                 fmt_num(ml),
                 fmt_num(l0)
             )],
-            line: Some(*line),
+            src: Src::line(*line),
         });
     }
 }
@@ -521,8 +529,9 @@ fn loads_and_inputs(
                         node: name,
                         force,
                         moment,
+                        history: None,
                         comments: vec![text],
-                        line: Some(v.line),
+                        src: Src::line(v.line),
                     },
                 )),
             }
@@ -632,8 +641,9 @@ fn loads_and_inputs(
             spec.prescribed.push(PrescribeEntry {
                 target: PrescribeTarget::Coordinate { node: name, dof },
                 value,
+                history: None,
                 comments: vec![format!("{text}: {what}")],
-                line: Some(line),
+                src: Src::line(line),
             });
         }
     }
@@ -690,7 +700,8 @@ fn loads_and_inputs(
                     r.describe("INPUTE", "DELINPE", &format!("{el} {mode}")),
                     fmt_num(value)
                 )],
-                line: Some(line),
+                history: None,
+                src: Src::line(line),
             });
         }
     }
