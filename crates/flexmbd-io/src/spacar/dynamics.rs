@@ -563,3 +563,79 @@ fn euler_table(rate: f64, t: f64, n: usize, angle: f64) -> TimeFunction {
         .collect();
     TimeFunction::Table(points)
 }
+
+/// The time simulation of `m` added to `spec`, its static spec for the converted file
+/// ([`statics::Purpose::Document`]): `[simulate]`, the inertia tensors, the loads one per line
+/// with their histories, and the histories of the prescribed inputs (scaled to the static
+/// values). `Err` says why the time simulation does not fit the static model (then nothing is
+/// added): a file can state one model for both.
+pub(super) fn add_simulation(m: &SpacarModel, spec: &mut ModelSpec) -> Result<(), String> {
+    let d = convert(m).map_err(|e| e.to_string())?.spec;
+    if !spec.dynamic_inputs.is_empty() {
+        return Err("the DYNX coordinates are [inputs] of the converted file (for the kinematic check) but unknowns of the motion".into());
+    }
+    for (a, b) in spec.elements.iter().zip(&d.elements) {
+        if (&a.kind, &a.free, &a.input) != (&b.kind, &b.free, &b.input) {
+            return Err(format!("element {}: its deformations have other roles in the time simulation (a DYNE mode without stiffness is held in statics, free in the motion)", a.name));
+        }
+        if a.beam().is_some_and(|s| s.rho_i.is_some()) {
+            return Err(format!(
+                "beam {}: its rotary inertias (EM columns 2-4) cannot be written in this format",
+                a.name
+            ));
+        }
+    }
+    let masses = |s: &ModelSpec| -> Vec<(String, f64)> {
+        s.masses.iter().map(|x| (x.node.clone(), x.m)).collect()
+    };
+    if masses(spec) != masses(&d) {
+        return Err("the masses of the time simulation differ from those of statics".into());
+    }
+    // the loads, one per line in the simulation, add up to the static ones node by node
+    let sums = |s: &ModelSpec| -> BTreeMap<String, [f64; 6]> {
+        let mut by: BTreeMap<String, [f64; 6]> = BTreeMap::new();
+        for l in &s.loads {
+            let v = by.entry(l.node.clone()).or_default();
+            for k in 0..3 {
+                v[k] += l.force[k];
+                v[k + 3] += l.moment[k];
+            }
+        }
+        by.retain(|_, v| *v != [0.0; 6]);
+        by
+    };
+    if sums(spec) != sums(&d) {
+        return Err("the loads of the time simulation differ from those of statics".into());
+    }
+    if spec.prescribed.len() != d.prescribed.len() {
+        return Err(
+            "the inputs that move in the time simulation are not those statics prescribes".into(),
+        );
+    }
+    let mut prescribed = Vec::with_capacity(d.prescribed.len());
+    for p in &d.prescribed {
+        let Some(q) = spec.prescribed.iter().find(|q| q.target == p.target) else {
+            return Err("an input moves in the time simulation but has no static value".into());
+        };
+        let history = match (&p.history, p.value / q.value) {
+            (h, f) if f == 1.0 => h.clone(),
+            (Some(TimeFunction::Table(points)), f) if f.is_finite() => Some(TimeFunction::Table(
+                points.iter().map(|[t, phi]| [*t, phi * f]).collect(),
+            )),
+            _ => {
+                return Err("a moving input's history cannot be scaled to its static value".into())
+            }
+        };
+        let mut entry = q.clone();
+        entry.history = history;
+        entry
+            .comments
+            .extend(p.comments.iter().map(|c| format!("time simulation: {c}")));
+        prescribed.push(entry);
+    }
+    spec.prescribed = prescribed;
+    spec.loads = d.loads;
+    spec.inertias = d.inertias;
+    spec.simulate = d.simulate;
+    Ok(())
+}

@@ -458,15 +458,21 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         }
     }
 
-    spec.header = header(m, &map, None);
+    spec.header = header(m, &map, None, false);
     Ok(spec)
 }
 
 /// The comment block at the top of a converted file: provenance, naming, and the SPACAR data
 /// the TOML format cannot express yet. `statics`: the static data is mapped too (loads,
 /// masses, prescribed values and settings are then commented where they are written), with the
-/// notes (warnings) of that mapping.
-pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]>) -> Vec<String> {
+/// notes (warnings) of that mapping. `simulated`: the time simulation is mapped too (`TIMESTEP`,
+/// `ERROR` and the inertia tensors are written).
+pub(super) fn header(
+    m: &SpacarModel,
+    map: &NodeMap,
+    statics: Option<&[&Warning]>,
+    simulated: bool,
+) -> Vec<String> {
     let mapped = statics.is_some();
     let mut h = vec![format!(
         "Converted by `flexmbd convert` from the SPACAR file {} (docs/spacar-import.md).",
@@ -488,6 +494,9 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
         "SPACAR analysis: {}.",
         m.analysis_hint().describe()
     ));
+    if simulated {
+        h.push("Time simulation: TIMESTEP, ERROR -> [simulate]; XM inertia tensors -> [[inertia]]; XF constant, DELXF, INPUTX, DELINPX, INPUTE, DELINPE as functions of time -> `history` of [[load]] and [[prescribe]] (a stroke's history scaled to its static value), as `flexmbd simulate` on the .dat file maps them (docs/spacar-import.md §7).".into());
+    }
     let name = |n: u32| {
         map.name(m, n)
             .map_or_else(|| format!("{n}"), |s| format!("{n} (\"{s}\")"))
@@ -503,6 +512,9 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
         if mapped && (kw == "ITERSTEP" || kw == "GRAVITY") {
             continue; // at [static]
         }
+        if simulated && (kw == "TIMESTEP" || kw == "ERROR") {
+            continue; // at [simulate]
+        }
         if let Some(v) = v {
             later.push((
                 v.line,
@@ -513,8 +525,8 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
     for (kw, list) in [("XF", &m.xf), ("DELXF", &m.delxf), ("XM", &m.xm)] {
         for v in list {
             let inertia = kw == "XM" && m.node_kinds.get(&v.node) == Some(&NodeKind::Rotational);
-            if mapped && !inertia {
-                continue; // at [[load]] and [[mass]]
+            if mapped && (!inertia || simulated) {
+                continue; // at [[load]], [[mass]] and [[inertia]]
             }
             let what = match (kw, m.node_kinds.get(&v.node)) {
                 ("XM", Some(NodeKind::Rotational)) => "inertia Ixx Ixy Ixz Iyy Iyz Izz",

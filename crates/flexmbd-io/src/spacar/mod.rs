@@ -589,7 +589,7 @@ impl SpacarModel {
     /// masses, prescribed values, gravity, load steps; docs/spacar-import.md §6), and the
     /// warnings of that mapping (what `flexmbd static` on the `.dat` file approximates).
     pub fn to_static_spec(&self) -> Result<(ModelSpec, Vec<Warning>), InputError> {
-        statics::convert(self, statics::Purpose::Static).map(|c| (c.spec, c.warnings))
+        statics::convert(self, statics::Purpose::Document).map(|c| (c.spec, c.warnings))
     }
 
     /// Build the core model for the kinematic check; errors name file and line.
@@ -631,7 +631,7 @@ impl SpacarModel {
     /// those about what the TOML format cannot express (shear flexibilities, `DYNX` in statics).
     /// They are also written into the file's header.
     pub fn to_toml_with_warnings(&self) -> Result<(String, Vec<Warning>), InputError> {
-        let c = statics::convert(self, statics::Purpose::Static)?;
+        let c = statics::convert(self, statics::Purpose::Document)?;
         // a file that does not read back is reported here, at its line
         c.spec.build().map_err(|e| self.spec_error(e))?;
         let text = crate::model_toml::write_toml(&c.spec).map_err(|m| InputError::File {

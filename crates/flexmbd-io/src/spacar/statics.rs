@@ -92,6 +92,10 @@ pub(super) enum Purpose {
     /// adds them with their histories), `DYNE` modes without stiffness free, pre-stress an
     /// error.
     Dynamic,
+    /// The complete document (`flexmbd convert`): the spec of `Static`, and for a file set up
+    /// for a time simulation whose model is the static one, its `[simulate]` settings,
+    /// inertia tensors and histories (module `dynamics`).
+    Document,
 }
 
 /// The static data of `m` on top of its kinematic spec.
@@ -105,7 +109,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
 
     // --- load steps ---
     let mut statics = StaticSpec::default();
-    if let Some(it) = m.iterstep.as_ref().filter(|_| purpose == Purpose::Static) {
+    if let Some(it) = m.iterstep.as_ref().filter(|_| purpose != Purpose::Dynamic) {
         let v = &it.values;
         let mut used = Vec::new();
         match v.get(1) {
@@ -388,7 +392,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         // inertia tensors of rotational nodes: no static effect (the header lists them)
     }
 
-    if purpose == Purpose::Static {
+    if purpose != Purpose::Dynamic {
         loads_and_inputs(
             m,
             &map,
@@ -408,11 +412,23 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         });
     }
 
+    // --- the time simulation, when it fits the static model ---
+    let mut simulated = false;
+    if let (Purpose::Document, Some(ts)) = (purpose, &m.timestep) {
+        match super::dynamics::add_simulation(m, &mut spec) {
+            Ok(()) => simulated = true,
+            Err(why) => toml_warnings.push(Warning {
+                line: ts.line,
+                message: format!("the time simulation (TIMESTEP, ERROR, inertia tensors, loads and inputs as functions of time) is not written: {why}; `flexmbd simulate` on the .dat file maps it (docs/spacar-import.md §7)"),
+            }),
+        }
+    }
+
     warnings.sort_by_key(|w| w.line);
     toml_warnings.sort_by_key(|w| w.line);
     let mut notes: Vec<&Warning> = warnings.iter().chain(&toml_warnings).collect();
     notes.sort_by_key(|w| w.line);
-    spec.header = header(m, &map, Some(&notes));
+    spec.header = header(m, &map, Some(&notes), simulated);
     Ok(Conversion {
         spec,
         warnings,
