@@ -182,47 +182,39 @@ impl TryFrom<NodeRepr> for NodeSpec {
 /// A beam's data (`[[beam]]`): orientation, coupling constant, constants from a `section` and
 /// a `material` or given directly, modes kept rigid in statics, and the number of segments.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct BeamSpec {
     /// Orientation vector (local y); `None` for SPACAR's default rule.
-    #[serde(default)]
     pub orient: Option<[f64; 3]>,
     /// Torsion–elongation coupling c_t [m²].
-    #[serde(default)]
     pub ct: Option<f64>,
     /// Modes rigid in statics although they have stiffness (TOML `fixed`).
-    #[serde(default)]
     pub fixed: Vec<i64>,
     /// Section name (with `material`).
-    #[serde(default)]
     pub section: Option<String>,
     /// Material name (with `section`).
-    #[serde(default)]
     pub material: Option<String>,
     /// Split into this many elements (`id:1`, … with intermediate nodes `id:1`, …).
-    #[serde(default)]
     pub segments: Option<usize>,
     /// EA [N], given directly.
-    #[serde(default, rename = "EA")]
+    #[serde(rename = "EA")]
     pub ea: Option<f64>,
     /// GJ [N·m²], given directly.
-    #[serde(default, rename = "GJ")]
+    #[serde(rename = "GJ")]
     pub gj: Option<f64>,
     /// EIy [N·m²], given directly.
-    #[serde(default, rename = "EIy")]
+    #[serde(rename = "EIy")]
     pub eiy: Option<f64>,
     /// EIz [N·m²], given directly.
-    #[serde(default, rename = "EIz")]
+    #[serde(rename = "EIz")]
     pub eiz: Option<f64>,
     /// Mass per length ρA [kg/m] of constants given directly.
-    #[serde(default)]
     pub rho_a: Option<f64>,
     /// Shear flexibilities EIy/(kGA), EIz/(kGA) [m²] of constants given directly (SPACAR
     /// `ESTIFF` columns 5–6; the TOML format cannot state them).
-    #[serde(default)]
     pub shear: Option<[f64; 2]>,
     /// Rotary inertia per length ρ(Iy + Iz), ρIy, ρIz [kg·m] of constants given directly
     /// (SPACAR `EM` columns 2–4; the TOML format cannot state them).
-    #[serde(default)]
     pub rho_i: Option<[f64; 3]>,
 }
 
@@ -564,43 +556,32 @@ pub enum PathSpec {
 
 /// Settings of a static analysis and the fields of the whole model (`[static]`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct StaticSpec {
     /// Load steps.
-    #[serde(default)]
     pub steps: Option<usize>,
     /// Newton iterations per step.
-    #[serde(default)]
     pub max_iterations: Option<usize>,
     /// Relative residual tolerance.
-    #[serde(default)]
     pub tol_force: Option<f64>,
     /// Relative increment tolerance.
-    #[serde(default)]
     pub tol_disp: Option<f64>,
     /// Gravitational acceleration [m/s²].
-    #[serde(default)]
     pub gravity: Option<[f64; 3]>,
     /// Angular velocity of a steady rotation [rad/s].
-    #[serde(default)]
     pub spin: Option<[f64; 3]>,
     /// A point of the spin axis [m] (default the origin).
-    #[serde(default)]
     pub spin_point: Option<[f64; 3]>,
     /// Nodes whose compliance is reported at every step.
-    #[serde(default)]
     pub compliance: Vec<String>,
     /// Number of buckling multipliers reported at every step.
-    #[serde(default)]
     pub buckling: usize,
     /// Backtracking line search in Newton.
-    #[serde(default)]
     pub line_search: bool,
     /// How the path is followed.
-    #[serde(default)]
     pub path: Option<PathSpec>,
     /// Comment lines written above the section.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub comments: Vec<String>,
     /// Where it was written.
     #[serde(skip)]
@@ -640,49 +621,36 @@ pub enum StartSpec {
 
 /// Settings of a time simulation (`[simulate]`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimulateSpec {
     /// End time [s].
-    #[serde(default)]
     pub t_end: Option<f64>,
     /// (First) step size [s].
-    #[serde(default)]
     pub dt: Option<f64>,
     /// Fixed steps or step control.
-    #[serde(default)]
     pub step: Option<StepSpec>,
     /// Smallest step [s].
-    #[serde(default)]
     pub dt_min: Option<f64>,
     /// Largest step [s].
-    #[serde(default)]
     pub dt_max: Option<f64>,
     /// ρ∞ of generalised-α.
-    #[serde(default)]
     pub rho_inf: Option<f64>,
     /// Absolute and relative tolerance.
-    #[serde(default)]
     pub tolerance: Option<[f64; 2]>,
     /// Output interval [s].
-    #[serde(default)]
     pub output_step: Option<f64>,
     /// Newton iterations per step.
-    #[serde(default)]
     pub max_iterations: Option<usize>,
     /// Rayleigh α, β.
-    #[serde(default)]
     pub rayleigh: Option<[f64; 2]>,
     /// Initial state.
-    #[serde(default)]
     pub start: Option<StartSpec>,
     /// Load steps of the static start.
-    #[serde(default)]
     pub static_steps: Option<usize>,
     /// φ(t) of gravity.
-    #[serde(default)]
     pub gravity_history: Option<TimeFunction>,
     /// Comment lines written above the section.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub comments: Vec<String>,
     /// Where it was written.
     #[serde(skip)]
@@ -691,63 +659,48 @@ pub struct SimulateSpec {
 
 /// A model document: everything a model file states. See the module documentation.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ModelSpec {
     /// Model name.
-    #[serde(default)]
     pub name: String,
     /// Free text (`[model] description`).
-    #[serde(default)]
     pub description: Option<String>,
     /// Comment lines at the top of the file.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub header: Vec<String>,
     /// Nodes, in order; a host before the nodes placed `at` it.
-    #[serde(default)]
     pub nodes: Vec<NodeSpec>,
     /// Elements, in order.
-    #[serde(default)]
     pub elements: Vec<ElementEntrySpec>,
     /// Materials.
-    #[serde(default)]
     pub materials: Vec<MaterialSpec>,
     /// Cross-sections.
-    #[serde(default)]
     pub sections: Vec<SectionSpec>,
     /// Supports (`[fix]`).
-    #[serde(default)]
     pub fix: Vec<DofEntry>,
     /// Generalised coordinates (`[inputs]`).
-    #[serde(default)]
     pub inputs: Vec<DofEntry>,
     /// Generalised coordinates of the kinematic check that are unknowns in statics (SPACAR's
     /// dynamic degrees of freedom `DYNX`): inputs for [`ModelSpec::build`], left free by
     /// [`ModelSpec::build_static`]; written into `[inputs]`.
-    #[serde(default)]
     pub dynamic_inputs: Vec<DofEntry>,
     /// Dead loads.
-    #[serde(default)]
     pub loads: Vec<LoadEntry>,
     /// Point masses.
-    #[serde(default)]
     pub masses: Vec<MassEntry>,
     /// Inertia tensors of rotational nodes.
-    #[serde(default)]
     pub inertias: Vec<InertiaEntry>,
     /// Prescribed input values (strokes).
-    #[serde(default)]
     pub prescribed: Vec<PrescribeEntry>,
     /// Initial velocities.
-    #[serde(default)]
     pub velocities: Vec<VelocityEntry>,
     /// `[static]`.
-    #[serde(default, rename = "static")]
+    #[serde(rename = "static")]
     pub statics: StaticSpec,
     /// `[simulate]`, when the file has one.
-    #[serde(default)]
     pub simulate: Option<SimulateSpec>,
     /// Comment lines at the end of the file.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub footer: Vec<String>,
 }
 
