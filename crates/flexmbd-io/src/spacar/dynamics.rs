@@ -617,9 +617,10 @@ pub(super) fn add_simulation(m: &SpacarModel, spec: &mut ModelSpec) -> Result<()
         let Some(q) = spec.prescribed.iter().find(|q| q.target == p.target) else {
             return Err("an input moves in the time simulation but has no static value".into());
         };
-        let history = match (&p.history, p.value / q.value) {
-            (h, f) if f == 1.0 => h.clone(),
-            (Some(TimeFunction::Table(points)), f) if f.is_finite() => Some(TimeFunction::Table(
+        let f = p.value / q.value;
+        let history = match &p.history {
+            _ if f == 1.0 => p.history.clone(),
+            Some(TimeFunction::Table(points)) if f.is_finite() => Some(TimeFunction::Table(
                 points.iter().map(|[t, phi]| [*t, phi * f]).collect(),
             )),
             _ => {
