@@ -3,9 +3,9 @@
 use crate::{emit, load_sim_file, outputs, progress, BadInput};
 use flexmbd_core::simulation::{simulate, Excitation, SimFailure, SimOptions, Simulation, Stopped};
 use flexmbd_core::Model;
-use flexmbd_io::model_toml::simulate::SimulateSettings;
 use flexmbd_io::sim_report::{sim_json, sim_text, write_sim_csv};
 use flexmbd_io::vtk::{pvd, sim_grid};
+use flexmbd_io::SimulateSettings;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

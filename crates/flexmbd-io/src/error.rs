@@ -64,22 +64,29 @@ pub fn at_line(file: &str, line: usize, column: usize, message: impl Into<String
     }
 }
 
+/// A model with no elements has nothing to analyse: the message, or `None` when it has one.
+pub fn no_elements(model: &flexmbd_core::Model) -> Option<String> {
+    model.elements.is_empty().then(|| {
+        format!(
+            "the model has no elements (trusses, beams, hinges or rigid bodies){}: there is nothing to analyse",
+            if model.nodes.is_empty() {
+                " and no nodes"
+            } else {
+                ""
+            }
+        )
+    })
+}
+
 /// A model with no elements has nothing to analyse: an error naming the file.
 pub fn require_elements(model: &flexmbd_core::Model, file: &str) -> Result<(), InputError> {
-    if model.elements.is_empty() {
-        return Err(InputError::File {
+    match no_elements(model) {
+        Some(message) => Err(InputError::File {
             file: file.to_string(),
-            message: format!(
-                "the model has no elements (trusses, beams, hinges or rigid bodies){}: there is nothing to analyse",
-                if model.nodes.is_empty() {
-                    " and no nodes"
-                } else {
-                    ""
-                }
-            ),
-        });
+            message,
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// `text` with its control characters other than tab and line feed written as `\u{..}`: safe on

@@ -1,11 +1,12 @@
 //! flexmbd-io: model formats in, results out.
 //!
-//! - [`model_toml`]: the native TOML model format (docs/model-format.md) → `flexmbd_core::Model`.
+//! - [`spec`]: [`ModelSpec`], the complete, editable model document every reader produces, and
+//!   its one build (`ModelSpec::build_file` → `Model` with its settings).
+//! - [`model_toml`]: the native TOML model format (docs/model-format.md) ↔ [`ModelSpec`].
 //! - [`report`]: the kinematic analysis as JSON and as aligned text tables.
-//! - [`spacar`]: SPACAR `.dat` models (docs/spacar-import.md) → `SpacarModel` → `Model`.
+//! - [`spacar`]: SPACAR `.dat` models (docs/spacar-import.md) → `SpacarModel` → [`ModelSpec`].
 //! - [`vtk`]: ParaView `.vtu`/`.pvd` files; [`plots`]: PNG/SVG plots (docs/visualisation.md).
 //! - [`html_view`]: the self-contained HTML 3D viewer (`flexmbd view`).
-//! - [`toml_writer`]: a neutral [`ModelSpec`] → `Model` or native TOML (`flexmbd convert`).
 //!
 //! Every input error is a [`InputError`] naming file, line and item.
 
@@ -18,15 +19,15 @@ pub mod plots;
 pub mod report;
 pub mod sim_report;
 pub mod spacar;
+pub mod spec;
 pub mod statespace_report;
 pub mod static_report;
 pub mod stopped;
-pub mod toml_writer;
 pub mod vtk;
 
 pub use error::InputError;
 pub use model_toml::{
-    parse_model, parse_model_file, read_model, read_model_file, ModelFile, Settings,
+    parse_model, parse_model_file, parse_spec, read_model, read_model_file, read_spec, write_toml,
 };
 pub use spacar::{parse_dat, read_dat, SpacarModel};
-pub use toml_writer::{write_toml, ModelSpec};
+pub use spec::{ModelFile, ModelSpec, Settings, SimulateSettings, SpecError};

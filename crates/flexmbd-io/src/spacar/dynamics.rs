@@ -24,19 +24,19 @@ use super::statics::{self, Purpose};
 use super::*;
 use crate::error::{at_line, InputError};
 use crate::limits::MAX_STEPS;
-use crate::model_toml::simulate::SimulateSettings;
-use crate::toml_writer::{InertiaEntry, LoadEntry, ModelSpec, PrescribeEntry, PrescribeTarget};
+use crate::spec::{
+    InertiaEntry, LoadEntry, ModelSpec, PrescribeEntry, PrescribeTarget, SimulateSpec, Src,
+    StartSpec,
+};
 use flexmbd_core::model::Dof;
-use flexmbd_core::simulation::{SimOptions, Start, TimeFunction};
+use flexmbd_core::simulation::{SimOptions, TimeFunction};
 use std::collections::{BTreeMap, HashSet};
 
-/// The model spec of a time simulation, its settings and what the mapping approximates.
+/// The model spec of a time simulation (with its `[simulate]` settings and the histories of
+/// its loads and prescribed inputs) and what the mapping approximates.
 pub(super) struct Dynamic {
     /// The spec (DYNX coordinates are unknowns: build it with `build_static`).
     pub spec: ModelSpec,
-    /// Settings and histories; `excitation.loads` follows `spec.loads`, `excitation.prescribed`
-    /// follows `spec.prescribed` (coordinates first, then deformations, the model's order).
-    pub settings: SimulateSettings,
     /// Warnings, in line order.
     pub warnings: Vec<Warning>,
 }
@@ -107,8 +107,8 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Dynamic, InputError> {
         };
         p.fatal(u.line, format!("{} {}: the MATLAB routine {what}, and flexmbd cannot run MATLAB routines; convert the model (`flexmbd convert`) and give the loads and motions as a `history` in the TOML file (docs/simulation.md)", u.keyword, u.name));
     }
-    let mut settings = SimulateSettings {
-        start: Some(Start::Reference),
+    let mut settings = SimulateSpec {
+        start: Some(StartSpec::Reference),
         ..Default::default()
     };
     let steps = timestep(m, &mut settings, &mut p);
@@ -120,10 +120,9 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Dynamic, InputError> {
     let dofs = Dofs::new(m);
     masses(m, &map, &mut spec, &mut p);
     damping_and_start(m, &dofs, &mut p);
-    let loads = loads(m, &map, t_end, &mut spec, &mut p);
-    let prescribed = inputs(m, &map, &dofs, (t_end, steps), &mut spec, &mut p);
-    settings.excitation.loads = loads;
-    settings.excitation.prescribed = prescribed;
+    loads(m, &map, t_end, &mut spec, &mut p);
+    inputs(m, &map, &dofs, (t_end, steps), &mut spec, &mut p);
+    spec.simulate = Some(settings);
 
     if let Some((line, message)) = p.fatal.into_iter().min_by_key(|f| f.0) {
         return Err(at_line(&m.file, line, 1, message));
@@ -131,13 +130,12 @@ pub(super) fn convert(m: &SpacarModel) -> Result<Dynamic, InputError> {
     p.warnings.sort_by_key(|w| w.line);
     Ok(Dynamic {
         spec,
-        settings,
         warnings: p.warnings,
     })
 }
 
 /// `TIMESTEP t_end n`: end time, first step and output interval t_end/n; returns n.
-fn timestep(m: &SpacarModel, s: &mut SimulateSettings, p: &mut Problems) -> Option<usize> {
+fn timestep(m: &SpacarModel, s: &mut SimulateSpec, p: &mut Problems) -> Option<usize> {
     let ts = m.timestep.as_ref()?;
     let v = &ts.values;
     let t_end = v[0];
@@ -167,7 +165,7 @@ fn timestep(m: &SpacarModel, s: &mut SimulateSettings, p: &mut Problems) -> Opti
 }
 
 /// `ERROR abs rel`: the tolerances of the step control.
-fn error_tolerances(m: &SpacarModel, s: &mut SimulateSettings, p: &mut Problems) {
+fn error_tolerances(m: &SpacarModel, s: &mut SimulateSpec, p: &mut Problems) {
     let Some(e) = &m.error_tol else { return };
     let abs = e.values[0];
     let rel = match e.values.get(1) {
@@ -208,7 +206,7 @@ fn masses(m: &SpacarModel, map: &NodeMap, spec: &mut ModelSpec, p: &mut Problems
                     fmt_values(&v.values),
                     v.line
                 )],
-                line: Some(v.line),
+                src: Src::line(v.line),
             });
         }
     }
@@ -280,8 +278,7 @@ fn loads(
     t_end: Option<f64>,
     spec: &mut ModelSpec,
     p: &mut Problems,
-) -> Vec<TimeFunction> {
-    let mut histories = Vec::new();
+) {
     let mut ramped = Vec::new();
     for (kw, list) in [("XF", &m.xf), ("DELXF", &m.delxf)] {
         for v in list {
@@ -306,7 +303,7 @@ fn loads(
                 continue;
             }
             let history = if kw == "XF" {
-                TimeFunction::Constant
+                None
             } else {
                 let Some(t) = t_end else {
                     if m.timestep.is_none() {
@@ -315,7 +312,7 @@ fn loads(
                     continue;
                 };
                 ramped.push(v.line);
-                TimeFunction::Ramp { start: 0.0, end: t }
+                Some(TimeFunction::Ramp { start: 0.0, end: t })
             };
             spec.loads.push(LoadEntry {
                 node: name,
@@ -327,15 +324,14 @@ fn loads(
                     fmt_values(&v.values),
                     v.line
                 )],
-                line: Some(v.line),
+                history,
+                src: Src::line(v.line),
             });
-            histories.push(history);
         }
     }
     if let (Some(&first), Some(t)) = (ramped.first(), t_end) {
         p.warn(first, format!("DELXF ({} line(s), the first here): a load increment is applied linearly from 0 at t = 0 to its value at t_end = {} (as SPACAR spreads increments over the steps; the time dependence of DELXF in a SPACAR time simulation is not documented)", ramped.len(), fmt_num(t)));
     }
-    histories
 }
 
 /// The motion of one input: initial value (with velocity and acceleration) and increments.
@@ -373,7 +369,7 @@ fn inputs(
     (t_end, steps): (Option<f64>, Option<usize>),
     spec: &mut ModelSpec,
     p: &mut Problems,
-) -> Vec<TimeFunction> {
+) {
     let mut coords: BTreeMap<(u32, u32), Motion> = BTreeMap::new();
     for v in &m.inputx_values {
         coords.entry((v.node, v.coord)).or_default().initial = Some((v.value, v.rates, v.line));
@@ -387,7 +383,6 @@ fn inputs(
         mo.increment = Some((sum, mo.increment.map_or(v.line, |i| i.1)));
     }
     let x_of: HashMap<u32, &Position> = m.positions.iter().map(|x| (x.node, x)).collect();
-    let mut histories = Vec::new();
     let mut moving_start: Vec<usize> = Vec::new();
     let mut rot_moving: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
     for (&(node, c), mo) in &coords {
@@ -471,10 +466,10 @@ fn inputs(
         spec.prescribed.push(PrescribeEntry {
             target: PrescribeTarget::Coordinate { node: name, dof },
             value,
+            history: Some(history),
             comments: vec![format!("INPUTX/DELINPX {node} {c} (line {line}): {what}")],
-            line: Some(line),
+            src: Src::line(line),
         });
-        histories.push(history);
     }
     for (node, lines) in &rot_moving {
         if lines.len() > 1 {
@@ -539,15 +534,14 @@ fn inputs(
                 "INPUTE/DELINPE {el} {mode} (line {line}): deformation {mode} grows at {}",
                 fmt_num(rate)
             )],
-            line: Some(line),
+            history: Some(linear(t)),
+            src: Src::line(line),
         });
-        histories.push(linear(t));
     }
     let has_dofs = !(m.dyne.is_empty() && m.dynx.is_empty() && m.rlse.is_empty());
     if let (Some(&first), true) = (moving_start.iter().min(), has_dofs) {
         p.warn(first, format!("{} input(s), the first here, move from t = 0 on: flexmbd starts the other coordinates with the smallest velocities consistent with the constraints, SPACAR with zero rates of the dynamic degrees of freedom (DYNE, DYNX, STARTDE); for a model with such degrees of freedom the first instants may differ", moving_start.len()));
     }
-    histories
 }
 
 /// φ = t/T, linear through t = 0 (so that the input has its rate from the start), constant
@@ -568,4 +562,81 @@ fn euler_table(rate: f64, t: f64, n: usize, angle: f64) -> TimeFunction {
         })
         .collect();
     TimeFunction::Table(points)
+}
+
+/// The time simulation of `m` added to `spec`, its static spec for the converted file
+/// ([`statics::Purpose::Document`]): `[simulate]`, the inertia tensors, the loads one per line
+/// with their histories, and the histories of the prescribed inputs (scaled to the static
+/// values). `Err` says why the time simulation does not fit the static model (then nothing is
+/// added): a file can state one model for both.
+pub(super) fn add_simulation(m: &SpacarModel, spec: &mut ModelSpec) -> Result<(), String> {
+    let d = convert(m).map_err(|e| e.to_string())?.spec;
+    if !spec.dynamic_inputs.is_empty() {
+        return Err("the DYNX coordinates are [inputs] of the converted file (for the kinematic check) but unknowns of the motion".into());
+    }
+    for (a, b) in spec.elements.iter().zip(&d.elements) {
+        if (&a.kind, &a.free, &a.input) != (&b.kind, &b.free, &b.input) {
+            return Err(format!("element {}: its deformations have other roles in the time simulation (a DYNE mode without stiffness is held in statics, free in the motion)", a.name));
+        }
+        if a.beam().is_some_and(|s| s.rho_i.is_some()) {
+            return Err(format!(
+                "beam {}: its rotary inertias (EM columns 2-4) cannot be written in this format",
+                a.name
+            ));
+        }
+    }
+    let masses = |s: &ModelSpec| -> Vec<(String, f64)> {
+        s.masses.iter().map(|x| (x.node.clone(), x.m)).collect()
+    };
+    if masses(spec) != masses(&d) {
+        return Err("the masses of the time simulation differ from those of statics".into());
+    }
+    // the loads, one per line in the simulation, add up to the static ones node by node
+    let sums = |s: &ModelSpec| -> BTreeMap<String, [f64; 6]> {
+        let mut by: BTreeMap<String, [f64; 6]> = BTreeMap::new();
+        for l in &s.loads {
+            let v = by.entry(l.node.clone()).or_default();
+            for k in 0..3 {
+                v[k] += l.force[k];
+                v[k + 3] += l.moment[k];
+            }
+        }
+        by.retain(|_, v| *v != [0.0; 6]);
+        by
+    };
+    if sums(spec) != sums(&d) {
+        return Err("the loads of the time simulation differ from those of statics".into());
+    }
+    if spec.prescribed.len() != d.prescribed.len() {
+        return Err(
+            "the inputs that move in the time simulation are not those statics prescribes".into(),
+        );
+    }
+    let mut prescribed = Vec::with_capacity(d.prescribed.len());
+    for p in &d.prescribed {
+        let Some(q) = spec.prescribed.iter().find(|q| q.target == p.target) else {
+            return Err("an input moves in the time simulation but has no static value".into());
+        };
+        let f = p.value / q.value;
+        let history = match &p.history {
+            _ if f == 1.0 => p.history.clone(),
+            Some(TimeFunction::Table(points)) if f.is_finite() => Some(TimeFunction::Table(
+                points.iter().map(|[t, phi]| [*t, phi * f]).collect(),
+            )),
+            _ => {
+                return Err("a moving input's history cannot be scaled to its static value".into())
+            }
+        };
+        let mut entry = q.clone();
+        entry.history = history;
+        entry
+            .comments
+            .extend(p.comments.iter().map(|c| format!("time simulation: {c}")));
+        prescribed.push(entry);
+    }
+    spec.prescribed = prescribed;
+    spec.loads = d.loads;
+    spec.inertias = d.inertias;
+    spec.simulate = d.simulate;
+    Ok(())
 }

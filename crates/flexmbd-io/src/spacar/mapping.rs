@@ -35,8 +35,10 @@
 
 use super::*;
 use crate::error::{at_line, InputError};
-use crate::toml_writer::{DofEntry, ElementEntrySpec, ModelSpec, NodePlace, NodeSpec};
-use flexmbd_core::model::{Dof, ElementSpec};
+use crate::spec::{
+    BeamSpec, DofEntry, ElementEntrySpec, ElementKind as Kind, ModelSpec, NodePlace, NodeSpec, Src,
+};
+use flexmbd_core::model::Dof;
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 use std::fmt::Write;
 
@@ -215,7 +217,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             } else {
                 format!("SPACAR rotational node {r}")
             }),
-            line: first_use(r),
+            src: Src::maybe_line(first_use(r)),
         }
     };
     for (&t, kind) in &m.node_kinds {
@@ -237,7 +239,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             name: NodeMap::trans_name(t),
             place: NodePlace::Position { x, rot: false },
             comment: Some(format!("SPACAR translational node {t}")),
-            line: Some(p.line),
+            src: Src::line(p.line),
         });
         for &r in hosted.get(&Some(t)).into_iter().flatten() {
             spec.nodes.push(rot_node(r, NodeMap::trans_name(t)));
@@ -254,16 +256,16 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             comment: Some(
                 "artificial position of hinge-only rotational nodes (not a SPACAR node)".into(),
             ),
-            line,
+            src: Src::maybe_line(line),
         });
         for &r in rs {
             spec.nodes.push(rot_node(r, ORIGIN.into()));
         }
         spec.fix.push(DofEntry {
             node: ORIGIN.into(),
-            dofs: vec![Dof::X, Dof::Y, Dof::Z],
+            dofs: Some(vec![Dof::X, Dof::Y, Dof::Z]),
             comment: Some("artificial node: its position is not a SPACAR coordinate".into()),
-            line,
+            src: Src::maybe_line(line),
         });
     }
 
@@ -327,10 +329,10 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         let (nodes, spec_el) = match &e.kind {
             ElementKind::Beam { rp, rq, orient, .. } => (
                 vec![map.rot_name(*rp), map.rot_name(*rq)],
-                ElementSpec::Beam {
+                Kind::Beam(BeamSpec {
                     orient: *orient,
-                    ct: 0.0,
-                },
+                    ..Default::default()
+                }),
             ),
             ElementKind::BeamW {
                 rp,
@@ -345,10 +347,10 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                 ));
                 (
                     vec![map.rot_name(*rp), map.rot_name(*rq)],
-                    ElementSpec::Beam {
+                    Kind::Beam(BeamSpec {
                         orient: *orient,
-                        ct: 0.0,
-                    },
+                        ..Default::default()
+                    }),
                 )
             }
             ElementKind::RBeam { rp, xq, orient, .. } => {
@@ -372,12 +374,12 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                 }
                 (
                     vec![map.rot_name(*rp), NodeMap::trans_name(*xq)],
-                    ElementSpec::Rigid,
+                    Kind::Rigid,
                 )
             }
             ElementKind::Hinge { rp, rq, axis } => (
                 vec![map.rot_name(*rp), map.rot_name(*rq)],
-                ElementSpec::Hinge {
+                Kind::Hinge {
                     axis: *axis,
                     k: estiff
                         .as_ref()
@@ -387,7 +389,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             ),
             ElementKind::Truss { xp, xq } => (
                 vec![NodeMap::trans_name(*xp), NodeMap::trans_name(*xq)],
-                ElementSpec::Truss {
+                Kind::Truss {
                     ea: estiff
                         .as_ref()
                         .and_then(|v| v.first().copied())
@@ -398,13 +400,11 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         spec.elements.push(ElementEntrySpec {
             name: n.to_string(),
             nodes,
-            spec: spec_el,
+            kind: spec_el,
             free,
             input,
-            rigid: Vec::new(),
-            props: None,
             comments,
-            line: Some(e.line),
+            src: Src::line(e.line),
         });
     }
 
@@ -446,9 +446,9 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             };
             let entry = DofEntry {
                 node: name,
-                dofs: d,
+                dofs: Some(d),
                 comment: Some(text),
-                line: Some(l.line),
+                src: Src::line(l.line),
             };
             match target {
                 0 => spec.fix.push(entry),
@@ -458,15 +458,21 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         }
     }
 
-    spec.header = header(m, &map, None);
+    spec.header = header(m, &map, None, false);
     Ok(spec)
 }
 
 /// The comment block at the top of a converted file: provenance, naming, and the SPACAR data
 /// the TOML format cannot express yet. `statics`: the static data is mapped too (loads,
 /// masses, prescribed values and settings are then commented where they are written), with the
-/// notes (warnings) of that mapping.
-pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]>) -> Vec<String> {
+/// notes (warnings) of that mapping. `simulated`: the time simulation is mapped too (`TIMESTEP`,
+/// `ERROR` and the inertia tensors are written).
+pub(super) fn header(
+    m: &SpacarModel,
+    map: &NodeMap,
+    statics: Option<&[&Warning]>,
+    simulated: bool,
+) -> Vec<String> {
     let mapped = statics.is_some();
     let mut h = vec![format!(
         "Converted by `flexmbd convert` from the SPACAR file {} (docs/spacar-import.md).",
@@ -488,6 +494,9 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
         "SPACAR analysis: {}.",
         m.analysis_hint().describe()
     ));
+    if simulated {
+        h.push("Time simulation: TIMESTEP, ERROR -> [simulate]; XM inertia tensors -> [[inertia]]; XF constant, DELXF, INPUTX, DELINPX, INPUTE, DELINPE as functions of time -> `history` of [[load]] and [[prescribe]] (a stroke's history scaled to its static value), as `flexmbd simulate` on the .dat file maps them (docs/spacar-import.md §7).".into());
+    }
     let name = |n: u32| {
         map.name(m, n)
             .map_or_else(|| format!("{n}"), |s| format!("{n} (\"{s}\")"))
@@ -503,6 +512,9 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
         if mapped && (kw == "ITERSTEP" || kw == "GRAVITY") {
             continue; // at [static]
         }
+        if simulated && (kw == "TIMESTEP" || kw == "ERROR") {
+            continue; // at [simulate]
+        }
         if let Some(v) = v {
             later.push((
                 v.line,
@@ -513,8 +525,8 @@ pub(super) fn header(m: &SpacarModel, map: &NodeMap, statics: Option<&[&Warning]
     for (kw, list) in [("XF", &m.xf), ("DELXF", &m.delxf), ("XM", &m.xm)] {
         for v in list {
             let inertia = kw == "XM" && m.node_kinds.get(&v.node) == Some(&NodeKind::Rotational);
-            if mapped && !inertia {
-                continue; // at [[load]] and [[mass]]
+            if mapped && (!inertia || simulated) {
+                continue; // at [[load]], [[mass]] and [[inertia]]
             }
             let what = match (kw, m.node_kinds.get(&v.node)) {
                 ("XM", Some(NodeKind::Rotational)) => "inertia Ixx Ixy Ixz Iyy Iyz Izz",

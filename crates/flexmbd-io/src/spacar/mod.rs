@@ -30,8 +30,7 @@ mod validate;
 mod tests;
 
 use crate::error::InputError;
-use crate::model_toml::ModelFile;
-use crate::toml_writer::{ModelSpec, SpecError};
+use crate::spec::{ModelFile, ModelSpec, SpecError, SpecErrorKind};
 use flexmbd_core::Model;
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -590,15 +589,13 @@ impl SpacarModel {
     /// masses, prescribed values, gravity, load steps; docs/spacar-import.md §6), and the
     /// warnings of that mapping (what `flexmbd static` on the `.dat` file approximates).
     pub fn to_static_spec(&self) -> Result<(ModelSpec, Vec<Warning>), InputError> {
-        statics::convert(self, statics::Purpose::Static).map(|c| (c.spec, c.warnings))
+        statics::convert(self, statics::Purpose::Document).map(|c| (c.spec, c.warnings))
     }
 
     /// Build the core model for the kinematic check; errors name file and line.
     pub fn to_model(&self) -> Result<Model, InputError> {
         let spec = self.to_spec()?;
-        let model = spec.build().map_err(|e| self.spec_error(e))?;
-        self.require_elements(&model)?;
-        Ok(model)
+        spec.build().map_err(|e| self.spec_error(e))
     }
 
     /// The model and settings for `flexmbd static`, with the warnings of the mapping (each
@@ -608,7 +605,6 @@ impl SpacarModel {
     pub fn to_model_file(&self) -> Result<(ModelFile, Vec<Warning>), InputError> {
         let c = statics::convert(self, statics::Purpose::Static)?;
         let file = c.spec.build_static().map_err(|e| self.spec_error(e))?;
-        self.require_elements(&file.model)?;
         Ok((file, c.warnings))
     }
 
@@ -621,9 +617,7 @@ impl SpacarModel {
     /// is an error at its line.
     pub fn to_dynamic_model_file(&self) -> Result<(ModelFile, Vec<Warning>), InputError> {
         let d = dynamics::convert(self)?;
-        let mut file = d.spec.build_static().map_err(|e| self.spec_error(e))?;
-        self.require_elements(&file.model)?;
-        file.simulate = d.settings;
+        let file = d.spec.build_static().map_err(|e| self.spec_error(e))?;
         Ok((file, d.warnings))
     }
 
@@ -637,11 +631,10 @@ impl SpacarModel {
     /// those about what the TOML format cannot express (shear flexibilities, `DYNX` in statics).
     /// They are also written into the file's header.
     pub fn to_toml_with_warnings(&self) -> Result<(String, Vec<Warning>), InputError> {
-        let c = statics::convert(self, statics::Purpose::Static)?;
+        let c = statics::convert(self, statics::Purpose::Document)?;
         // a file that does not read back is reported here, at its line
-        let model = c.spec.build().map_err(|e| self.spec_error(e))?;
-        self.require_elements(&model)?;
-        let text = crate::toml_writer::write_toml(&c.spec).map_err(|m| InputError::File {
+        c.spec.build().map_err(|e| self.spec_error(e))?;
+        let text = crate::model_toml::write_toml(&c.spec).map_err(|m| InputError::File {
             file: self.file.clone(),
             message: m,
         })?;
@@ -652,28 +645,27 @@ impl SpacarModel {
     }
 
     /// A model without elements is an error at the last node line (line 1 without one).
-    fn require_elements(&self, model: &Model) -> Result<(), InputError> {
-        crate::error::require_elements(model, &self.file).map_err(|e| {
-            let line = self.positions.last().map_or(1, |p| p.line);
-            let message = match e {
-                InputError::File { message, .. } => message,
-                other => other.to_string(),
-            };
-            crate::error::at_line(
-                &self.file,
-                line,
-                1,
-                format!("{message} (no element line such as BEAM, TRUSS or HINGE in the file)"),
-            )
-        })
-    }
-
-    fn spec_error(&self, e: SpecError) -> InputError {
+    fn no_elements(&self, message: String) -> InputError {
+        let line = self.positions.last().map_or(1, |p| p.line);
         crate::error::at_line(
             &self.file,
-            e.line.unwrap_or(1),
+            line,
             1,
-            format!("{} (in the flexmbd model built from this line)", e.error),
+            format!("{message} (no element line such as BEAM, TRUSS or HINGE in the file)"),
+        )
+    }
+
+    /// A build error of a spec from this file, at its line (a model without elements at the
+    /// last node line).
+    fn spec_error(&self, e: SpecError) -> InputError {
+        if let SpecErrorKind::NoElements(message) = e.kind {
+            return self.no_elements(message);
+        }
+        crate::error::at_line(
+            &self.file,
+            e.line().unwrap_or(1),
+            1,
+            format!("{e} (in the flexmbd model built from this line)"),
         )
     }
 }

@@ -29,10 +29,11 @@ use super::mapping::{fmt_num, fmt_values, header, NodeMap};
 use super::*;
 use crate::error::{at_line, InputError};
 use crate::limits::MAX_STEPS;
-use crate::toml_writer::{
-    LoadEntry, MassEntry, ModelSpec, PrescribeEntry, PrescribeTarget, StaticSpec,
+use crate::spec::{
+    ElementKind as Kind, LoadEntry, MassEntry, ModelSpec, PrescribeEntry, PrescribeTarget, Src,
+    StaticSpec,
 };
-use flexmbd_core::model::{Dof, ElementSpec};
+use flexmbd_core::model::Dof;
 use flexmbd_core::section::BeamProps;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -91,6 +92,10 @@ pub(super) enum Purpose {
     /// adds them with their histories), `DYNE` modes without stiffness free, pre-stress an
     /// error.
     Dynamic,
+    /// The complete document (`flexmbd convert`): the spec of `Static`, and for a file set up
+    /// for a time simulation whose model is the static one, its `[simulate]` settings,
+    /// inertia tensors and histories (module `dynamics`).
+    Document,
 }
 
 /// The static data of `m` on top of its kinematic spec.
@@ -104,7 +109,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
 
     // --- load steps ---
     let mut statics = StaticSpec::default();
-    if let Some(it) = m.iterstep.as_ref().filter(|_| purpose == Purpose::Static) {
+    if let Some(it) = m.iterstep.as_ref().filter(|_| purpose != Purpose::Dynamic) {
         let v = &it.values;
         let mut used = Vec::new();
         match v.get(1) {
@@ -154,7 +159,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         // parse_dat guarantees three numbers
         if let Ok(v) = <[f64; 3]>::try_from(&g.values[..]) {
             statics.gravity = Some(v);
-            statics.line = Some(g.line);
+            statics.src = Src::line(g.line);
             statics.comments.push(format!(
                 "GRAVITY {} (line {})",
                 fmt_values(&g.values),
@@ -235,7 +240,14 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
                             "rotary inertias (EM columns 2-4) are not written: they matter for dynamics only".into(),
                         );
                     }
-                    entry.props = Some(p);
+                    if let Kind::Beam(b) = &mut entry.kind {
+                        let some = |v: f64| Some(v).filter(|v| *v != 0.0);
+                        (b.ea, b.gj, b.eiy, b.eiz) =
+                            (Some(p.ea), Some(p.gj), Some(p.eiy), Some(p.eiz));
+                        b.rho_a = some(p.rho_a);
+                        b.shear = Some(p.shear).filter(|v| *v != [0.0; 2]);
+                        b.rho_i = Some(p.rho_i).filter(|v| *v != [0.0; 3]);
+                    }
                 }
                 let (ea, gj, eiy, eiz) = (
                     col(&estiff, 0),
@@ -299,13 +311,13 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
             warn(line, format!("DYNE {n}: deformation(s) {} have no stiffness (ESTIFF): in statics they are held at their reference value (SPACAR would have a degree of freedom without stiffness)", join(&held_dyne)));
         }
         if !kept_rigid.is_empty() {
-            match &mut entry.spec {
-                ElementSpec::Beam { .. } => {
-                    entry.rigid = kept_rigid.iter().map(|&k| i64::from(k)).collect();
+            match &mut entry.kind {
+                Kind::Beam(b) => {
+                    b.fixed = kept_rigid.iter().map(|&k| i64::from(k)).collect();
                 }
-                ElementSpec::Truss { ea } => *ea = 0.0,
-                ElementSpec::Hinge { k, .. } => *k = 0.0,
-                ElementSpec::Rigid => {}
+                Kind::Truss { ea } => *ea = 0.0,
+                Kind::Hinge { k, .. } => *k = 0.0,
+                Kind::Rigid => {}
             }
         }
         let mut roles = Vec::new();
@@ -324,7 +336,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         if !kept_rigid.is_empty() {
             roles.push(format!(
                 "rigid although ESTIFF gives stiffness (not listed in SPACAR){}: {}",
-                if matches!(entry.spec, ElementSpec::Beam { .. }) {
+                if matches!(entry.kind, Kind::Beam(_)) {
                     ""
                 } else {
                     ", so EA/k is not written"
@@ -374,13 +386,13 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
                     fmt_num(v.values[0]),
                     v.line
                 )],
-                line: Some(v.line),
+                src: Src::line(v.line),
             });
         }
         // inertia tensors of rotational nodes: no static effect (the header lists them)
     }
 
-    if purpose == Purpose::Static {
+    if purpose != Purpose::Dynamic {
         loads_and_inputs(
             m,
             &map,
@@ -400,11 +412,23 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         });
     }
 
+    // --- the time simulation, when it fits the static model ---
+    let mut simulated = false;
+    if let (Purpose::Document, Some(ts)) = (purpose, &m.timestep) {
+        match super::dynamics::add_simulation(m, &mut spec) {
+            Ok(()) => simulated = true,
+            Err(why) => toml_warnings.push(Warning {
+                line: ts.line,
+                message: format!("the time simulation (TIMESTEP, ERROR, inertia tensors, loads and inputs as functions of time) is not written: {why}; `flexmbd simulate` on the .dat file maps it (docs/spacar-import.md §7)"),
+            }),
+        }
+    }
+
     warnings.sort_by_key(|w| w.line);
     toml_warnings.sort_by_key(|w| w.line);
     let mut notes: Vec<&Warning> = warnings.iter().chain(&toml_warnings).collect();
     notes.sort_by_key(|w| w.line);
-    spec.header = header(m, &map, Some(&notes));
+    spec.header = header(m, &map, Some(&notes), simulated);
     Ok(Conversion {
         spec,
         warnings,
@@ -441,7 +465,7 @@ fn lumped_mass(
                 fmt_num(ml),
                 fmt_num(l0)
             )],
-            line: Some(*line),
+            src: Src::line(*line),
         });
     }
 }
@@ -521,8 +545,9 @@ fn loads_and_inputs(
                         node: name,
                         force,
                         moment,
+                        history: None,
                         comments: vec![text],
-                        line: Some(v.line),
+                        src: Src::line(v.line),
                     },
                 )),
             }
@@ -632,8 +657,9 @@ fn loads_and_inputs(
             spec.prescribed.push(PrescribeEntry {
                 target: PrescribeTarget::Coordinate { node: name, dof },
                 value,
+                history: None,
                 comments: vec![format!("{text}: {what}")],
-                line: Some(line),
+                src: Src::line(line),
             });
         }
     }
@@ -690,7 +716,8 @@ fn loads_and_inputs(
                     r.describe("INPUTE", "DELINPE", &format!("{el} {mode}")),
                     fmt_num(value)
                 )],
-                line: Some(line),
+                history: None,
+                src: Src::line(line),
             });
         }
     }

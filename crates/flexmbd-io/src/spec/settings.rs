@@ -1,37 +1,40 @@
-//! `[simulate]`, `[[velocity]]` and the `history` of loads and prescribed inputs: the time
-//! simulation settings of a TOML model (docs/simulation.md).
+//! The analysis settings a model file gives, as the readers return them ([`ModelFile`]), and
+//! the checks of `[simulate]` (docs/simulation.md) and `[[velocity]]`.
 
-use flexmbd_core::simulation::{Excitation, InitialVelocity, SimOptions, Start, TimeFunction};
-use serde::Deserialize;
+use super::{SimulateSpec, StartSpec, StepSpec, VelocityEntry};
+use flexmbd_core::simulation::{Excitation, InitialVelocity, SimOptions, Start};
+use flexmbd_core::Model;
 
-/// `[simulate]` as written.
-#[derive(Deserialize, Default, Clone)]
-#[serde(deny_unknown_fields)]
-pub(super) struct SimulateSpec {
-    t_end: Option<f64>,
-    dt: Option<f64>,
-    step: Option<String>,
-    dt_min: Option<f64>,
-    dt_max: Option<f64>,
-    rho_inf: Option<f64>,
-    tolerance: Option<[f64; 2]>,
-    output_step: Option<f64>,
-    max_iterations: Option<usize>,
-    rayleigh: Option<[f64; 2]>,
-    start: Option<String>,
-    static_steps: Option<usize>,
-    gravity_history: Option<TimeFunction>,
+/// Analysis settings read from the model file (`[static]`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Settings {
+    /// Load steps.
+    pub steps: Option<usize>,
+    /// Newton iterations per step.
+    pub max_iterations: Option<usize>,
+    /// Relative residual tolerance.
+    pub tol_force: Option<f64>,
+    /// Relative increment tolerance.
+    pub tol_disp: Option<f64>,
+    /// Nodes whose compliance is reported at every step.
+    pub compliance: Vec<String>,
+    /// Number of buckling multipliers reported at every step.
+    pub buckling: usize,
+    /// Backtracking line search in Newton.
+    pub line_search: bool,
+    /// How the path is followed (`path = "load-steps"` or `"arc-length"`).
+    pub path: flexmbd_core::statics::PathMethod,
 }
 
-/// `[[velocity]]`: an initial velocity.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct VelocitySpec {
-    pub(super) node: String,
-    #[serde(default)]
-    pub(super) v: [f64; 3],
-    #[serde(default)]
-    pub(super) omega: [f64; 3],
+/// A model file: the model and its analysis settings.
+#[derive(Clone, Debug)]
+pub struct ModelFile {
+    /// The compiled model.
+    pub model: Model,
+    /// Settings from `[static]`.
+    pub settings: Settings,
+    /// Settings from `[simulate]`, the histories and `[[velocity]]`.
+    pub simulate: SimulateSettings,
 }
 
 /// The simulation settings of a model file: options the file sets (the rest default or come
@@ -107,7 +110,7 @@ impl SimulateSettings {
 }
 
 /// Check and convert `[simulate]`; `Err` is the message (the caller adds file and line).
-pub(super) fn settings(spec: &SimulateSpec) -> Result<SimulateSettings, String> {
+pub(super) fn simulate_settings(spec: &SimulateSpec) -> Result<SimulateSettings, String> {
     let positive = |what: &str, v: Option<f64>| -> Result<Option<f64>, String> {
         match v {
             Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
@@ -116,26 +119,11 @@ pub(super) fn settings(spec: &SimulateSpec) -> Result<SimulateSettings, String> 
             v => Ok(v),
         }
     };
-    let fixed_step = match spec.step.as_deref() {
-        None => None,
-        Some("fixed") => Some(true),
-        Some("adaptive") => Some(false),
-        Some(o) => {
-            return Err(format!(
-                "[simulate]: `step` must be \"adaptive\" or \"fixed\", found \"{o}\""
-            ))
-        }
-    };
-    let start = match spec.start.as_deref() {
-        None => None,
-        Some("reference") => Some(Start::Reference),
-        Some("static") => Some(Start::Static),
-        Some(o) => {
-            return Err(format!(
-                "[simulate]: `start` must be \"reference\" or \"static\", found \"{o}\""
-            ))
-        }
-    };
+    let fixed_step = spec.step.map(|s| s == StepSpec::Fixed);
+    let start = spec.start.map(|s| match s {
+        StartSpec::Reference => Start::Reference,
+        StartSpec::Static => Start::Static,
+    });
     if let Some(r) = spec.rho_inf {
         if !(0.0..=1.0).contains(&r) {
             return Err(format!(
@@ -195,7 +183,7 @@ pub(super) fn settings(spec: &SimulateSpec) -> Result<SimulateSettings, String> 
 }
 
 /// An initial velocity of a node that exists (`node` its id).
-pub(super) fn velocity(spec: &VelocitySpec, node: usize) -> Result<InitialVelocity, String> {
+pub(super) fn velocity(spec: &VelocityEntry, node: usize) -> Result<InitialVelocity, String> {
     if !spec.v.iter().chain(&spec.omega).all(|v| v.is_finite()) {
         return Err(format!(
             "[[velocity]] at node `{}`: the values must be finite numbers",
