@@ -8,7 +8,7 @@ use crate::model::{ElementSpec, ModelBuilder};
 const FREE_WIRE: [i64; 5] = [2, 3, 4, 5, 6];
 
 /// The 12-truss of the paper (Fig. 2, theory.md §7).
-fn twelve_truss() -> Model {
+pub(super) fn twelve_truss() -> Model {
     let mut b = ModelBuilder::new("12-truss");
     let pts = [
         ("s1", [1.0, 1.0, 0.0]),
@@ -487,7 +487,10 @@ fn advice_on_a_lattice_is_verified_and_each_state_removed() {
 fn dense_size_guard_stops_before_allocating() {
     // 200,000 rigid beams: a 1.2e6 x 1.2e6 Dcc would need terabytes
     let m = test_models::strip(200_000, &[], &[]);
-    let opts = CheckOptions::default();
+    let opts = CheckOptions {
+        method: CheckMethod::Dense,
+        ..Default::default()
+    };
     let e = check(&m, &m.partition, &m.x0(), &opts).unwrap_err();
     let KinematicsError::TooLarge {
         rows, cols, bytes, ..
@@ -507,6 +510,7 @@ fn dense_size_guard_stops_before_allocating() {
     let m = test_models::lattice(2);
     let small = CheckOptions {
         max_dense_bytes: 1000,
+        method: CheckMethod::Dense,
         ..Default::default()
     };
     assert!(matches!(
