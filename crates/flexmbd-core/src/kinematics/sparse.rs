@@ -33,7 +33,7 @@ use faer::Mat;
 pub const MARGIN: f64 = 2.0;
 
 /// Lanczos steps at most, and the relative residual at which they stop.
-const LANCZOS_STEPS: usize = 80;
+const LANCZOS_STEPS: usize = 40;
 const LANCZOS_TOL: f64 = 1e-8;
 
 /// The rank decision and the bases of the sparse path (module docs).

@@ -14,6 +14,9 @@ pub struct Extreme {
     pub steps: usize,
 }
 
+/// A Ritz value that changed by less than this, relative, in one step has settled.
+pub const SETTLED: f64 = 1e-10;
+
 /// A fixed, non-special unit start vector of length n (a linear congruential sequence).
 fn start_vector(n: usize) -> Vec<f64> {
     let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -36,8 +39,11 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// The largest eigenvalue of the symmetric positive semi-definite operator `apply` (y ← Op x)
 /// of dimension n: Lanczos with full reorthogonalisation from a fixed start vector, stopped
-/// when the residual of the largest Ritz pair is below `rel_tol` times its value or after
-/// `max_steps` steps (or when the Krylov space is exhausted: then exact).
+/// when the residual of the largest Ritz pair is below `rel_tol` times its value, when the Ritz
+/// value changed by less than [`SETTLED`] relative in the last step (its error is of the order
+/// of the residual squared over the gap, so it settles long before the residual when the top
+/// eigenvalues cluster), after `max_steps` steps, or when the Krylov space is exhausted (then
+/// exact).
 pub fn largest_eigenvalue(
     n: usize,
     mut apply: impl FnMut(&[f64], &mut [f64]),
@@ -87,12 +93,13 @@ pub fn largest_eigenvalue(
         if let Ok((vals, vecs)) = crate::linalg::sym_eigen_seq(t.as_ref()) {
             let theta = vals[kk - 1];
             let res = (b * vecs[(kk - 1, kk - 1)]).abs();
+            let settled = kk > 2 && (theta - best.value).abs() <= SETTLED * theta.abs();
             best = Extreme {
                 value: theta,
                 residual: res,
                 steps: kk,
             };
-            if res <= rel_tol * theta.abs() {
+            if res <= rel_tol * theta.abs() || settled {
                 break;
             }
         }
