@@ -102,6 +102,16 @@ pub fn strip(n: usize, free: &[i64], tip_inputs: &[Dof]) -> Model {
     b.build().expect("valid strip")
 }
 
+/// The two nodes of a truss, from its x map (x, y, z of each).
+pub fn truss_nodes(m: &Model, entry: &crate::model::ElementEntry) -> [usize; 2] {
+    [0, 3].map(|o| {
+        m.nodes
+            .iter()
+            .position(|n| n.ix_pos == entry.xmap[o])
+            .expect("node of the truss")
+    })
+}
+
 /// The pendant node t of [`lattice_with_pendants`].
 pub fn pendant_node(t: usize) -> String {
     format!("p{t}")
@@ -122,12 +132,7 @@ pub fn lattice_with_pendants(k: usize, p: usize) -> Model {
         }
     }
     for (t, e) in base.elements.iter().enumerate() {
-        let [i, j] = [0, 3].map(|o| {
-            base.nodes
-                .iter()
-                .position(|n| n.ix_pos == e.xmap[o])
-                .expect("node of the truss")
-        });
+        let [i, j] = truss_nodes(&base, e);
         b.add_element(
             &format!("b{}", t + 1),
             &[&base.nodes[i].name, &base.nodes[j].name],

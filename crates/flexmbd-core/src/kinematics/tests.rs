@@ -317,13 +317,7 @@ fn lattice_dcc_by_hand(k: usize) -> Mat<f64> {
     let col_of = |node: usize| free.iter().position(|&f| f == node).map(|p| 3 * p);
     let mut dcc = Mat::<f64>::zeros(m.elements.len(), 3 * free.len());
     for (r, entry) in m.elements.iter().enumerate() {
-        // the truss' two nodes, from its x map (x, y, z of each)
-        let [p, q] = [0, 3].map(|o| {
-            m.nodes
-                .iter()
-                .position(|n| n.ix_pos == entry.xmap[o])
-                .expect("node of the truss")
-        });
+        let [p, q] = test_models::truss_nodes(&m, entry);
         let (xp, xq) = (m.nodes[p].x0, m.nodes[q].x0);
         let l = crate::math::norm(crate::math::sub(xq, xp));
         for c in 0..3 {

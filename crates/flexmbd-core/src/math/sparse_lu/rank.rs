@@ -74,6 +74,22 @@ pub struct Csc<'a> {
     pub val: &'a [f64],
 }
 
+/// Append a column's non-zero entries (index, value) to a compressed layout.
+fn push_column(
+    ptr: &mut Vec<usize>,
+    idx: &mut Vec<usize>,
+    val: &mut Vec<f64>,
+    entries: Vec<(usize, f64)>,
+) {
+    for (i, v) in entries {
+        if v != 0.0 {
+            idx.push(i);
+            val.push(v);
+        }
+    }
+    ptr.push(idx.len());
+}
+
 impl RankLu {
     /// Factor `a` with its columns in `order` (a permutation of 0 … n − 1), declaring a column
     /// dependent when its Schur-complement column has no entry larger than `drop_tol`.
@@ -187,13 +203,7 @@ impl RankLu {
                     }
                 }
                 f.dependent_cols.push(j);
-                for (s, v) in u_entries {
-                    if v != 0.0 {
-                        f.d_step.push(s);
-                        f.d_val.push(v);
-                    }
-                }
-                f.d_ptr.push(f.d_step.len());
+                push_column(&mut f.d_ptr, &mut f.d_step, &mut f.d_val, u_entries);
             } else {
                 // threshold pivoting, fewest entries to come first, then the larger, then
                 // the lower row number
@@ -223,13 +233,7 @@ impl RankLu {
                 f.pivot_rows.push(p);
                 f.row_step[p] = step;
                 f.u_diag.push(piv);
-                for (s, v) in u_entries {
-                    if v != 0.0 {
-                        f.u_step.push(s);
-                        f.u_val.push(v);
-                    }
-                }
-                f.u_ptr.push(f.u_step.len());
+                push_column(&mut f.u_ptr, &mut f.u_step, &mut f.u_val, u_entries);
                 let mut lcol: Vec<(usize, f64)> = pattern
                     .iter()
                     .filter(|&&i| f.row_step[i] == usize::MAX && x[i] != 0.0)

@@ -2,9 +2,13 @@
 
 use super::*;
 
-/// Dense test matrix to CSC.
+/// Dense square test matrix to CSC.
 fn csc(a: &[Vec<f64>]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-    let n = a.len();
+    csc_cols(a, a.len())
+}
+
+/// Dense test matrix with `n` columns to CSC.
+fn csc_cols(a: &[Vec<f64>], n: usize) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
     let (mut cp, mut ri, mut v) = (vec![0], vec![], vec![]);
     for j in 0..n {
         for (i, row) in a.iter().enumerate() {
@@ -172,16 +176,7 @@ fn rank_revealing_lu_finds_the_rank_of_a_product_and_its_null_spaces() {
                     .collect()
             })
             .collect();
-        let (mut cp, mut ri, mut v) = (vec![0], vec![], vec![]);
-        for j in 0..n {
-            for (i, row) in a.iter().enumerate() {
-                if row[j] != 0.0 {
-                    ri.push(i);
-                    v.push(row[j]);
-                }
-            }
-            cp.push(ri.len());
-        }
+        let (cp, ri, v) = csc_cols(&a, n);
         let order: Vec<usize> = (0..n).rev().collect();
         let amax = a.iter().flatten().fold(0.0f64, |mx, x| mx.max(x.abs()));
         let lu = RankLu::factor(
