@@ -430,11 +430,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let names = generalised_names(&m, &partition.x, &partition.e);
             if json {
                 let out = std::io::stdout().lock();
-                match write_check_json(out, &report, &names) {
-                    Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-                        return Err(anyhow::Error::new(e).context("cannot write to standard output"))
+                // a closed pipe (`flexmbd check --json … | head`) is not an error
+                if let Err(e) = write_check_json(out, &report, &names) {
+                    if e.kind() != std::io::ErrorKind::BrokenPipe {
+                        return Err(
+                            anyhow::Error::new(e).context("cannot write to standard output")
+                        );
                     }
-                    _ => {}
                 }
             } else {
                 emit(&check_text(&report, &names))?;

@@ -196,7 +196,8 @@ pub fn write_check_json(
         table1_row: a.case.row(),
     };
     let mut w = std::io::BufWriter::new(w);
-    serde_json::to_writer_pretty(&mut w, &doc).map_err(std::io::Error::other)?;
+    // an I/O error (a closed pipe) comes back as itself
+    serde_json::to_writer_pretty(&mut w, &doc).map_err(std::io::Error::from)?;
     std::io::Write::write_all(&mut w, b"\n")?;
     std::io::Write::flush(&mut w)
 }
