@@ -45,8 +45,8 @@ fn reference(r: &CheckReport<'_>, generalised: &[String]) -> Value {
     doc
 }
 
-/// A strip of beams, clamped, torsion and one bending free (motions), the tip's x and y as
-/// generalised coordinates (a self-stress), turned nodes (rotation columns off the axes).
+/// A curved strip of beams, clamped, two modes of each free (motions), the tip's x and y as
+/// generalised coordinates, and two equal rigid bars side by side (a self-stress).
 fn model() -> Model {
     let mut b = ModelBuilder::new("strip");
     for i in 0..=6 {
@@ -66,6 +66,11 @@ fn model() -> Model {
             &[],
         )
         .unwrap();
+    }
+    // two equal rigid bars side by side: their rows are equal, a self-stress for sure
+    for t in ["t1", "t2"] {
+        b.add_element(t, &["s1", "s5"], ElementSpec::Truss { ea: 0.0 }, &[], &[])
+            .unwrap();
     }
     b.fix("s0", None).unwrap();
     b.input("s6", Some(&[Dof::X, Dof::Y])).unwrap();
