@@ -30,6 +30,9 @@ pub fn cli_hint(e: &anyhow::Error) -> Option<&'static str> {
             };
         }
         if let Some(c) = cause.downcast_ref::<ClassifyError>() {
+            if matches!(c.source, flexmbd_core::kinematics::KinematicsError::TooLarge { .. }) {
+                return Some("use --method sparse (or auto)");
+            }
             if c.stage == Stage::Check
                 && !matches!(c.source, flexmbd_core::kinematics::KinematicsError::TooLarge { .. })
             {

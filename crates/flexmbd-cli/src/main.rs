@@ -17,7 +17,7 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 use flexmbd_core::kinematics::classify::ClassifyOptions;
 use flexmbd_core::kinematics::CheckOptions;
-use flexmbd_io::report::{check_json, check_text, generalised_names, CheckReport};
+use flexmbd_io::report::{check_text, generalised_names, write_check_json, CheckReport};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -98,6 +98,10 @@ enum Command {
         /// Exit with code 3 unless the model is exactly constrained.
         #[arg(long)]
         require_exact: bool,
+        /// The rank-revealing method: dense SVD, sparse LU, or auto (sparse when Dcc has more
+        /// than 2500 rows or columns).
+        #[arg(long, value_enum, default_value_t = CheckMethodArg::Auto)]
+        method: CheckMethodArg,
     },
     /// Nonlinear statics: load steps, reactions, stress resultants, support stiffness, buckling.
     Static {
@@ -280,6 +284,28 @@ fn print_warnings(m: &flexmbd_io::SpacarModel, warnings: &[flexmbd_io::spacar::W
     }
 }
 
+/// `check --method`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum CheckMethodArg {
+    /// Sparse above 2500 rows or columns of Dcc, dense below.
+    Auto,
+    /// Dense SVD: all singular values, orthonormal null bases.
+    Dense,
+    /// Sparse rank-revealing LU: rank with bounds, fundamental null bases.
+    Sparse,
+}
+
+impl From<CheckMethodArg> for flexmbd_core::kinematics::CheckMethod {
+    fn from(m: CheckMethodArg) -> Self {
+        use flexmbd_core::kinematics::CheckMethod;
+        match m {
+            CheckMethodArg::Auto => CheckMethod::Auto,
+            CheckMethodArg::Dense => CheckMethod::Dense,
+            CheckMethodArg::Sparse => CheckMethod::Sparse,
+        }
+    }
+}
+
 /// Write to stdout; a closed pipe (`flexmbd check … | head`) is not an error.
 fn emit(text: &str) -> anyhow::Result<()> {
     use std::io::Write;
@@ -365,10 +391,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             auto,
             max_suggestions,
             require_exact,
+            method,
         } => {
             let m = load(&model)?;
             let opts = CheckOptions {
                 rank_tol: rank_tol.unwrap_or(CheckOptions::default().rank_tol),
+                method: method.into(),
                 ..Default::default()
             };
             if !(opts.rank_tol.is_finite() && opts.rank_tol >= 0.0) {
@@ -401,9 +429,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             let names = generalised_names(&m, &partition.x, &partition.e);
             if json {
-                let mut text = serde_json::to_string_pretty(&check_json(&report, &names))?;
-                text.push('\n');
-                emit(&text)?;
+                let out = std::io::stdout().lock();
+                // a closed pipe (`flexmbd check --json … | head`) is not an error
+                if let Err(e) = write_check_json(out, &report, &names) {
+                    if e.kind() != std::io::ErrorKind::BrokenPipe {
+                        return Err(
+                            anyhow::Error::new(e).context("cannot write to standard output")
+                        );
+                    }
+                }
             } else {
                 emit(&check_text(&report, &names))?;
             }

@@ -41,7 +41,7 @@ fn check_json_is_bit_identical_for_one_and_two_threads() {
 }
 
 #[test]
-fn check_of_a_model_too_large_for_the_dense_analysis_stops_with_the_limit() {
+fn check_of_a_model_too_large_for_the_dense_analysis_stops_with_the_limit_or_goes_sparse() {
     // 3,000 rigid beams in a chain: an 18,000 x 18,000 Dcc, about 13 GB dense with its factors
     let dir = std::env::temp_dir().join(format!("flexmbd-check-scale-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -60,18 +60,35 @@ fn check_of_a_model_too_large_for_the_dense_analysis_stops_with_the_limit() {
     }
     std::fs::write(&path, t).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .arg("check")
+        .args(["check", "--method", "dense"])
         .arg(&path)
         .output()
         .expect("run flexmbd");
     let stderr = String::from_utf8_lossy(&out.stderr);
+    // the automatic choice takes the sparse path: a clamped chain of rigid beams is exactly
+    // constrained (each beam's six rigid deformations hold the next node's six velocities)
+    let auto = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args(["check", "--json"])
+        .arg(&path)
+        .output()
+        .expect("run flexmbd");
     std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        auto.status.success(),
+        "{}",
+        String::from_utf8_lossy(&auto.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&auto.stdout).unwrap();
+    assert_eq!(v["rank"], 18000);
+    assert_eq!(v["table1_row"], 1);
+    assert_eq!(v["sparse"]["certain"], true);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(
         stderr.contains("18000 x 18000")
             && stderr.contains("limit of 4.0 GiB")
-            && stderr.contains("sparse rank-revealing path"),
+            && stderr.contains("sparse rank-revealing path")
+            && stderr.contains("--method sparse"),
         "{stderr}"
     );
 }

@@ -89,10 +89,12 @@ pub fn check_dense_bytes(
     Ok(())
 }
 
-/// The parallelism of the dense SVD: sequential, so that its results are bit-identical for
-/// any number of threads. (faer splits the reductions of its bidiagonalisation by the number of
-/// threads of the pool; `check --json` then differed at 1e-14 between one and two threads.)
-pub const SVD_PAR: faer::Par = faer::Par::Seq;
+/// The parallelism of the dense SVD: a fixed split into two parts, whatever the number of
+/// threads, so that its results are bit-identical for any number of threads (faer splits the
+/// reductions of its bidiagonalisation by the degree it is given, not by the threads of the
+/// pool; with `Par::rayon(0)`, the pool's size, `check --json` differed at 1e-14 between one
+/// and two threads). On one thread the two parts run one after the other.
+pub const SVD_PAR: faer::Par = faer::Par::Rayon(std::num::NonZeroUsize::MIN.saturating_add(1));
 
 /// Bytes of the faer workspace of a full SVD of an m × n matrix (U m × m and V n × n);
 /// `usize::MAX` if that overflows. Call it only for sizes whose factors fit in memory.

@@ -1,10 +1,11 @@
 //! Reports of the kinematic analysis: JSON (`flexmbd check --json`) and aligned text tables.
 
 use flexmbd_core::kinematics::advice::{Action, StateAdvice};
-use flexmbd_core::kinematics::ConstraintAnalysis;
+use flexmbd_core::kinematics::sparse::SparseDecision;
+use flexmbd_core::kinematics::{ConstraintAnalysis, Motion, SelfStress};
 use flexmbd_core::model::{CoordKind, DefKind};
 use flexmbd_core::Model;
-use serde_json::{json, Value};
+use serde::Serialize;
 
 /// Everything `flexmbd check` reports.
 pub struct CheckReport<'a> {
@@ -22,41 +23,183 @@ pub struct CheckReport<'a> {
     pub auto: Option<(&'a [Action], &'a ConstraintAnalysis)>,
 }
 
-/// JSON document of a check.
-pub fn check_json(r: &CheckReport<'_>, generalised: &[String]) -> Value {
-    let a = r.analysis;
-    let mut doc = json!({
-        "model": r.model.name,
-        "file": r.file,
-        "rows": a.m(),
-        "cols": a.n(),
-        "rank": a.rank,
-        "euler_parameter_form": { "rows": a.euler_shape.0, "cols": a.euler_shape.1 },
-        "rank_tol": r.rank_tol,
-        "rank_threshold": a.tol,
-        "rank_gap": a.rank_gap(),
-        "singular_values": a.singular_values,
-        "table1_row": a.case.row(),
-        "classification": a.case.describe(),
-        "kinematically_determinate": a.n_motions() == 0,
-        "statically_determinate": a.n_self_stresses() == 0,
-        "exactly_constrained": a.n_motions() == 0 && a.n_self_stresses() == 0,
-        "n_mechanisms": a.n_motions(),
-        "n_self_stresses": a.n_self_stresses(),
-        "generalised_coordinates": generalised,
-        "input_deformations": a.rows.iter().filter(|r| r.kind == DefKind::Input).count(),
-        "mechanisms": a.motions,
-        "self_stresses": a.self_stresses,
-        "suggestions": r.advice,
-    });
-    if let Some((chosen, before)) = r.auto {
-        doc["auto"] = json!({
-            "chosen": chosen,
-            "before": { "rows": before.m(), "cols": before.n(), "rank": before.rank,
-                        "n_mechanisms": before.n_motions(), "n_self_stresses": before.n_self_stresses() },
-        });
+/// A value serialised through [`serde_json::Value`], whose objects have their keys sorted: the
+/// key order of the document's small parts (one motion, one state, one suggestion).
+struct Sorted<'a, T>(&'a T);
+
+impl<T: Serialize> Serialize for Sorted<'_, T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        serde_json::to_value(self.0)
+            .map_err(serde::ser::Error::custom)?
+            .serialize(s)
     }
-    doc
+}
+
+/// A list serialised element by element ([`Sorted`]), never as a whole.
+struct SortedList<'a, T>(&'a [T]);
+
+impl<T: Serialize> Serialize for SortedList<'_, T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.iter().map(Sorted))
+    }
+}
+
+/// Rows and columns of Dcc (the Euler-parameter form and the `--auto` counts before).
+#[derive(Serialize)]
+struct Shape {
+    cols: usize,
+    rows: usize,
+}
+
+/// The `--auto` object.
+#[derive(Serialize)]
+struct AutoDoc<'a> {
+    before: AutoBefore,
+    chosen: SortedList<'a, Action>,
+}
+
+#[derive(Serialize)]
+struct AutoBefore {
+    cols: usize,
+    n_mechanisms: usize,
+    n_self_stresses: usize,
+    rank: usize,
+    rows: usize,
+}
+
+/// The sparse path's rank decision and the defining row or column of every state.
+#[derive(Serialize)]
+struct SparseDoc {
+    certain: bool,
+    method: &'static str,
+    /// The coordinate of each motion of the fundamental basis.
+    motion_coordinates: Vec<String>,
+    nnz: [usize; 3],
+    s1: f64,
+    s1_rel_residual: f64,
+    s_r1_upper_bound: Option<f64>,
+    s_r_lower_bound: Option<f64>,
+    s_r_rel_residual: f64,
+    /// The deformation of each self-stress state of the fundamental basis.
+    self_stress_deformations: Vec<String>,
+    states_listed: usize,
+}
+
+/// The JSON document of a check: keys in sorted order at every level, the order of the
+/// `serde_json::Value` document this replaces (byte for byte; a test compares them), written
+/// to the output as it is built (the lists element by element).
+#[derive(Serialize)]
+struct CheckDoc<'a> {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    auto: Option<AutoDoc<'a>>,
+    classification: &'static str,
+    cols: usize,
+    euler_parameter_form: Shape,
+    exactly_constrained: bool,
+    file: &'a str,
+    generalised_coordinates: &'a [String],
+    input_deformations: usize,
+    kinematically_determinate: bool,
+    mechanisms: SortedList<'a, Motion>,
+    model: &'a str,
+    n_mechanisms: usize,
+    n_self_stresses: usize,
+    rank: usize,
+    rank_gap: Option<f64>,
+    rank_threshold: f64,
+    rank_tol: f64,
+    rows: usize,
+    self_stresses: SortedList<'a, SelfStress>,
+    singular_values: &'a [f64],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sparse: Option<SparseDoc>,
+    statically_determinate: bool,
+    suggestions: SortedList<'a, StateAdvice>,
+    table1_row: usize,
+}
+
+/// "node.dof" of a column, "element.e<mode>" of a row (the names of `generalised_names`).
+fn col_name(model: &Model, a: &ConstraintAnalysis, j: usize) -> String {
+    let c = &a.cols[j];
+    format!("{}.{}", model.nodes[c.node].name, c.dof.name())
+}
+
+fn row_name(model: &Model, a: &ConstraintAnalysis, i: usize) -> String {
+    let r = &a.rows[i];
+    format!("{}.e{}", model.elements[r.element].name, r.mode + 1)
+}
+
+/// Write the JSON document of a check (pretty, with a final newline) to `w`.
+pub fn write_check_json(
+    w: impl std::io::Write,
+    r: &CheckReport<'_>,
+    generalised: &[String],
+) -> std::io::Result<()> {
+    let a = r.analysis;
+    let sparse = a.sparse.as_ref().map(|sp| SparseDoc {
+        certain: sp.certain,
+        method: "sparse rank-revealing LU",
+        motion_coordinates: sp
+            .motion_cols
+            .iter()
+            .map(|&j| col_name(r.model, a, j))
+            .collect(),
+        nnz: [sp.nnz.0, sp.nnz.1, sp.nnz.2],
+        s1: sp.s1,
+        s1_rel_residual: sp.s1_rel_residual,
+        s_r1_upper_bound: sp.s_r1_upper,
+        s_r_lower_bound: sp.s_r_lower,
+        s_r_rel_residual: sp.s_r_rel_residual,
+        self_stress_deformations: sp
+            .self_stress_rows
+            .iter()
+            .map(|&i| row_name(r.model, a, i))
+            .collect(),
+        states_listed: a.motions.len().max(a.self_stresses.len()),
+    });
+    let doc = CheckDoc {
+        auto: r.auto.map(|(chosen, before)| AutoDoc {
+            before: AutoBefore {
+                cols: before.n(),
+                n_mechanisms: before.n_motions(),
+                n_self_stresses: before.n_self_stresses(),
+                rank: before.rank,
+                rows: before.m(),
+            },
+            chosen: SortedList(chosen),
+        }),
+        classification: a.case.describe(),
+        cols: a.n(),
+        euler_parameter_form: Shape {
+            cols: a.euler_shape.1,
+            rows: a.euler_shape.0,
+        },
+        exactly_constrained: a.n_motions() == 0 && a.n_self_stresses() == 0,
+        file: r.file,
+        generalised_coordinates: generalised,
+        input_deformations: a.rows.iter().filter(|r| r.kind == DefKind::Input).count(),
+        kinematically_determinate: a.n_motions() == 0,
+        mechanisms: SortedList(&a.motions),
+        model: &r.model.name,
+        n_mechanisms: a.n_motions(),
+        n_self_stresses: a.n_self_stresses(),
+        rank: a.rank,
+        rank_gap: a.rank_gap(),
+        rank_threshold: a.tol,
+        rank_tol: r.rank_tol,
+        rows: a.m(),
+        self_stresses: SortedList(&a.self_stresses),
+        singular_values: &a.singular_values,
+        sparse,
+        statically_determinate: a.n_self_stresses() == 0,
+        suggestions: SortedList(r.advice),
+        table1_row: a.case.row(),
+    };
+    let mut w = std::io::BufWriter::new(w);
+    // an I/O error (a closed pipe) comes back as itself
+    serde_json::to_writer_pretty(&mut w, &doc).map_err(std::io::Error::from)?;
+    std::io::Write::write_all(&mut w, b"\n")?;
+    std::io::Write::flush(&mut w)
 }
 
 /// Names of the generalised coordinates (x^m and e^m) of a partition.
@@ -212,6 +355,64 @@ fn singular_value_text(a: &ConstraintAnalysis) -> String {
     s + &table(&["#", "value", ""], &rows)
 }
 
+/// The rank decision of the sparse path: s₁, the threshold, the bounds on the two sides of it,
+/// and what the bases are.
+fn sparse_decision_text(a: &ConstraintAnalysis, sp: &SparseDecision) -> String {
+    let mut s = format!(
+        "\nRank decision (sparse rank-revealing LU of Dcc; {} nonzeros, {} in L, {} in U)\n",
+        sp.nnz.0, sp.nnz.1, sp.nnz.2
+    );
+    s += &format!(
+        "  s1 = {} (Lanczos, relative residual {:.1e}); threshold {} = {:.3e} x s1\n",
+        fmt_num(sp.s1),
+        sp.s1_rel_residual,
+        fmt_num(a.tol),
+        a.tol / sp.s1.max(f64::MIN_POSITIVE)
+    );
+    let tol = a.tol.max(f64::MIN_POSITIVE);
+    match sp.s_r_lower {
+        Some(lo) => {
+            s += &format!(
+                "  kept: s{} >= {} (smallest singular value of the {r} x {r} block of pivot rows \
+                 and basic columns, Lanczos estimate), {} x the threshold\n",
+                a.rank,
+                fmt_num(lo),
+                fmt_num(lo / tol),
+                r = a.rank
+            )
+        }
+        None => s += "  kept: none (rank 0)\n",
+    }
+    match sp.s_r1_upper {
+        Some(up) => {
+            s += &format!(
+                "  counted as zero: s{} <= {} (Frobenius norm of the dropped entries), {} x the \
+                 threshold\n",
+                a.rank + 1,
+                fmt_num(up),
+                fmt_num(up / tol)
+            )
+        }
+        None => s += "  counted as zero: none (full rank)\n",
+    }
+    s += if sp.certain {
+        "  decision certain: both bounds clear the threshold by a factor 2 or more\n"
+    } else {
+        "  decision UNCERTAIN: a bound is within a factor 2 of the threshold; compare with the \
+         dense SVD or set the rank tolerance explicitly\n"
+    };
+    s += &format!(
+        "  bases: one motion per dependent coordinate, one self-stress state per redundant \
+         constraint (fundamental bases); {} of {} motions and {} of {} self-stress states listed \
+         (every defining coordinate and constraint in --json)\n",
+        a.motions.len(),
+        a.n_motions(),
+        a.self_stresses.len(),
+        a.n_self_stresses()
+    );
+    s
+}
+
 /// Human report of a check, as aligned tables.
 pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
     let a = r.analysis;
@@ -253,7 +454,11 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
         a.rank, a.tol, r.rank_tol
     );
     if let Some(g) = a.rank_gap() {
-        s += &format!(", gap s{}/s{} = {:.3e}", a.rank, a.rank + 1, g);
+        let rel = if a.sparse.is_some() { ">=" } else { "=" };
+        s += &format!(", gap s{}/s{} {rel} {:.3e}", a.rank, a.rank + 1, g);
+    }
+    if a.sparse.is_some() {
+        s += ", sparse rank-revealing LU";
     }
     s += "\n\n";
     s += &format!("Table 1, row {}: {}\n", a.case.row(), a.case.describe());
@@ -268,7 +473,10 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
     if a.n_motions() == 0 && a.n_self_stresses() == 0 {
         s += "  => exactly constrained\n";
     }
-    s += &singular_value_text(a);
+    s += &match &a.sparse {
+        Some(sp) => sparse_decision_text(a, sp),
+        None => singular_value_text(a),
+    };
     for (k, m) in a.motions.iter().enumerate() {
         let values: Vec<f64> = m.coordinates.iter().map(|c| c.value).collect();
         let (shown, rest) = top_entries(&values);
@@ -323,7 +531,12 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
         s += rest.as_deref().unwrap_or("");
     }
     if !r.advice.is_empty() {
-        s += "\nRepair advice (each verified: the counts after the change recomputed from the SVD)\n";
+        s += if a.sparse.is_some() {
+            "\nRepair advice (each verified: the change keeps the pivot rows and basic columns, so \
+             the bounds of the rank decision hold)\n"
+        } else {
+            "\nRepair advice (each verified: the counts after the change recomputed from the SVD)\n"
+        };
         for st in r.advice {
             let what = if st.kind == "motion" {
                 "motion"

@@ -219,6 +219,9 @@ pub fn advise(
     opts: &CheckOptions,
     max_per_state: usize,
 ) -> Result<Vec<StateAdvice>, KinematicsError> {
+    if let Some(sp) = &a.sparse {
+        return Ok(super::sparse::advise_sparse(model, x, a, sp, max_per_state));
+    }
     let names = model.node_names();
     let before = (a.n_motions(), a.n_self_stresses());
     let mut out = Vec::new();
@@ -433,7 +436,17 @@ pub fn auto_generalised(
     let k = a.n_motions();
     let names = model.node_names();
     let mut chosen: Vec<Action> = Vec::new();
-    if k > 0 {
+    if let Some(sp) = a.sparse.as_ref().filter(|_| k > 0) {
+        // the sparse path: the dependent columns (fixing them all leaves the basic columns, of
+        // full column rank)
+        for &j in &sp.motion_cols {
+            let c = &a.cols[j];
+            chosen.push(Action::FixOrInputCoordinate {
+                node: names[c.node].clone(),
+                dof: c.dof,
+            });
+        }
+    } else if k > 0 {
         // candidate matrix: k × n, column j = row j of the null basis
         let cand = Mat::from_fn(k, a.n(), |i, j| a.null_v[(j, i)]);
         for j in pivot_columns(cand.as_ref(), k, 1e-8) {
@@ -454,7 +467,7 @@ pub fn auto_generalised(
         let cols = columns(model, &p, x);
         let free: Vec<usize> = (0..model.ne).filter(|&i| p.e[i] == DefKind::Free).collect();
         let rates = rate_rows(model, x, &cols, &free);
-        let kk = analysis.n_motions();
+        let kk = analysis.n_motions().min(analysis.null_v.ncols());
         let cand = Mat::from_fn(kk, free.len(), |r, c| {
             rates[c]
                 .iter()

@@ -16,7 +16,11 @@
 
 pub mod advice;
 pub mod classify;
+mod present;
+pub mod sparse;
 pub mod update;
+
+pub use present::{normalize_signed, present_motion, present_self_stress, PRESENT_ZERO};
 
 use crate::assembly::gather;
 use crate::elements::{ElementKind, NodeId};
@@ -36,6 +40,49 @@ pub struct CheckOptions {
     /// bases and the SVD's workspace ([`dense_bytes`]). A larger model stops with
     /// [`KinematicsError::TooLarge`] before anything is allocated. Default 4 GiB.
     pub max_dense_bytes: u64,
+    /// Dense SVD or sparse rank-revealing LU ([`CheckMethod`]); default automatic by size.
+    pub method: CheckMethod,
+    /// Sparse path: the motions and self-stress states whose vectors are computed and listed,
+    /// at most, of each kind (every state's defining column or row is reported). Default
+    /// [`DEFAULT_MAX_LISTED_STATES`]. The dense path lists them all.
+    pub max_listed_states: usize,
+}
+
+/// How [`check`] finds the rank and the null spaces of Dcc.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CheckMethod {
+    /// Dense below [`SPARSE_ABOVE`] rows or columns (and when the dense analysis fits in
+    /// [`CheckOptions::max_dense_bytes`]), sparse above.
+    #[default]
+    Auto,
+    /// The dense SVD (all singular values, orthonormal null bases, advice by rank updates).
+    Dense,
+    /// The sparse rank-revealing LU ([`sparse`]): rank with bounds, fundamental null bases.
+    Sparse,
+}
+
+/// [`CheckMethod::Auto`] takes the sparse path when Dcc has more rows or columns than this.
+/// (A dense full SVD of a 2,500 × 2,500 matrix takes several seconds on two cores and grows
+/// with the cube of the size; the sparse path of a truss lattice of that size about 0.05 s.)
+pub const SPARSE_ABOVE: usize = 2500;
+
+/// The default of [`CheckOptions::max_listed_states`].
+pub const DEFAULT_MAX_LISTED_STATES: usize = 50;
+
+impl CheckMethod {
+    /// The path taken for an m × n Dcc.
+    pub fn resolve(self, m: usize, n: usize, max_dense_bytes: u64) -> CheckMethod {
+        match self {
+            CheckMethod::Auto
+                if m.max(n) > SPARSE_ABOVE
+                    || dense_bytes(m, n, max_dense_bytes) > max_dense_bytes =>
+            {
+                CheckMethod::Sparse
+            }
+            CheckMethod::Auto => CheckMethod::Dense,
+            other => other,
+        }
+    }
 }
 
 /// The default of [`CheckOptions::max_dense_bytes`]: 4 GiB.
@@ -46,6 +93,8 @@ impl Default for CheckOptions {
         Self {
             rank_tol: f64::EPSILON.sqrt(),
             max_dense_bytes: DEFAULT_MAX_DENSE_BYTES,
+            method: CheckMethod::Auto,
+            max_listed_states: DEFAULT_MAX_LISTED_STATES,
         }
     }
 }
@@ -206,6 +255,10 @@ pub struct ConstraintAnalysis {
     pub motions: Vec<Motion>,
     /// Self-stress states, presented.
     pub self_stresses: Vec<SelfStress>,
+    /// The sparse path's rank decision and bases (None on the dense path). There,
+    /// `singular_values` is empty, `Dcc`, `svd_u` and `svd_v` are 0 × 0, and `null_v`,
+    /// `null_u`, `motions` and `self_stresses` hold the listed states of the fundamental bases.
+    pub sparse: Option<sparse::SparseDecision>,
 }
 
 impl ConstraintAnalysis {
@@ -228,6 +281,9 @@ impl ConstraintAnalysis {
     /// The gap s_r / s_(r+1) between the last non-zero and first zero singular value, if both
     /// exist (theory.md §6.2).
     pub fn rank_gap(&self) -> Option<f64> {
+        if let Some(sp) = &self.sparse {
+            return sp.gap_lower();
+        }
         let s = &self.singular_values;
         (self.rank > 0 && self.rank < s.len()).then(|| s[self.rank - 1] / s[self.rank].max(1e-300))
     }
@@ -282,8 +338,8 @@ pub enum KinematicsError {
     #[error(
         "the dense kinematic analysis of the {rows} x {cols} Dcc needs {:.1} GiB (Dcc, its full \
          SVD factors U and V and the SVD's workspace), above the limit of {:.1} GiB; the check \
-         is dense (memory grows with (rows + cols)^2, time with (rows + cols)^3), and a sparse \
-         rank-revealing path for large models is planned",
+         is dense (memory grows with (rows + cols)^2, time with (rows + cols)^3); the sparse \
+         rank-revealing path handles such models",
         *bytes as f64 / GIB,
         *limit as f64 / GIB
     )]
@@ -538,7 +594,7 @@ pub fn coordinate_constraint(model: &Model, cols: &[Column], x: &[f64], j: usize
 }
 
 /// The global deformation index of each row of Dcc.
-fn row_defs(model: &Model, rows: &[Row]) -> Vec<usize> {
+pub(crate) fn row_defs(model: &Model, rows: &[Row]) -> Vec<usize> {
     rows.iter()
         .map(|r| model.elements[r.element].ie + r.mode)
         .collect()
@@ -586,9 +642,10 @@ pub fn euler_shape(model: &Model, partition: &Partition) -> (usize, usize) {
 
 /// The kinematic analysis at configuration x (paper §3).
 ///
-/// Dense: a model whose Dcc, SVD factors and workspace exceed
-/// [`CheckOptions::max_dense_bytes`] stops with [`KinematicsError::TooLarge`] before anything
-/// large is allocated.
+/// The path is [`CheckOptions::method`] ([`CheckMethod::resolve`]). Dense: a model whose Dcc,
+/// SVD factors and workspace exceed [`CheckOptions::max_dense_bytes`] stops with
+/// [`KinematicsError::TooLarge`] before anything large is allocated (the automatic choice takes
+/// the sparse path instead, [`sparse`]).
 pub fn check(
     model: &Model,
     partition: &Partition,
@@ -601,6 +658,9 @@ pub fn check(
     let cols = columns(model, partition, x);
     let rows = rows(model, partition);
     let (m, n) = (rows.len(), cols.len());
+    if opts.method.resolve(m, n, opts.max_dense_bytes) == CheckMethod::Sparse {
+        return sparse::check_sparse(model, partition, x, opts);
+    }
     check_dense_size(m, n, opts.max_dense_bytes)?;
     let dcc = dense_from_rows(&rate_rows(model, x, &cols, &row_defs(model, &rows)), n);
     // SVD and numerical rank (paper eq. 11)
@@ -628,6 +688,7 @@ pub fn check(
                 svd_v: Mat::zeros(0, 0),
                 motions: Vec::new(),
                 self_stresses: Vec::new(),
+                sparse: None,
             });
         }
     }
@@ -667,6 +728,7 @@ pub fn check(
         svd_v: f.V,
         motions,
         self_stresses,
+        sparse: None,
     })
 }
 
@@ -686,88 +748,8 @@ fn check_finite(a: faer::MatRef<'_, f64>) -> Result<(), LinalgError> {
     Ok(())
 }
 
-/// Entries below this fraction of a unit vector are shown as zero (rounding noise of the SVD).
-pub const PRESENT_ZERO: f64 = 1e-10;
-
-/// Normalise to unit length with the largest-magnitude entry positive; zero tiny entries.
-pub fn normalize_signed(v: &mut [f64]) {
-    let n = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-    if n == 0.0 {
-        return;
-    }
-    let imax = (0..v.len()).fold(0, |b, i| {
-        if v[i].abs() > v[b].abs() + 1e-12 {
-            i
-        } else {
-            b
-        }
-    });
-    let s = if v[imax] < 0.0 { -1.0 / n } else { 1.0 / n };
-    for a in v.iter_mut() {
-        *a *= s;
-        if a.abs() < PRESENT_ZERO {
-            *a = 0.0;
-        }
-    }
-}
-
-/// A velocity vector over the columns as nodal velocities (translations, global ω).
-pub fn present_motion(model: &Model, cols: &[Column], v: &[f64]) -> Motion {
-    // accumulate per (node, component): rotations as ω = Σ v_c dir_c (in column order)
-    let mut acc: std::collections::BTreeMap<(NodeId, Dof), f64> = Default::default();
-    let mut add = |node: NodeId, dof: Dof, val: f64| {
-        acc.entry((node, dof))
-            .and_modify(|e| *e += val)
-            .or_insert(val);
-    };
-    for (c, &val) in cols.iter().zip(v) {
-        if c.dof.is_rotation() {
-            for k in 0..3 {
-                add(c.node, Dof::ALL[3 + k], val * c.dir[k]);
-            }
-        } else {
-            add(c.node, c.dof, val);
-        }
-    }
-    let entries: Vec<(NodeId, Dof, f64)> = acc.into_iter().map(|((n, d), v)| (n, d, v)).collect();
-    let mut vals: Vec<f64> = entries.iter().map(|e| e.2).collect();
-    normalize_signed(&mut vals);
-    Motion {
-        coordinates: entries
-            .iter()
-            .zip(vals)
-            .filter(|(_, v)| *v != 0.0)
-            .map(|(e, value)| NodalVelocity {
-                node: model.nodes[e.0].name.clone(),
-                dof: e.1,
-                value,
-            })
-            .collect(),
-    }
-}
-
-/// A vector over the rows as element stress resultants.
-pub fn present_self_stress(model: &Model, names: &[String], rows: &[Row], u: &[f64]) -> SelfStress {
-    let mut vals = u.to_vec();
-    normalize_signed(&mut vals);
-    SelfStress {
-        deformations: rows
-            .iter()
-            .zip(vals)
-            .filter(|(_, v)| *v != 0.0)
-            .map(|(r, value)| {
-                let entry = &model.elements[r.element];
-                DeformationValue {
-                    element: entry.name.clone(),
-                    mode: r.mode + 1,
-                    mode_name: entry.element.mode_name(r.mode, names),
-                    value,
-                }
-            })
-            .collect(),
-    }
-}
-
+#[cfg(test)]
+mod sparse_tests;
 #[cfg(test)]
 pub(crate) mod test_models;
 #[cfg(test)]

@@ -101,3 +101,61 @@ pub fn strip(n: usize, free: &[i64], tip_inputs: &[Dof]) -> Model {
     }
     b.build().expect("valid strip")
 }
+
+/// The two nodes of a truss, from its x map (x, y, z of each).
+pub fn truss_nodes(m: &Model, entry: &crate::model::ElementEntry) -> [usize; 2] {
+    [0, 3].map(|o| {
+        m.nodes
+            .iter()
+            .position(|n| n.ix_pos == entry.xmap[o])
+            .expect("node of the truss")
+    })
+}
+
+/// The pendant node t of [`lattice_with_pendants`].
+pub fn pendant_node(t: usize) -> String {
+    format!("p{t}")
+}
+
+/// The lattice of [`lattice`] with `p` ≤ k pendant nodes above its top face: node t at
+/// (t + ½, −½, k + ½), held by two rigid trusses to the top nodes (t, 0, k) and (t + 1, 0, k).
+/// Each pendant adds three columns and two independent rows, hence one motion: a velocity of
+/// the pendant alone along (0, 1, 1)/√2, normal to both of its bars.
+pub fn lattice_with_pendants(k: usize, p: usize) -> Model {
+    assert!(p <= k, "at most k pendants");
+    let base = lattice(k);
+    let mut b = ModelBuilder::new(&format!("lattice k = {k} with {p} pendants"));
+    for n in &base.nodes {
+        b.add_node(&n.name, n.x0, false).expect("new node");
+        if n.x0[2] == 0.0 {
+            b.fix(&n.name, None).expect("known node");
+        }
+    }
+    for (t, e) in base.elements.iter().enumerate() {
+        let [i, j] = truss_nodes(&base, e);
+        b.add_element(
+            &format!("b{}", t + 1),
+            &[&base.nodes[i].name, &base.nodes[j].name],
+            ElementSpec::Truss { ea: 0.0 },
+            &[],
+            &[],
+        )
+        .expect("valid truss");
+    }
+    for t in 0..p {
+        let name = pendant_node(t);
+        b.add_node(&name, [t as f64 + 0.5, -0.5, k as f64 + 0.5], false)
+            .expect("new node");
+        for (s, i) in [t, t + 1].into_iter().enumerate() {
+            b.add_element(
+                &format!("pb{t}_{s}"),
+                &[&lattice_node(i, 0, k), &name],
+                ElementSpec::Truss { ea: 0.0 },
+                &[],
+                &[],
+            )
+            .expect("valid truss");
+        }
+    }
+    b.build().expect("valid lattice")
+}

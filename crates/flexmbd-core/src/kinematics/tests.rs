@@ -8,7 +8,7 @@ use crate::model::{ElementSpec, ModelBuilder};
 const FREE_WIRE: [i64; 5] = [2, 3, 4, 5, 6];
 
 /// The 12-truss of the paper (Fig. 2, theory.md §7).
-fn twelve_truss() -> Model {
+pub(super) fn twelve_truss() -> Model {
     let mut b = ModelBuilder::new("12-truss");
     let pts = [
         ("s1", [1.0, 1.0, 0.0]),
@@ -317,13 +317,7 @@ fn lattice_dcc_by_hand(k: usize) -> Mat<f64> {
     let col_of = |node: usize| free.iter().position(|&f| f == node).map(|p| 3 * p);
     let mut dcc = Mat::<f64>::zeros(m.elements.len(), 3 * free.len());
     for (r, entry) in m.elements.iter().enumerate() {
-        // the truss' two nodes, from its x map (x, y, z of each)
-        let [p, q] = [0, 3].map(|o| {
-            m.nodes
-                .iter()
-                .position(|n| n.ix_pos == entry.xmap[o])
-                .expect("node of the truss")
-        });
+        let [p, q] = test_models::truss_nodes(&m, entry);
         let (xp, xq) = (m.nodes[p].x0, m.nodes[q].x0);
         let l = crate::math::norm(crate::math::sub(xq, xp));
         for c in 0..3 {
@@ -487,7 +481,10 @@ fn advice_on_a_lattice_is_verified_and_each_state_removed() {
 fn dense_size_guard_stops_before_allocating() {
     // 200,000 rigid beams: a 1.2e6 x 1.2e6 Dcc would need terabytes
     let m = test_models::strip(200_000, &[], &[]);
-    let opts = CheckOptions::default();
+    let opts = CheckOptions {
+        method: CheckMethod::Dense,
+        ..Default::default()
+    };
     let e = check(&m, &m.partition, &m.x0(), &opts).unwrap_err();
     let KinematicsError::TooLarge {
         rows, cols, bytes, ..
@@ -507,6 +504,7 @@ fn dense_size_guard_stops_before_allocating() {
     let m = test_models::lattice(2);
     let small = CheckOptions {
         max_dense_bytes: 1000,
+        method: CheckMethod::Dense,
         ..Default::default()
     };
     assert!(matches!(

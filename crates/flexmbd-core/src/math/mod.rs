@@ -6,6 +6,7 @@
 
 pub mod inertia;
 pub mod jet;
+pub mod lanczos;
 pub mod small_eigen;
 pub mod sparse_lu;
 

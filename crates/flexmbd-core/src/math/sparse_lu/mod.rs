@@ -20,6 +20,7 @@
 //! apart).
 
 mod lu;
+pub mod rank;
 mod symmetric;
 
 use faer::dyn_stack::{MemBuffer, MemStack};

@@ -1,0 +1,220 @@
+//! Tests of the sparse path against the dense SVD and against closed-form counts.
+
+use super::test_models::{lattice, lattice_with_pendants, pendant_node, strip};
+use super::*;
+
+fn opts(method: CheckMethod) -> CheckOptions {
+    CheckOptions {
+        method,
+        max_listed_states: usize::MAX,
+        ..Default::default()
+    }
+}
+
+fn both(m: &Model) -> (ConstraintAnalysis, ConstraintAnalysis) {
+    let x = m.x0();
+    let d = check(m, &m.partition, &x, &opts(CheckMethod::Dense)).unwrap();
+    let s = check(m, &m.partition, &x, &opts(CheckMethod::Sparse)).unwrap();
+    assert!(d.sparse.is_none() && s.sparse.is_some());
+    (d, s)
+}
+
+/// An orthonormal basis of the columns of `a` (modified Gram–Schmidt, twice).
+fn orthonormal(a: &Mat<f64>) -> Mat<f64> {
+    let mut q = a.clone();
+    for j in 0..q.ncols() {
+        for _ in 0..2 {
+            for p in 0..j {
+                let c: f64 = (0..q.nrows()).map(|i| q[(i, p)] * q[(i, j)]).sum();
+                for i in 0..q.nrows() {
+                    q[(i, j)] -= c * q[(i, p)];
+                }
+            }
+        }
+        let nj = (0..q.nrows())
+            .map(|i| q[(i, j)].powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!(nj > 1e-6, "the basis is (nearly) dependent");
+        for i in 0..q.nrows() {
+            q[(i, j)] /= nj;
+        }
+    }
+    q
+}
+
+/// The sine of the largest principal angle between the column spaces of `a` and `b` (of the
+/// same dimension), bounded by ‖(I − Q_b Q_bᵀ) Q_a‖_F.
+fn subspace_sine(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
+    assert_eq!(a.ncols(), b.ncols());
+    let (qa, qb) = (orthonormal(a), orthonormal(b));
+    let p = qb.transpose() * &qa;
+    let r = &qa - &qb * &p;
+    r.norm_l2()
+}
+
+#[test]
+fn sparse_and_dense_paths_agree_on_counts_and_null_spaces() {
+    let models = [
+        super::tests::twelve_truss(),
+        lattice(2),
+        lattice(3),
+        lattice_with_pendants(3, 3),
+        // rigid beams with torsion and one bending free: motions; the tip's x and y taken as
+        // generalised too: self-stresses as well
+        strip(12, &[4, 5], &[]),
+        strip(8, &[4], &[Dof::X, Dof::Y]),
+        strip(6, &[], &[Dof::Z]),
+    ];
+    for m in &models {
+        let (d, s) = both(m);
+        let name = &m.name;
+        assert_eq!((s.rank, s.m(), s.n()), (d.rank, d.m(), d.n()), "{name}");
+        assert_eq!(s.case, d.case, "{name}");
+        let sp = s.sparse.as_ref().unwrap();
+        assert!(sp.certain, "{name}: {sp:?}");
+        // the decision: the bounds on the two sides of the dense singular values
+        let r = d.rank;
+        if r > 0 {
+            let lo = sp.s_r_lower.unwrap();
+            assert!(lo <= d.singular_values[r - 1] * (1.0 + 1e-6), "{name}");
+        }
+        if let Some(up) = sp.s_r1_upper {
+            assert!(
+                d.singular_values[r] <= up + 1e-14 * d.singular_values[0],
+                "{name}"
+            );
+        }
+        assert!((sp.s1 - d.singular_values[0]).abs() <= 1e-6 * d.singular_values[0]);
+        // the same null spaces
+        assert_eq!(s.null_v.ncols(), d.null_v.ncols(), "{name}");
+        assert_eq!(s.null_u.ncols(), d.null_u.ncols(), "{name}");
+        if d.null_v.ncols() > 0 {
+            let sin = subspace_sine(&s.null_v, &d.null_v);
+            assert!(sin < 1e-10, "{name}: motions, sin = {sin:e}");
+        }
+        if d.null_u.ncols() > 0 {
+            let sin = subspace_sine(&s.null_u, &d.null_u);
+            assert!(sin < 1e-10, "{name}: self-stresses, sin = {sin:e}");
+        }
+    }
+}
+
+/// The closed-form count of the lattice of `test_models::lattice(k)`.
+///
+/// Columns: the k (k + 1)² nodes above the supported layer, three velocities each,
+/// n = 3 k (k + 1)². Rows: per node (i, j, l) the bars to (i+1, j, l), (i, j+1, l),
+/// (i, j, l+1), (i+1, j+1, l), (i+1, j, l+1), (i, j+1, l+1) where they exist, less the
+/// 2 k (k + 1) edges and k² diagonals of the supported layer: m = 3 k (k + 1)² + 3 k² (k + 1)
+/// − 2 k (k + 1) − k².
+///
+/// No motion (r = n): take the nodes layer by layer from the bottom, in each layer first those
+/// with i ≥ 1 and j ≥ 1, then (i, 0), then (0, j), then (0, 0). Node (i, j, l) with i, j ≥ 1 is
+/// held by its bars to (i, j, l−1), (i−1, j, l−1) and (i, j−1, l−1) (the vertical edge and the
+/// diagonals of the faces below it, which run from a face's lowest corner to its highest):
+/// directions (0, 0, 1), (1, 0, 1), (0, 1, 1), independent. Node (i, 0, l) by (0, 0, 1),
+/// (1, 0, 1) and its edge to (i, 1, l), direction (0, 1, 0); node (0, j, l) likewise with
+/// (0, 1, 1) and (1, 0, 0); node (0, 0, l) by its vertical edge and its edges to (1, 0, l) and
+/// (0, 1, l). Each node is fixed by three independent bars to nodes fixed before it, so these n
+/// bars form a regular triangular block of Dcc and r = n. Maxwell's rule corrected by the rank
+/// (Calladine): motions n − r = 0, self-stresses m − r = m − n.
+fn lattice_closed_form(k: usize) -> (usize, usize, usize, usize) {
+    let n = 3 * k * (k + 1) * (k + 1);
+    let m = 3 * k * (k + 1) * (k + 1) + 3 * k * k * (k + 1) - 2 * k * (k + 1) - k * k;
+    (m, n, 0, m - n)
+}
+
+#[test]
+fn sparse_path_counts_of_lattices_equal_the_closed_form() {
+    for k in [1, 2, 4, 7, 10] {
+        let m = lattice(k);
+        let s = check(&m, &m.partition, &m.x0(), &opts(CheckMethod::Sparse)).unwrap();
+        let (rows, cols, mot, ss) = lattice_closed_form(k);
+        assert_eq!((s.m(), s.n()), (rows, cols), "k = {k}");
+        assert_eq!((s.n_motions(), s.n_self_stresses()), (mot, ss), "k = {k}");
+        let sp = s.sparse.as_ref().unwrap();
+        assert!(sp.certain, "k = {k}: {sp:?}");
+        assert_eq!(sp.self_stress_rows.len(), ss);
+        // every listed self-stress is one: Dccᵀ u = 0 with the Dcc of the dense assembly
+        let (_, _, dcc) = assemble_dcc(&m, &m.partition, &m.x0());
+        let res = dcc.transpose() * &s.null_u;
+        let unorm = s.null_u.norm_l2();
+        assert!(res.norm_l2() <= 1e-12 * unorm * sp.s1, "k = {k}");
+    }
+}
+
+#[test]
+fn pendants_give_their_closed_form_motions_on_the_sparse_path() {
+    // a pendant held by two bars moves along the normal of both, (0, 1, 1)/√2, alone
+    let (k, p) = (5, 4);
+    let m = lattice_with_pendants(k, p);
+    let s = check(&m, &m.partition, &m.x0(), &opts(CheckMethod::Sparse)).unwrap();
+    let (rows, cols, _, ss) = lattice_closed_form(k);
+    assert_eq!((s.m(), s.n()), (rows + 2 * p, cols + 3 * p));
+    assert_eq!((s.n_motions(), s.n_self_stresses()), (p, ss));
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let mut seen: Vec<String> = s
+        .motions
+        .iter()
+        .map(|mo| {
+            assert_eq!(mo.coordinates.len(), 2, "{mo:?}");
+            let (a, b) = (&mo.coordinates[0], &mo.coordinates[1]);
+            assert_eq!((a.dof, b.dof), (Dof::Y, Dof::Z));
+            assert_eq!(a.node, b.node);
+            assert!((a.value - h).abs() < 1e-12 && (b.value - h).abs() < 1e-12);
+            a.node.clone()
+        })
+        .collect();
+    seen.sort();
+    let want: Vec<String> = (0..p).map(pendant_node).collect();
+    assert_eq!(seen, want);
+    // the advice: fix one of the pendant's coordinates, verified by construction
+    let adv = advice::advise(&m, &m.partition, &m.x0(), &s, &opts(CheckMethod::Sparse), 6).unwrap();
+    let motion_advice: Vec<_> = adv.iter().filter(|a| a.kind == "motion").collect();
+    assert_eq!(motion_advice.len(), p);
+    for st in motion_advice {
+        assert_eq!(st.suggestions.len(), 1);
+        let sg = &st.suggestions[0];
+        assert_eq!((sg.motions_after, sg.self_stresses_after), (p - 1, ss));
+        // and a full dense re-analysis of the changed partition agrees
+        let changed = sg.action.apply(&m, &m.partition).unwrap();
+        let c = advice::counts(&m, &changed, &m.x0(), &opts(CheckMethod::Dense)).unwrap();
+        assert_eq!(c, (p - 1, ss));
+    }
+}
+
+#[test]
+fn sparse_self_stress_advice_is_confirmed_by_a_dense_reanalysis() {
+    let m = lattice(2);
+    let o = CheckOptions {
+        method: CheckMethod::Sparse,
+        max_listed_states: 5,
+        ..Default::default()
+    };
+    let s = check(&m, &m.partition, &m.x0(), &o).unwrap();
+    assert_eq!(s.self_stresses.len(), 5);
+    let adv = advice::advise(&m, &m.partition, &m.x0(), &s, &o, 6).unwrap();
+    assert_eq!(adv.len(), 5);
+    for st in &adv {
+        let sg = &st.suggestions[0];
+        let changed = sg.action.apply(&m, &m.partition).unwrap();
+        let c = advice::counts(&m, &changed, &m.x0(), &o).unwrap();
+        assert_eq!(c, (sg.motions_after, sg.self_stresses_after));
+        assert_eq!(c, (0, s.n_self_stresses() - 1));
+    }
+}
+
+#[test]
+fn automatic_method_is_sparse_above_the_size_limit() {
+    let l = DEFAULT_MAX_DENSE_BYTES;
+    assert_eq!(CheckMethod::Auto.resolve(2500, 2500, l), CheckMethod::Dense);
+    assert_eq!(CheckMethod::Auto.resolve(2501, 100, l), CheckMethod::Sparse);
+    assert_eq!(
+        CheckMethod::Auto.resolve(100, 100, 1000),
+        CheckMethod::Sparse
+    );
+    assert_eq!(
+        CheckMethod::Dense.resolve(10_000, 10_000, l),
+        CheckMethod::Dense
+    );
+}
