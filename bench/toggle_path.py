@@ -279,7 +279,11 @@ def main():
     binary = os.path.abspath(a.flexmbd)
     version = subprocess.run([binary, "--version"], capture_output=True, text=True).stdout.strip()
     meta = {"problem": "meta", "date": time.strftime("%Y-%m-%d %H:%M:%S %z"), "host_cpus": os.cpu_count(),
-            "os": platform.platform(), "flexmbd_version": version, "flexmbd_commit": git_commit(),
+            "os": platform.platform(), "flexmbd_version": version, "bench_commit": git_commit(),
+            "crates_commit": git_commit("crates", "Cargo.toml", "Cargo.lock"),
+            "flexmbd_binary_note": "the binary given by --flexmbd; crates_commit is this "
+                                   "checkout's code, which the binary should be built from",
+            "flexmbd_process_start_s": process_start(binary),
             "repeat": a.repeat, "loadavg_before": os.getloadavg(), "example": "examples/williams_toggle.toml",
             "p07_n": P_07, "d07_m": D_07}
     records, log = [], []
@@ -328,15 +332,27 @@ def main():
             f.write(scrub("\n".join(log)) + "\n")
 
 
-def git_commit():
+def git_commit(*what):
+    """The short commit of this checkout (HEAD), or the last one that changed the given paths;
+    +dirty when crates/ has changes not committed."""
     try:
-        c = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
-                           text=True).stdout.strip()
+        c = subprocess.run(["git", "-C", ROOT, "log", "-1", "--format=%h", "--", *what],
+                           capture_output=True, text=True).stdout.strip()
         dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--", "crates"],
                                capture_output=True, text=True).stdout.strip()
         return c + ("+dirty" if dirty else "")
     except OSError:
         return None
+
+
+def process_start(binary, n=5):
+    """Median wall time of `flexmbd --version`: the start of a process, no model."""
+    times = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        subprocess.run([binary, "--version"], capture_output=True)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
 
 
 def scrubber(a, tmp, binary):
