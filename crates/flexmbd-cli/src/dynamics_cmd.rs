@@ -3,8 +3,8 @@
 use crate::{emit, outputs, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    check_dense_size, log_space, state_space_with_motions, uses_sparse, Input, Motion, Output,
-    StateSpaceOptions, DENSE_STATE_SPACE_DOF,
+    check_dense_size, log_space, state_space_with_motions, uses_sparse, Output, StateSpaceOptions,
+    DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
@@ -221,20 +221,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .map(|s| parse_input(&model, &a.model, s))
         .collect::<Result<Vec<_>, _>>()?;
-    let inputs: Vec<Input> = specs
-        .iter()
-        .filter_map(|s| match s {
-            InputSpec::Load(i) => Some(*i),
-            InputSpec::Motion(_) => None,
-        })
-        .collect();
-    let motions: Vec<Motion> = specs
-        .iter()
-        .filter_map(|s| match s {
-            InputSpec::Motion(m) => Some(*m),
-            InputSpec::Load(_) => None,
-        })
-        .collect();
+    let (inputs, motions) = requests::split_inputs(&specs);
     let outputs = a
         .outputs
         .iter()

@@ -129,6 +129,20 @@ pub enum InputSpec {
     Motion(Motion),
 }
 
+/// The force and moment inputs, then the prescribed motions, of parsed inputs (the column
+/// order of B: loads first, then motions, each in the order given).
+pub fn split_inputs(specs: &[InputSpec]) -> (Vec<Input>, Vec<Motion>) {
+    let mut loads = Vec::new();
+    let mut motions = Vec::new();
+    for s in specs {
+        match s {
+            InputSpec::Load(i) => loads.push(*i),
+            InputSpec::Motion(m) => motions.push(*m),
+        }
+    }
+    (loads, motions)
+}
+
 /// The element named `name` and its 0-based deformation mode from the 1-based `mode` of the
 /// spec (`flag_spec`: the flag and the spec, for the messages; `usage`: what the form means).
 fn element_mode(

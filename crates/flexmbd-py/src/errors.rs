@@ -224,7 +224,7 @@ pub fn solve(e: &SolveError) -> Failure {
 pub fn solve_hint(e: &SolveError) -> Option<&'static str> {
     match e {
         SolveError::NoConvergence { .. } => Some(
-            "more load steps: steps=N (or `steps` in the model's [static] table); at a limit point (snap-through) follow the path by arc length: path=\"arc-length\"",
+            "more load steps: steps=N (or `steps` in the model's [static] table); at a limit point (snap-through) follow the path by arc length: path=\"arc-length\" (or `path = \"arc-length\"` in [static])",
         ),
         SolveError::Inverted { .. } => {
             Some("more load steps: steps=N (or `steps` in the model's [static] table)")

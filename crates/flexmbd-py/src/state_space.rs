@@ -8,11 +8,11 @@ use crate::errors::{self, Failure};
 use crate::model::{Loaded, PyModel};
 use crate::statics::{solver, static_options, step_index};
 use flexmbd_core::dynamics::state_space::{
-    check_dense_size, state_space_with_motions, uses_sparse, Input, Motion, StateSpace as Core,
-    StateSpaceOptions, DENSE_STATE_SPACE_DOF,
+    check_dense_size, state_space_with_motions, uses_sparse, StateSpace as Core, StateSpaceOptions,
+    DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver};
-use flexmbd_io::requests::{parse_input, parse_output, InputSpec};
+use flexmbd_io::requests::{parse_input, parse_output, split_inputs};
 use flexmbd_io::statespace_report::{statespace_json, Origin};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -61,20 +61,7 @@ pub fn state_space(
             .iter()
             .map(|s| parse_input(m, name, "input", s).map_err(|e| errors::request("inputs", e)))
             .collect::<Result<Vec<_>, _>>()?;
-        let loads: Vec<Input> = specs
-            .iter()
-            .filter_map(|s| match s {
-                InputSpec::Load(i) => Some(*i),
-                InputSpec::Motion(_) => None,
-            })
-            .collect();
-        let motions: Vec<Motion> = specs
-            .iter()
-            .filter_map(|s| match s {
-                InputSpec::Motion(m) => Some(*m),
-                InputSpec::Load(_) => None,
-            })
-            .collect();
+        let (loads, motions) = split_inputs(&specs);
         let outs = outputs
             .iter()
             .map(|s| parse_output(m, name, "output", s).map_err(|e| errors::request("outputs", e)))

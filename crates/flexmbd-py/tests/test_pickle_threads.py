@@ -20,6 +20,7 @@ def test_pickle_round_trip():
     assert pickle.loads(pickle.dumps(f)).element_names == m.element_names
 
 
+@pytest.mark.filterwarnings("ignore::flexmbd.FlexmbdWarning")
 def test_pickle_of_a_dat_model(tmp_path):
     # a model read from SPACAR text pickles as that text
     dat = sorted(__import__("pathlib").Path("crates/flexmbd-io/tests/models").rglob("*.dat"))
