@@ -3,15 +3,14 @@
 use crate::{emit, outputs, BadInput};
 use anyhow::Context;
 use flexmbd_core::dynamics::state_space::{
-    check_dense_size, log_space, state_space_with_motions, uses_sparse, Input, Motion, Output,
-    OutputKind, Probe, StateSpaceOptions, DENSE_STATE_SPACE_DOF,
+    check_dense_size, log_space, state_space_with_motions, uses_sparse, Output, StateSpaceOptions,
+    DENSE_STATE_SPACE_DOF,
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
-use flexmbd_core::elements::ElementKind;
-use flexmbd_core::model::Dof;
 use flexmbd_core::statics::{PathMethod, StaticOptions, StaticSolution};
 use flexmbd_core::Model;
+use flexmbd_io::requests::{self, InputSpec};
 use flexmbd_io::statespace_report as report;
 use flexmbd_io::Settings;
 use std::path::{Path, PathBuf};
@@ -176,321 +175,20 @@ pub(crate) fn static_options(
     steps: Option<usize>,
     path: Option<PathArg>,
 ) -> anyhow::Result<StaticOptions> {
-    use flexmbd_io::limits::{MAX_ITERATIONS, MAX_STEPS};
-    let mut opts = StaticOptions::default();
-    opts.steps = steps.or(settings.steps).unwrap_or(opts.steps);
-    if !(1..=MAX_STEPS).contains(&opts.steps) {
-        return Err(BadInput(format!(
-            "the number of load steps must be from 1 to {MAX_STEPS}, found {}",
-            opts.steps
-        ))
-        .into());
-    }
-    opts.max_iterations = settings.max_iterations.unwrap_or(opts.max_iterations);
-    if !(1..=MAX_ITERATIONS).contains(&opts.max_iterations) {
-        return Err(BadInput(format!(
-            "the number of Newton iterations must be from 1 to {MAX_ITERATIONS}, found {}",
-            opts.max_iterations
-        ))
-        .into());
-    }
-    opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
-    opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
-    opts.line_search = settings.line_search;
-    opts.path = path.map_or(settings.path, PathArg::method);
-    Ok(opts)
-}
-
-/// `NODE:DIR[:KIND]` → (node, direction, kind). Node names may contain `:` (segments), so the
-/// spec is read from the right.
-fn split_spec<'a>(
-    flag: &str,
-    spec: &'a str,
-    kinds: &[&str],
-) -> Result<(String, Dof, Option<&'a str>), BadInput> {
-    let t: Vec<&str> = spec.split(':').collect();
-    let n = t.len();
-    let usage = || {
-        BadInput(format!(
-            "{flag} `{spec}`: expected NODE:DIR or NODE:DIR:KIND with DIR one of x, y, z, rx, ry, rz and KIND one of {}",
-            kinds.join(", ")
-        ))
-    };
-    if n < 2 || t.iter().any(|s| s.is_empty()) {
-        return Err(usage());
-    }
-    let dof = |s: &str| Dof::parse(&s.to_ascii_lowercase());
-    if let Some(d) = dof(t[n - 1]) {
-        return Ok((t[..n - 1].join(":"), d, None));
-    }
-    if n >= 3 {
-        if let Some(d) = dof(t[n - 2]) {
-            return Ok((t[..n - 2].join(":"), d, Some(t[n - 1])));
-        }
-        if kinds.contains(&t[n - 1].to_ascii_lowercase().as_str()) {
-            return Err(BadInput(format!(
-                "{flag} `{spec}`: unknown direction `{}` (expected x, y, z, rx, ry or rz)",
-                t[n - 2]
-            )));
-        }
-    }
-    Err(BadInput(format!(
-        "{flag} `{spec}`: unknown direction `{}` (expected x, y, z, rx, ry or rz{})",
-        t[n - 1],
-        if n >= 3 {
-            format!(", optionally followed by :{}", kinds.join("|"))
-        } else {
-            String::new()
-        }
-    )))
-}
-
-fn node_of(
-    model: &Model,
-    path: &Path,
-    flag: &str,
-    spec: &str,
-    name: &str,
-) -> Result<usize, BadInput> {
-    model.node_id(name).ok_or_else(|| {
-        BadInput(format!(
-            "{flag} `{spec}`: node `{name}` is not defined in {}",
-            path.display()
-        ))
-    })
-}
-
-fn needs_rotation(
-    model: &Model,
-    flag: &str,
-    spec: &str,
-    node: usize,
-    dof: Dof,
-) -> Result<(), BadInput> {
-    if dof.is_rotation() && !model.nodes[node].rot() {
-        return Err(BadInput(format!(
-            "{flag} `{spec}`: node `{}` has no rotation coordinates (only nodes of beams, hinges, rigid bodies with rotation, or `rot = true` have them)",
-            model.nodes[node].name
-        )));
-    }
-    Ok(())
-}
-
-/// A parsed `--input`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InputSpec {
-    /// Force or moment.
-    Load(Input),
-    /// Prescribed motion (acceleration input).
-    Motion(Motion),
-}
-
-/// The element named `name` and its 0-based deformation mode from the 1-based `mode` of the
-/// spec (`flag_spec`: the flag and the spec, for the messages; `usage`: what the form means).
-fn element_mode(
-    model: &Model,
-    path: &Path,
-    (flag, spec): (&str, &str),
-    name: &str,
-    mode: &str,
-    usage: &str,
-) -> Result<(usize, usize), BadInput> {
-    let Some(element) = model.elements.iter().position(|e| e.name == name) else {
-        return Err(BadInput(format!(
-            "{flag} `{spec}`: element `{name}` is not defined in {} ({usage})",
-            path.display()
-        )));
-    };
-    let entry = &model.elements[element];
-    let ne = entry.element.ne() as i64;
-    let m: i64 = mode.parse().unwrap_or(0);
-    if m < 1 || m > ne {
-        return Err(BadInput(format!(
-            "{flag} `{spec}`: {} `{name}` has deformation modes 1 to {ne}, not {mode}",
-            entry.element.type_name()
-        )));
-    }
-    Ok((element, (m - 1) as usize))
-}
-
-/// `ELEMENT:MODE:motion` (MODE a 1-based deformation number) → a prescribed-deformation
-/// motion; `None` when the spec has another form (a node input).
-fn parse_deformation_motion(
-    model: &Model,
-    path: &Path,
-    spec: &str,
-) -> Result<Option<Motion>, BadInput> {
-    let t: Vec<&str> = spec.split(':').collect();
-    let n = t.len();
-    if n < 3 || !t[n - 1].eq_ignore_ascii_case("motion") || t[n - 2].parse::<i64>().is_err() {
-        return Ok(None);
-    }
-    let name = t[..n - 2].join(":");
-    let (element, mode) = element_mode(
-        model,
-        path,
-        ("--input", spec),
-        &name,
-        t[n - 2],
-        "ELEMENT:MODE:motion drives deformation MODE of an element",
-    )?;
-    let entry = &model.elements[element];
-    if model.partition.e[entry.ie + mode] == flexmbd_core::model::DefKind::Free {
-        let mname = entry.element.mode_name(mode, &model.node_names());
-        return Err(BadInput(format!(
-            "--input `{spec}`: deformation {} ({mname}) of {} `{name}` is free (flexible) in {}; a prescribed-deformation motion needs an `input` mode (list it in the element's `input`, with a [[prescribe]] value where it is not zero)",
-            mode + 1,
-            entry.element.type_name(),
-            path.display()
-        )));
-    }
-    Ok(Some(Motion::Deformation { element, mode }))
+    flexmbd_io::requests::static_options(settings, steps, path.map(PathArg::method))
+        .map_err(|e| BadInput(e.0).into())
 }
 
 /// Parse `--input NODE:DIR[:force|moment|motion]` or `ELEMENT:MODE:motion`.
 pub fn parse_input(model: &Model, path: &Path, spec: &str) -> Result<InputSpec, BadInput> {
-    let flag = "--input";
-    if let Some(m) = parse_deformation_motion(model, path, spec)? {
-        return Ok(InputSpec::Motion(m));
-    }
-    let (name, dof, kind) = split_spec(flag, spec, &["force", "moment", "motion"])?;
-    let node = node_of(model, path, flag, spec, &name)?;
-    if kind.map(str::to_ascii_lowercase).as_deref() == Some("motion") {
-        needs_rotation(model, flag, spec, node, dof)?;
-        let held = model.nodes[node]
-            .x_index(dof)
-            .is_some_and(|i| model.partition.x[i] != flexmbd_core::model::CoordKind::Free);
-        if !held {
-            let load = if dof.is_rotation() { "moment" } else { "force" };
-            return Err(BadInput(format!(
-                "{flag} `{spec}`: coordinate {} of node `{name}` is free in {}; a prescribed motion needs a held coordinate (a support, [inputs] or [[prescribe]]). Hold it in the model, or use {name}:{}:{load} for a {load} input",
-                dof.name(),
-                path.display(),
-                dof.name()
-            )));
-        }
-        return Ok(InputSpec::Motion(Motion::Node { node, dof }));
-    }
-    let dof = match kind.map(str::to_ascii_lowercase).as_deref() {
-        None => dof,
-        Some("force") if dof.is_rotation() => {
-            return Err(BadInput(format!(
-                "{flag} `{spec}`: a force acts along x, y or z; for a moment about {} write {name}:{} or {name}:{}:moment",
-                &dof.name()[1..],
-                dof.name(),
-                &dof.name()[1..]
-            )))
-        }
-        Some("force") => dof,
-        Some("moment") if dof.is_rotation() => dof,
-        Some("moment") => Dof::ALL[dof.index() + 3],
-        Some(k) => {
-            return Err(BadInput(format!(
-                "{flag} `{spec}`: unknown input kind `{k}` (expected force, moment or motion)"
-            )))
-        }
-    };
-    needs_rotation(model, flag, spec, node, dof)?;
-    Ok(InputSpec::Load(Input { node, dof }))
-}
-
-/// `ELEMENT:MODE:def|force[:disp|vel|acc]` → an element output; `None` when the spec has
-/// another form (a node output).
-fn parse_element_output(
-    model: &Model,
-    path: &Path,
-    spec: &str,
-) -> Result<Option<Output>, BadInput> {
-    let t: Vec<&str> = spec.split(':').collect();
-    let n = t.len();
-    let is_q = |s: &str| {
-        let s = s.to_ascii_lowercase();
-        matches!(s.as_str(), "def" | "deformation" | "force")
-    };
-    // the quantity is last, or second to last before a kind
-    let (q, kind, name_end) = if n >= 3 && is_q(t[n - 1]) && t[n - 2].parse::<i64>().is_ok() {
-        (t[n - 1], None, n - 2)
-    } else if n >= 4 && is_q(t[n - 2]) && t[n - 3].parse::<i64>().is_ok() {
-        (t[n - 2], Some(t[n - 1]), n - 3)
-    } else {
-        return Ok(None);
-    };
-    let name = t[..name_end].join(":");
-    let kind = match kind.map(str::to_ascii_lowercase).as_deref() {
-        None => OutputKind::Disp,
-        Some(k) => OutputKind::parse(k).ok_or_else(|| {
-            BadInput(format!(
-                "--output `{spec}`: unknown output kind `{k}` (expected disp, vel or acc)"
-            ))
-        })?,
-    };
-    let (element, mode) = element_mode(
-        model,
-        path,
-        ("--output", spec),
-        &name,
-        t[name_end],
-        "ELEMENT:MODE:def|force measures deformation MODE of an element or its stress resultant",
-    )?;
-    let entry = &model.elements[element];
-    let probe = if q.eq_ignore_ascii_case("force") {
-        // a held mode's force is its constraint reaction; a free mode needs a stiffness
-        let free = model.partition.e[entry.ie + mode] == flexmbd_core::model::DefKind::Free;
-        if free && entry.element.stiffness()[(mode, mode)] <= 0.0 {
-            let mname = entry.element.mode_name(mode, &model.node_names());
-            return Err(BadInput(format!(
-                "--output `{spec}`: deformation {} ({mname}) of {} `{name}` has no stiffness in {}, so it has no elastic force; give the element a stiffness, or measure its deformation ({name}:{}:def)",
-                mode + 1,
-                entry.element.type_name(),
-                path.display(),
-                mode + 1
-            )));
-        }
-        Probe::Force { element, mode }
-    } else {
-        Probe::Deformation { element, mode }
-    };
-    Ok(Some(Output { probe, kind }))
+    requests::parse_input(model, &path.display().to_string(), "--input", spec)
+        .map_err(|e| BadInput(e.0))
 }
 
 /// Parse `--output NODE:DIR[:disp|vel|acc]` or `ELEMENT:MODE:def|force[:disp|vel|acc]`.
 pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, BadInput> {
-    if let Some(o) = parse_element_output(model, path, spec)? {
-        return Ok(o);
-    }
-    let flag = "--output";
-    let (name, dof, kind) = split_spec(flag, spec, &["disp", "vel", "acc", "reaction"])?;
-    let node = node_of(model, path, flag, spec, &name)?;
-    if kind.is_some_and(|k| k.eq_ignore_ascii_case("reaction")) {
-        needs_rotation(model, flag, spec, node, dof)?;
-        let held = model.nodes[node]
-            .x_index(dof)
-            .is_some_and(|i| model.partition.x[i] != flexmbd_core::model::CoordKind::Free);
-        if !held {
-            return Err(BadInput(format!(
-                "{flag} `{spec}`: coordinate {} of node `{name}` is free in {}; a reaction needs a coordinate held by a support, [inputs] or [[prescribe]]",
-                dof.name(),
-                path.display()
-            )));
-        }
-        return Ok(Output {
-            probe: Probe::Reaction { node, dof },
-            kind: OutputKind::Disp,
-        });
-    }
-    let kind = match kind.map(str::to_ascii_lowercase).as_deref() {
-        None => OutputKind::Disp,
-        Some("displacement" | "rotation") => OutputKind::Disp,
-        Some("velocity") => OutputKind::Vel,
-        Some("acceleration") => OutputKind::Acc,
-        Some(k) => OutputKind::parse(k).ok_or_else(|| {
-            BadInput(format!(
-                "{flag} `{spec}`: unknown output kind `{k}` (expected disp, vel or acc)"
-            ))
-        })?,
-    };
-    needs_rotation(model, flag, spec, node, dof)?;
-    Ok(Output::node(node, dof, kind))
+    requests::parse_output(model, &path.display().to_string(), "--output", spec)
+        .map_err(|e| BadInput(e.0))
 }
 
 /// The static solution to linearise about; a path that stops part-way is an error here (the
@@ -523,20 +221,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .map(|s| parse_input(&model, &a.model, s))
         .collect::<Result<Vec<_>, _>>()?;
-    let inputs: Vec<Input> = specs
-        .iter()
-        .filter_map(|s| match s {
-            InputSpec::Load(i) => Some(*i),
-            InputSpec::Motion(_) => None,
-        })
-        .collect();
-    let motions: Vec<Motion> = specs
-        .iter()
-        .filter_map(|s| match s {
-            InputSpec::Motion(m) => Some(*m),
-            InputSpec::Load(_) => None,
-        })
-        .collect();
+    let (inputs, motions) = requests::split_inputs(&specs);
     let outputs = a
         .outputs
         .iter()

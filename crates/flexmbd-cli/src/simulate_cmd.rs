@@ -65,38 +65,18 @@ impl SimOptionArgs {
 
     /// The integrator options: these arguments over the model file's `[simulate]` settings.
     pub fn options(&self, path: &Path, file: &SimulateSettings) -> Result<SimOptions, BadInput> {
-        let mut set = file.clone();
-        let t_end = positive("--t-end", self.t_end)?;
-        if let Some(v) = positive("--dt", self.dt)? {
-            set.dt = Some(v);
-        }
-        if self.fixed_step {
-            set.fixed_step = Some(true);
-        }
-        if let Some(r) = self.rho_inf {
-            if !(0.0..=1.0).contains(&r) {
-                return Err(BadInput(format!("--rho-inf must lie in [0, 1], found {r}")));
-            }
-            set.rho_inf = Some(r);
-        }
-        if let Some(t) = &self.tolerance {
-            if !(t[0].is_finite() && t[0] > 0.0 && t[1].is_finite() && t[1] >= 0.0) {
-                return Err(BadInput(format!(
-                    "--tolerance ABS REL needs ABS > 0 and REL >= 0, found {} {}",
-                    t[0], t[1]
-                )));
-            }
-            set.tolerance = Some([t[0], t[1]]);
-        }
-        if let Some(v) = positive("--output-step", self.output_step)? {
-            set.output_step = Some(v);
-        }
-        set.options(t_end).ok_or_else(|| {
-            BadInput(format!(
-                "{}: no end time: give --t-end T, or `t_end` in [simulate] (TOML) or TIMESTEP (SPACAR)",
-                path.display()
-            ))
+        let over = flexmbd_io::requests::SimOverrides {
+            t_end: self.t_end,
+            dt: self.dt,
+            fixed_step: self.fixed_step,
+            rho_inf: self.rho_inf,
+            tolerance: self.tolerance.as_ref().map(|t| [t[0], t[1]]),
+            output_step: self.output_step,
+        };
+        over.options(&path.display().to_string(), file, &|name| {
+            format!("--{}", name.replace('_', "-"))
         })
+        .map_err(|e| BadInput(e.0))
     }
 }
 
@@ -117,15 +97,6 @@ pub struct SimulateArgs {
     /// collection simulate.pvd (time step = t).
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
-}
-
-fn positive(name: &str, v: Option<f64>) -> Result<Option<f64>, BadInput> {
-    match v {
-        Some(v) if !(v.is_finite() && v > 0.0) => Err(BadInput(format!(
-            "{name} must be a positive number, found {v}"
-        ))),
-        v => Ok(v),
-    }
 }
 
 /// Run the simulation with a progress bar: the frames, and how it stopped if it did not reach

@@ -17,6 +17,7 @@ pub mod model_toml;
 pub mod modes_report;
 pub mod plots;
 pub mod report;
+pub mod requests;
 pub mod sim_report;
 pub mod spacar;
 pub mod spec;
