@@ -369,3 +369,56 @@ fn a_column_into_post_buckling_bifurcates_and_follows_the_elastica() {
     assert!(far > 10 && alpha_max > 2.5, "{far} {alpha_max}");
     assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
 }
+
+/// Load steps across the snap-through of the S05 toggle (40 lbf, 20 steps): the path jumps
+/// from the near to the far branch in one step, which must be the step whose load interval
+/// holds the limit load P_max = 33.870 lbf of validation.md (that is where the near branch
+/// ends), and that step is reported as a jump; the same frame under a prescribed apex stroke
+/// of 0.7 in (which follows the path continuously) reports none.
+#[test]
+fn load_steps_report_the_jump_across_the_snap_through() {
+    let (p, p_max) = (40.0, 33.870);
+    let opts = StaticOptions {
+        steps: 20,
+        ..Default::default()
+    };
+    let model = common::toggle_under_load(p);
+    let sol = solve_path(&model, &opts, |_, _| {}).expect("load steps reach the full load");
+    let jumps: Vec<_> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Jump {
+                step,
+                from,
+                load_factor,
+                growth,
+            } => Some((step, from, load_factor, growth)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(jumps.len(), 1, "{:?}", sol.events);
+    let (step, from, to, growth) = jumps[0];
+    assert!(
+        from * p < p_max && p_max <= to * p,
+        "jump at step {step} over ({}, {}] lbf, P_max {p_max}",
+        from * p,
+        to * p
+    );
+    assert!(growth > 5.0);
+    // on the far branch at the end: past δ = 0.5 in (36.097 lbf < 40 lbf, validation.md)
+    let iy = model.nodes[model.node_id("n20").unwrap()].ix_pos + 1;
+    assert!(0.386 - sol.steps.last().unwrap().x[iy] > 0.5);
+
+    let mut b = common::toggle_builder();
+    b.prescribe_coordinate("n20", Dof::Y, -0.7).unwrap();
+    let stroked = b.build().unwrap();
+    let sol = solve_path(&stroked, &opts, |_, _| {}).expect("the stroke is followed");
+    assert!(
+        !sol.events
+            .iter()
+            .any(|e| matches!(e, PathEvent::Jump { .. })),
+        "{:?}",
+        sol.events
+    );
+}

@@ -90,6 +90,14 @@ fn event_text(sol: &StaticSolution, e: &PathEvent) -> String {
             "step {step}: BIFURCATION before load factor {load_factor:.6}, unstable directions {} -> {} (another branch of equilibria crosses the path)",
             unstable[0], unstable[1]
         ),
+        PathEvent::Jump {
+            step,
+            from,
+            load_factor,
+            growth,
+        } => format!(
+            "step {step}: JUMP between load factors {from:.6} and {load_factor:.6}: the displacement increment grew {growth:.1}-fold; the path has probably snapped through a limit point, which load steps cannot follow (arc-length path following shows it)"
+        ),
     }
 }
 

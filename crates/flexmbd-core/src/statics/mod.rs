@@ -211,6 +211,20 @@ pub enum PathEvent {
         /// Unstable directions before and after.
         unstable: [usize; 2],
     },
+    /// Load steps only: the converged displacement increment of step `step` is `growth` times
+    /// that of the step before (and at least 1e-3 of the model size): the path has probably
+    /// jumped across a snap-through (a limit point) between the two converged states, which
+    /// load steps cannot tell from a smooth path.
+    Jump {
+        /// The step that jumped.
+        step: usize,
+        /// The load factor before it.
+        from: f64,
+        /// Its load factor.
+        load_factor: f64,
+        /// Its largest coordinate increment divided by that of the step before.
+        growth: f64,
+    },
 }
 
 /// Why a static solution failed.

@@ -97,7 +97,7 @@ pub fn solve_path(
     let mut steps = Vec::new();
     let (mut path, mut events) = (Vec::new(), Vec::new());
     let r = match opts.path {
-        PathMethod::LoadSteps => follow(model, opts, progress, &mut steps),
+        PathMethod::LoadSteps => follow(model, opts, progress, &mut steps, &mut events),
         PathMethod::ArcLength => {
             super::arc::follow(model, opts, progress, &mut steps, &mut path, &mut events)
         }
@@ -178,6 +178,7 @@ fn follow(
     opts: &StaticOptions,
     mut progress: impl FnMut(usize, usize),
     out: &mut Vec<StepResult>,
+    events: &mut Vec<super::PathEvent>,
 ) -> Result<(), SolveError> {
     check_options(opts)?;
     let su = setup(model);
@@ -322,9 +323,47 @@ fn follow(
                 last_good: out.last().map(|s: &StepResult| s.load_factor),
             });
         }
+        if let Some(e) = jump(&su, out, &st, step) {
+            events.push(e);
+        }
         out.push(st);
         last = Some(a);
         progress(step, steps);
     }
     Ok(())
+}
+
+/// Growth of the largest coordinate increment from one load step to the next above which a
+/// step counts as a jump ([`super::PathEvent::Jump`]).
+const JUMP_GROWTH: f64 = 5.0;
+
+/// A jump of the load-step path at `step` (the state `st`) after the states `out`: the largest
+/// increment of an unknown coordinate grew more than [`JUMP_GROWTH`]-fold over that of the step
+/// before, and is at least 1e-3 of the model size.
+fn jump(
+    su: &super::Setup,
+    out: &[StepResult],
+    st: &StepResult,
+    step: usize,
+) -> Option<super::PathEvent> {
+    let [.., a, b] = out else { return None };
+    let inc = |p: &StepResult, q: &StepResult| {
+        su.unknown
+            .iter()
+            .enumerate()
+            .filter(|(_, u)| u.is_some())
+            .map(|(i, _)| (q.x[i] - p.x[i]).abs())
+            .fold(0.0, f64::max)
+    };
+    let (before, now) = (inc(a, b), inc(b, st));
+    (now > 1e-3 * su.l_ref && now > JUMP_GROWTH * before).then(|| super::PathEvent::Jump {
+        step,
+        from: b.load_factor,
+        load_factor: st.load_factor,
+        growth: if before > 0.0 {
+            now / before
+        } else {
+            f64::INFINITY
+        },
+    })
 }
