@@ -10,7 +10,8 @@ in-process solve (`t_solve_s` of the peer script, without Python start-up and mo
 which favours Exudyn.
 
 Usage: sim_pendulum_accuracy.py --flexmbd BIN --peers DIR [--python PY] [--n N ...]
-       [--h H ...] [--targets E ...] [--out FILE]
+       [--h H ...] [--t-end T] [--targets E ...] [--out FILE]
+       sim_pendulum_accuracy.py --from FILE   (the tables of an earlier --out)
 Prints two tables (runs; time at equal error and the ratio); --out writes JSON lines.
 """
 import argparse
@@ -44,34 +45,49 @@ def dist(a, b):
 
 
 def time_at(runs, target):
-    """Wall time for a tip error `target`: log-log interpolation between the two runs whose
-    errors bracket it (None if no run is as accurate)."""
-    pts = sorted((r["error_m"], r["wall_s"]) for r in runs if r.get("error_m"))
-    ok = [p for p in pts if p[0] <= target]
-    if not ok:
-        return None
-    e1, w1 = max(ok)
-    worse = [p for p in pts if p[0] > target]
-    if not worse:
-        return w1
-    e0, w0 = min(worse)
-    s = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
-    return math.exp(math.log(w0) + s * (math.log(w1) - math.log(w0)))
+    """Wall time for a tip error `target`: the cheapest run whose error is at or below it (None
+    if no run is as accurate). Time need not fall with h: at large steps Newton needs more
+    iterations per step."""
+    ok = [r["wall_s"] for r in runs if r.get("error_m") is not None and r["error_m"] <= target]
+    return min(ok) if ok else None
+
+
+def table(records, targets):
+    print(f"{'N':>6} {'h':>8} {'flexmbd s':>10} {'tip err (m)':>12} {'Exudyn s':>10} {'tip err (m)':>12}")
+    for r in records:
+        for f, x in zip(r["flexmbd"]["runs"], r["exudyn"]["runs"]):
+            print(f"{r['n']:>6} {f['h']:>8.1e} {f.get('wall_s', float('nan')):>10.3f} "
+                  f"{f.get('error_m', float('nan')):>12.2e} {x.get('wall_s', float('nan')):>10.3f} "
+                  f"{x.get('error_m', float('nan')):>12.2e}")
+    print(f"\n{'N':>6} {'tip error':>10} {'flexmbd s':>10} {'Exudyn s':>10} {'ratio':>7}")
+    for r in records:
+        for e in targets:
+            tf = time_at(r["flexmbd"]["runs"], e)
+            tx = time_at(r["exudyn"]["runs"], e)
+            ratio = f"{tx / tf:7.1f}" if tf and tx else "      -"
+            print(f"{r['n']:>6} {e:>10.0e} {tf or float('nan'):>10.3f} {tx or float('nan'):>10.3f} {ratio}")
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--flexmbd", required=True)
-    ap.add_argument("--peers", required=True)
+    ap.add_argument("--flexmbd")
+    ap.add_argument("--peers")
     ap.add_argument("--python", default=os.path.expanduser("~/.cache/flexmbd-peers/venv/bin/python"))
     ap.add_argument("--n", type=int, nargs="+", default=[10, 100, 1000])
     ap.add_argument("--h", type=float, nargs="+", default=[4e-3, 2e-3, 1e-3, 5e-4])
-    ap.add_argument("--targets", type=float, nargs="+", default=[1e-3, 1e-4])
+    ap.add_argument("--targets", type=float, nargs="+", default=[1e-3, 1e-4, 1e-5])
+    ap.add_argument("--from", dest="from_file", help="tabulate the records of an earlier --out")
     ap.add_argument("--t-end", type=float, default=0.25,
                     help="simulated time [s]; over 1 s the swinging chain is so sensitive that "
                          "the tip does not converge monotonically in h (default 0.25)")
     ap.add_argument("--out")
     a = ap.parse_args()
+    if a.from_file:
+        with open(a.from_file) as f:
+            table([json.loads(ln) for ln in f if ln.strip()], a.targets)
+        return
+    if not (a.flexmbd and a.peers):
+        ap.error("--flexmbd and --peers are needed for a run")
     records = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in a.n:
@@ -89,22 +105,10 @@ def main():
                     if r["status"] == "ok" and ref["status"] == "ok":
                         r["error_m"] = dist(r["tip"], ref["tip"])
                     runs.append(r)
-                rec[name] = {"ref": ref, "runs": runs,
-                             "time_at": {str(e): time_at(runs, e) for e in a.targets}}
+                rec[name] = {"ref": ref, "runs": runs}
                 print(json.dumps({"n": n, name: rec[name]}), file=sys.stderr)
             records.append(rec)
-    print(f"{'N':>6} {'h':>8} {'flexmbd s':>10} {'tip err (m)':>12} {'Exudyn s':>10} {'tip err (m)':>12}")
-    for r in records:
-        for f, x in zip(r["flexmbd"]["runs"], r["exudyn"]["runs"]):
-            print(f"{r['n']:>6} {f['h']:>8.1e} {f.get('wall_s', float('nan')):>10.3f} "
-                  f"{f.get('error_m', float('nan')):>12.2e} {x.get('wall_s', float('nan')):>10.3f} "
-                  f"{x.get('error_m', float('nan')):>12.2e}")
-    print(f"\n{'N':>6} {'tip error':>10} {'flexmbd s':>10} {'Exudyn s':>10} {'ratio':>7}")
-    for r in records:
-        for e in a.targets:
-            tf, tx = r["flexmbd"]["time_at"][str(e)], r["exudyn"]["time_at"][str(e)]
-            ratio = f"{tx / tf:7.1f}" if tf and tx else "      -"
-            print(f"{r['n']:>6} {e:>10.0e} {tf or float('nan'):>10.3f} {tx or float('nan'):>10.3f} {ratio}")
+    table(records, a.targets)
     if a.out:
         with open(a.out, "w") as fo:
             for r in records:
