@@ -166,7 +166,7 @@ fn errors_module(py: Python<'_>) -> PyResult<&Bound<'_, PyModule>> {
 
 /// The first name in backticks of a message (the item that messages of the readers and the
 /// core name: "element `b1`: node `n9` is not defined" → `b1`).
-fn first_quoted(message: &str) -> Option<String> {
+pub fn first_quoted(message: &str) -> Option<String> {
     let start = message.find('`')? + 1;
     let len = message[start..].find('`')?;
     Some(message[start..start + len].to_string())

@@ -8,6 +8,7 @@
 
 mod check;
 mod convert;
+mod document;
 mod errors;
 mod model;
 mod simulate;
@@ -21,13 +22,15 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _flexmbd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyModel>()?;
+    m.add_class::<document::Document>()?;
     m.add_class::<check::CheckResult>()?;
     m.add_class::<statics::StaticResult>()?;
     m.add_class::<statics::ModesResult>()?;
     m.add_class::<state_space::StateSpace>()?;
     m.add_class::<simulate::SimulationResult>()?;
     m.add_class::<states::States>()?;
-    m.add_function(wrap_pyfunction!(model::read, m)?)?;
+    m.add_function(wrap_pyfunction!(document::load, m)?)?;
+    m.add_function(wrap_pyfunction!(document::parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(model::parse, m)?)?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
     m.add_function(wrap_pyfunction!(statics::static_, m)?)?;

@@ -50,7 +50,7 @@ impl Format {
 
 /// A model read from its source, with everything the analyses need.
 pub struct Loaded {
-    /// The source text.
+    /// The source text (empty for a model built from a document).
     pub text: String,
     /// The file name used in messages and reports.
     pub file: String,
@@ -89,16 +89,9 @@ impl Loaded {
         match format {
             Format::Toml => {
                 let mf = flexmbd_io::parse_model_file(&text, &file).map_err(errors::input)?;
-                Ok(Loaded {
-                    check: mf.model.clone(),
-                    static_file: Ok(mf),
-                    spacar: None,
-                    dynamic: OnceLock::new(),
-                    warnings: Vec::new(),
-                    text,
-                    file,
-                    format,
-                })
+                let mut l = Loaded::built(mf, file);
+                l.text = text;
+                Ok(l)
             }
             Format::Dat => {
                 let sm = flexmbd_io::parse_dat(&text, &file).map_err(errors::input)?;
@@ -125,8 +118,23 @@ impl Loaded {
         }
     }
 
-    /// Read a model file by its extension (`.toml` or `.dat`), as the command line does.
-    pub fn read(path: &str) -> Result<Loaded, Failure> {
+    /// A model built from a document (no source text: the document holds the model).
+    pub fn built(mf: ModelFile, file: String) -> Loaded {
+        Loaded {
+            check: mf.model.clone(),
+            static_file: Ok(mf),
+            spacar: None,
+            dynamic: OnceLock::new(),
+            warnings: Vec::new(),
+            text: String::new(),
+            file,
+            format: Format::Toml,
+        }
+    }
+
+    /// The text of a model file and its format by its extension (`.toml` or `.dat`), as the
+    /// command line reads it.
+    pub fn read_text(path: &str) -> Result<(String, Format), Failure> {
         let format = Format::of_path(path)?;
         let bytes = std::fs::read(path).map_err(|source| {
             errors::input(flexmbd_io::InputError::Read {
@@ -152,7 +160,7 @@ impl Loaded {
                 }
             },
         };
-        Loaded::parse(text, path.to_string(), format)
+        Ok((text, format))
     }
 
     /// The model and settings of statics, modes and state spaces.
@@ -197,7 +205,8 @@ fn warn_all(py: Python<'_>, lines: &[String]) -> PyResult<()> {
 }
 
 impl PyModel {
-    fn new(py: Python<'_>, loaded: Loaded) -> PyResult<Self> {
+    /// Wrap a loaded model, issuing its warnings.
+    pub fn new(py: Python<'_>, loaded: Loaded) -> PyResult<Self> {
         warn_all(py, &loaded.warnings)?;
         Ok(PyModel {
             inner: Arc::new(loaded),
@@ -208,16 +217,6 @@ impl PyModel {
     pub fn warn(py: Python<'_>, lines: &[String]) -> PyResult<()> {
         warn_all(py, lines)
     }
-}
-
-/// Read a model file (`.toml` or SPACAR `.dat`).
-#[pyfunction]
-pub fn read(py: Python<'_>, path: &str) -> PyResult<PyModel> {
-    let path = path.to_string();
-    let loaded = py
-        .detach(move || Loaded::read(&path))
-        .map_err(|f| f.into_py(py))?;
-    PyModel::new(py, loaded)
 }
 
 /// Read model text in a format (`"toml"` or `"dat"`), named `file` in messages.

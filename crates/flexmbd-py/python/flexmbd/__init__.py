@@ -17,9 +17,11 @@ the exception classes below (``ModelError`` with ``file``, ``line`` and ``item``
 See docs/python.md.
 """
 
+import json as _json
 import os as _os
 
 from . import _flexmbd
+from ._build import _Editing
 from ._errors import (
     FlexmbdError,
     FlexmbdWarning,
@@ -70,70 +72,129 @@ def load(path):
     Raises ``ModelError`` (with ``file``, ``line``, ``item``) for invalid input and
     ``ReadError`` for a file that cannot be read.
     """
-    return Model(_flexmbd.read(_os.fspath(path)))
+    return Model._wrap(_flexmbd.load(_os.fspath(path)))
 
 
 def _from_source(text, file, format):
-    """Rebuild a model from its source (what a pickle of a ``Model`` carries)."""
-    return Model(_flexmbd.parse(text, file, format))
+    """Rebuild a model read from SPACAR text (what a pickle of such a ``Model`` carries)."""
+    return Model._wrap(_flexmbd.parse(text, file, format))
 
 
-class Model:
-    """A model read from TOML or SPACAR text, with the analysis settings of its file.
+def _from_document(json, file, source):
+    """Rebuild a model from its document (what a pickle of a ``Model`` carries)."""
+    return Model._wrap(_flexmbd.Document.from_json(json, file, source))
 
-    A model is immutable and holds no global state: it can be shared between threads, and it
-    pickles as its source text. Create one with ``flexmbd.load(path)``,
-    ``Model.from_toml(text)`` or ``Model.from_dat(text)``.
+
+class Model(_Editing):
+    """A model: its document (nodes, elements, materials, sections, supports, inputs, loads,
+    masses, strokes and the analysis settings, as a TOML model file states them) and the
+    analyses on it.
+
+    Create one with ``flexmbd.load(path)``, ``Model.from_toml(text)``, ``Model.from_dat(text)``
+    or ``Model(name)`` (empty), then build or edit it by names (``add_node``, ``add_beam``,
+    ``fix``, ``set("sections.sheet.t", 0.2e-3)``, ...; docs/python.md). The model is compiled
+    when an analysis (or a property of the compiled model such as ``node_names``) first asks
+    after an edit; errors of the document are raised then as ``ModelError`` naming the item.
+    A model holds no global state and can be shared between threads; it pickles as its
+    document. A model read from a SPACAR ``.dat`` file cannot be edited (its mapping to
+    statics and dynamics differs): write a TOML model for that.
     """
 
-    __slots__ = ("_core",)
+    __slots__ = ("_doc", "_dat")
 
-    def __init__(self, core):
-        if not isinstance(core, _flexmbd.CoreModel):
-            raise TypeError(
-                "create a Model with flexmbd.load(path), Model.from_toml(text) or Model.from_dat(text)"
-            )
-        self._core = core
+    def __init__(self, name="model", *, file="<python>"):
+        self._doc = _flexmbd.Document.empty(str(name), str(file))
+        self._dat = None
+
+    @classmethod
+    def _wrap(cls, obj):
+        m = object.__new__(cls)
+        if isinstance(obj, _flexmbd.Document):
+            m._doc, m._dat = obj, None
+        else:
+            m._doc, m._dat = None, obj
+        return m
 
     @classmethod
     def from_toml(cls, text, file="<string>"):
         """A model from TOML text (docs/model-format.md); ``file`` names it in messages."""
-        return cls(_flexmbd.parse(text, file, "toml"))
+        return cls._wrap(_flexmbd.parse_toml(text, file))
 
     @classmethod
     def from_dat(cls, text, file="<string>.dat"):
         """A model from the text of a SPACAR ``.dat`` file; ``file`` names it in messages."""
-        return cls(_flexmbd.parse(text, file, "dat"))
+        return cls._wrap(_flexmbd.parse(text, file, "dat"))
+
+    @property
+    def _core(self):
+        return self._dat if self._doc is None else self._doc.core()
+
+    def _document(self):
+        if self._doc is None:
+            e = ModelError(
+                f"{self.file}: a model read from a SPACAR .dat file cannot be edited or written "
+                "as TOML; write a TOML model (docs/spacar-import.md) and load that"
+            )
+            e.file = self.file
+            raise e
+        return self._doc
 
     def __reduce__(self):
-        return (_from_source, self._core.source())
+        if self._doc is None:
+            return (_from_source, self._dat.source())
+        return (_from_document, (self._doc.to_json(), self._doc.file, self._doc.source))
 
     def __repr__(self):
+        if self._doc is None:
+            name, nodes, elements = self.name, self.n_nodes, self.n_elements
+        else:
+            name, nodes, elements = self._doc.summary()
         return "<flexmbd.Model {!r} from {}: {} nodes, {} elements>".format(
-            self.name, self.file, self.n_nodes, self.n_elements
+            name, self.file, nodes, elements
         )
+
+    def copy(self):
+        """An independent copy of the model (edits of one do not change the other)."""
+        if self._doc is None:
+            return self
+        return Model._wrap(self._doc.copy())
+
+    def to_toml(self):
+        """The model's document as a TOML model file (docs/model-format.md)."""
+        return self._document().to_toml()
+
+    def to_dict(self):
+        """The model's document as a dict (the keys of the TOML format; ``get`` and ``set``
+        paths walk it)."""
+        return _json.loads(self._document().to_json())
 
     # -- what the model holds ------------------------------------------------------------
 
     @property
     def name(self):
         """The model's name."""
-        return self._core.name
+        if self._doc is None:
+            return self._dat.name
+        return self._doc.summary()[0]
 
     @property
     def file(self):
-        """The file name used in messages and reports."""
-        return self._core.file
+        """The file name used in messages and reports (``"<python>"`` for a model built in
+        Python)."""
+        return (self._doc or self._dat).file
 
     @property
     def format(self):
-        """``"toml"`` or ``"dat"``."""
-        return self._core.format
+        """``"dat"`` for a model read from a SPACAR file, else ``"toml"`` (its document)."""
+        return "toml" if self._doc is not None else self._dat.format
 
     @property
     def source(self):
-        """The source text the model was read from."""
-        return self._core.source()[0]
+        """The text the model was read from (before any edit; ``to_toml()`` writes the
+        current document), or None for a model built in Python."""
+        if self._doc is None:
+            return self._dat.source()[0]
+        return self._doc.source
 
     @property
     def node_names(self):
