@@ -135,6 +135,28 @@ impl Document {
         }))
     }
 
+    /// The document of a SPACAR `.dat` text: the TOML model file that `flexmbd convert` writes
+    /// (its time-simulation settings too where they map to the same model), with the
+    /// mapping's warnings.
+    #[staticmethod]
+    fn from_dat(py: Python<'_>, text: String, file: String) -> PyResult<(Self, Vec<String>)> {
+        let r = py.detach(move || -> Result<(Self, Vec<String>), Failure> {
+            let m = flexmbd_io::spacar::parse_dat(&text, &file).map_err(errors::input)?;
+            let (toml, warnings) = m.to_toml_with_warnings().map_err(errors::input)?;
+            // the document of the written file (what it cannot express, e.g. beam shear
+            // flexibilities, is left out as in the file, and the warnings say so)
+            let spec = flexmbd_io::parse_spec(&toml, &file).map_err(errors::input)?;
+            let doc = Document::with(State {
+                spec,
+                file,
+                source: None,
+                built: None,
+            });
+            Ok((doc, warnings.iter().map(|w| w.to_string()).collect()))
+        });
+        r.map_err(|f| f.into_py(py))
+    }
+
     /// The document as JSON (the keys of the TOML format).
     fn to_json(&self) -> PyResult<String> {
         serde_json::to_string(&self.lock().spec)

@@ -169,3 +169,33 @@ def test_spacar_files_equal_cli(cli, path):
         got, want = same_or_same_failure(code, doc, err, call)
         if got is not None:
             assert_same(got, want, skip=("hint", "what_to_try"))
+
+
+@pytest.mark.filterwarnings("ignore::flexmbd.FlexmbdWarning")
+@pytest.mark.parametrize("path", DATS, ids=[p.name for p in DATS])
+def test_an_edited_spacar_model_is_the_document_convert_writes(cli, path, tmp_path):
+    # editing (here: reading the document of) a .dat model turns it into the TOML document
+    # that `flexmbd convert` writes of the file; that document's statics equal the command
+    # line's on the converted file
+    import subprocess
+
+    from conftest import flexmbd_binary
+
+    rel_path = str(path.relative_to(__import__("conftest").ROOT))
+    out = tmp_path / "converted.toml"
+    p = subprocess.run([flexmbd_binary(), "--quiet", "convert", rel_path, str(out)],
+                       capture_output=True, text=True)
+    model = flexmbd.load(rel_path)
+    if p.returncode != 0:
+        with pytest.raises(flexmbd.FlexmbdError):
+            model.to_dict()
+        return
+    assert model.to_dict() == flexmbd.load(str(out)).to_dict()
+    assert model.format == "toml"
+    code, cli_doc, err = cli("static", str(out))
+    if code == 0:
+        got = model.static().to_dict()
+        assert_same(got, cli_doc, skip=("hint", "what_to_try", "file"))
+    else:
+        with pytest.raises(flexmbd.FlexmbdError):
+            model.static()

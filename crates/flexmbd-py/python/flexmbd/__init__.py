@@ -18,6 +18,7 @@ See docs/python.md.
 """
 
 import json as _json
+import warnings as _warnings
 import os as _os
 
 from . import _flexmbd
@@ -96,8 +97,11 @@ class Model(_Editing):
     when an analysis (or a property of the compiled model such as ``node_names``) first asks
     after an edit; errors of the document are raised then as ``ModelError`` naming the item.
     A model holds no global state and can be shared between threads; it pickles as its
-    document. A model read from a SPACAR ``.dat`` file cannot be edited (its mapping to
-    statics and dynamics differs): write a TOML model for that.
+    document. A model read from a SPACAR ``.dat`` file is analysed as the command line
+    analyses the file until it is first edited or written (``to_toml``, ``to_dict``, ``get``,
+    an ``add_*``...): from then on it is the TOML document that ``flexmbd convert`` writes of
+    the file (docs/spacar-import.md), and the mapping's warnings are issued as
+    ``FlexmbdWarning``.
     """
 
     __slots__ = ("_doc", "_dat")
@@ -131,12 +135,11 @@ class Model(_Editing):
 
     def _document(self):
         if self._doc is None:
-            e = ModelError(
-                f"{self.file}: a model read from a SPACAR .dat file cannot be edited or written "
-                "as TOML; write a TOML model (docs/spacar-import.md) and load that"
-            )
-            e.file = self.file
-            raise e
+            text, file, _format = self._dat.source()
+            doc, warnings = _flexmbd.Document.from_dat(text, file)
+            for w in warnings:
+                _warnings.warn(w, FlexmbdWarning, stacklevel=3)
+            self._doc, self._dat = doc, None
         return self._doc
 
     def __reduce__(self):
