@@ -149,6 +149,53 @@ fn hub_frame_tip(model: &Model, sim: &Simulation, n: usize, omega: f64) -> Vec<(
         .collect()
 }
 
+/// The N01 run at spin rate `omega` with the hub driven as `hub` (10 beams; 0–30 s, first step
+/// 1 ms, tolerances 1e-8 m / 1e-6, output every 0.05 s): the hub-frame tip rows of
+/// [`hub_frame_tip`].
+fn n01_run(hub: Hub, omega: f64) -> Vec<(f64, f64, f64)> {
+    let n = 10;
+    let exc = Excitation {
+        prescribed: vec![TimeFunction::SpeedRamp { duration: N01_TS }],
+        ..Default::default()
+    };
+    let mut o = SimOptions::new(30.0);
+    o.dt = 1e-3;
+    o.atol = 1e-8;
+    o.rtol = 1e-6;
+    o.output_step = 0.05;
+    let model = spin_up_beam(n, hub, omega);
+    let sim = run(&model, &exc, &o);
+    hub_frame_tip(&model, &sim, n, omega)
+}
+
+/// The N01 checks of validation.md common to every spin rate: min u2 within 1 % at its time
+/// ± 0.1 s, and the steady u1 (the mean over the residual vibration after the spin-up) within
+/// 1 % of the closed form ρA Ω² L³ / (3 EA). `label` names the run in messages.
+fn n01_check_min_and_steady(
+    rows: &[(f64, f64, f64)],
+    omega: f64,
+    (min_u2, t_min): (f64, f64),
+    label: &str,
+) {
+    let u2s: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, r.2)).collect();
+    let (t_got, u_got) = extreme(&u2s, -1.0);
+    assert!(
+        ((u_got - min_u2) / min_u2).abs() < 0.01,
+        "{label}: min u2 {u_got} vs {min_u2}"
+    );
+    assert!(
+        (t_got - t_min).abs() < 0.1,
+        "{label}: min u2 at {t_got} s vs {t_min}"
+    );
+    let after: Vec<f64> = rows.iter().filter(|r| r.0 > N01_TS).map(|r| r.1).collect();
+    let mean = after.iter().sum::<f64>() / after.len() as f64;
+    let u1_steady = n01_u1_steady(omega);
+    assert!(
+        ((mean - u1_steady) / u1_steady).abs() < 0.01,
+        "{label}: steady u1 {mean} vs {u1_steady}"
+    );
+}
+
 /// validation.md N01, Ω_s = 6 rad/s, 0–30 s (the reference: a planar Reissner beam FE with 40
 /// elements, lumped mass, velocity Verlet dt = 1e-5 s). Tolerances of validation.md: the u2
 /// history (t = 1 … 15 s) within 0.01 m, min u2 = −0.5740 m within 1 % at t = 6.75 s ± 0.1 s,
@@ -172,21 +219,8 @@ fn n01_spin_up_of_a_flexible_beam() {
         -3.301, -0.805, 0.233, 0.490, 0.514,
     ];
     let (min_u2, t_min) = (-0.5740, 6.75);
-    let u1_steady = n01_u1_steady(N01_OMEGA);
-    let n = 10;
-    let exc = Excitation {
-        prescribed: vec![TimeFunction::SpeedRamp { duration: N01_TS }],
-        ..Default::default()
-    };
-    let mut o = SimOptions::new(30.0);
-    o.dt = 1e-3;
-    o.atol = 1e-8;
-    o.rtol = 1e-6;
-    o.output_step = 0.05;
     for hub in [Hub::Coordinate, Hub::Hinge] {
-        let model = spin_up_beam(n, hub, N01_OMEGA);
-        let sim = run(&model, &exc, &o);
-        let rows = hub_frame_tip(&model, &sim, n, N01_OMEGA);
+        let rows = n01_run(hub, N01_OMEGA);
         let at = |t: f64| {
             rows.iter()
                 .find(|r| (r.0 - t).abs() < 1e-9)
@@ -206,23 +240,7 @@ fn n01_spin_up_of_a_flexible_beam() {
                 r.1 * 1e3
             );
         }
-        let u2s: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, r.2)).collect();
-        let (t_got, u_got) = extreme(&u2s, -1.0);
-        assert!(
-            ((u_got - min_u2) / min_u2).abs() < 0.01,
-            "{hub:?}: min u2 {u_got} vs {min_u2}"
-        );
-        assert!(
-            (t_got - t_min).abs() < 0.1,
-            "{hub:?}: min u2 at {t_got} s vs {t_min}"
-        );
-        // the steady elongation: the mean over the residual vibration after the spin-up
-        let after: Vec<f64> = rows.iter().filter(|r| r.0 > N01_TS).map(|r| r.1).collect();
-        let mean = after.iter().sum::<f64>() / after.len() as f64;
-        assert!(
-            ((mean - u1_steady) / u1_steady).abs() < 0.01,
-            "{hub:?}: steady u1 {mean} vs {u1_steady}"
-        );
+        n01_check_min_and_steady(&rows, N01_OMEGA, (min_u2, t_min), &format!("{hub:?}"));
     }
 }
 
@@ -236,37 +254,10 @@ fn n01_spin_up_of_a_flexible_beam() {
 fn n01_spin_up_at_4_and_10_rad_per_s() {
     // validation.md N01: (Ω_s, min u2 [m], at t [s], residual amplitude of u2 [m])
     let table = [(4.0, -0.4007, 6.95, 4.0e-3), (10.0, -0.8593, 6.45, 6.5e-3)];
-    let n = 10;
-    let exc = Excitation {
-        prescribed: vec![TimeFunction::SpeedRamp { duration: N01_TS }],
-        ..Default::default()
-    };
-    let mut o = SimOptions::new(30.0);
-    o.dt = 1e-3;
-    o.atol = 1e-8;
-    o.rtol = 1e-6;
-    o.output_step = 0.05;
     for (omega, min_u2, t_min, residual) in table {
-        let model = spin_up_beam(n, Hub::Coordinate, omega);
-        let sim = run(&model, &exc, &o);
-        let rows = hub_frame_tip(&model, &sim, n, omega);
-        let u2s: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, r.2)).collect();
-        let (t_got, u_got) = extreme(&u2s, -1.0);
-        assert!(
-            ((u_got - min_u2) / min_u2).abs() < 0.01,
-            "Ω = {omega}: min u2 {u_got} vs {min_u2}"
-        );
-        assert!(
-            (t_got - t_min).abs() < 0.1,
-            "Ω = {omega}: min u2 at {t_got} s vs {t_min}"
-        );
+        let rows = n01_run(Hub::Coordinate, omega);
+        n01_check_min_and_steady(&rows, omega, (min_u2, t_min), &format!("Ω = {omega}"));
         let after: Vec<&(f64, f64, f64)> = rows.iter().filter(|r| r.0 > N01_TS).collect();
-        let mean = after.iter().map(|r| r.1).sum::<f64>() / after.len() as f64;
-        let u1_steady = n01_u1_steady(omega);
-        assert!(
-            ((mean - u1_steady) / u1_steady).abs() < 0.01,
-            "Ω = {omega}: steady u1 {mean} vs {u1_steady}"
-        );
         let amplitude = after.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
         assert!(
             (amplitude - residual).abs() < 1e-3,

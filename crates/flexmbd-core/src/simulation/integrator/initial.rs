@@ -231,15 +231,19 @@ impl Engine<'_> {
         };
         let vals_k = self.values(&ev, x, 0.0, only(0.0, 0.0, 1.0));
         let vals_m = self.values(&ev, x, 0.0, only(0.0, 1.0, 0.0));
-        let trace = |vals: &[f64]| -> f64 {
+        // |diagonal terms| of the free block of a value list
+        let diagonal = |vals: &[f64]| -> Vec<f64> {
             self.entries
                 .iter()
                 .zip(vals)
                 .filter(|((r, c), _)| r == c && *r < nf)
                 .map(|(_, v)| v.abs())
-                .sum()
+                .collect()
         };
-        let (tr_k, tr_m) = (trace(&vals_k), trace(&vals_m));
+        let (tr_k, tr_m): (f64, f64) = (
+            diagonal(&vals_k).iter().sum(),
+            diagonal(&vals_m).iter().sum(),
+        );
         let eps = if tr_k > 0.0 && tr_m > 0.0 {
             1e-8 * tr_k / tr_m
         } else {
@@ -269,13 +273,7 @@ impl Engine<'_> {
         // the given velocities: a penalty 1e8 times the largest diagonal term, which keeps them
         // to about 1e-8 where they meet the constraints and projects them (weighted least
         // squares) where they do not
-        let largest = self
-            .entries
-            .iter()
-            .zip(&vals)
-            .filter(|((r, c), _)| r == c && *r < nf)
-            .map(|(_, v)| v.abs())
-            .fold(0.0, f64::max);
+        let largest = diagonal(&vals).into_iter().fold(0.0, f64::max);
         let w = 1e8 * if largest > 0.0 { largest } else { 1.0 };
         for u in (0..nf).filter(|&u| given[u]) {
             vals[self.diag_start + u] += w;
