@@ -11,6 +11,7 @@ mod outputs;
 mod partial;
 mod progress;
 mod simulate_cmd;
+mod study_cmd;
 mod view_cmd;
 
 use anyhow::Context;
@@ -171,6 +172,11 @@ enum Command {
     /// Nonlinear time simulation (generalised-α): motions, forces and energies over time
     /// (docs/simulation.md).
     Simulate(simulate_cmd::SimulateArgs),
+    /// A design study: the variants of a parametric model (grid, list or Latin hypercube) on
+    /// all cores, with their figures of merit (Table 1, frequencies by mode class, support
+    /// stiffness, stress, actuation force, buckling margin) in CSV, JSON lines, plots and an
+    /// HTML page; resumable (docs/studies.md). `sweep` is the load steps of one model.
+    Study(study_cmd::StudyArgs),
     /// Export results for ParaView (.vtu, .pvd) and as PNG/SVG plots (docs/visualisation.md).
     Export(output_cmd::ExportArgs),
     /// Write a self-contained HTML report with a 3D view: motions, modes, self-stress and
@@ -351,6 +357,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
         Command::Sweep(args) => dynamics_cmd::run_sweep(args),
         Command::Simulate(args) => simulate_cmd::run(args),
+        Command::Study(args) => study_cmd::run(args),
         Command::Export(args) => output_cmd::run_export(args),
         Command::View(args) => view_cmd::run_view(args),
         Command::Modes {

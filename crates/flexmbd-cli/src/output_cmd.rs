@@ -231,6 +231,7 @@ fn singular_plot(a: &ConstraintAnalysis) -> Plot {
         }],
         hlines: vec![(format!("rank threshold {:.3e}", a.tol), a.tol.max(floor))],
         markers: true,
+        lines: true,
     }
 }
 
@@ -318,6 +319,7 @@ fn stroke_plots(
             }],
             hlines: vec![],
             markers: true,
+            lines: true,
         };
         written.extend(write_plot(&plot, &dir.join("force_stroke"), size)?);
     }
@@ -361,6 +363,7 @@ fn stroke_plots(
             series,
             hlines: vec![],
             markers: true,
+            lines: true,
         };
         if plot
             .series
@@ -411,5 +414,6 @@ fn frequency_plot(points: &[SweepPoint], stroke: &[f64], x_label: &str) -> Optio
             .collect(),
         hlines: vec![],
         markers: true,
+        lines: true,
     })
 }

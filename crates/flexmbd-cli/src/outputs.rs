@@ -17,6 +17,11 @@ fn force() -> bool {
     FORCE.load(Ordering::Relaxed)
 }
 
+/// Whether the global `--force` was given.
+pub fn forced() -> bool {
+    force()
+}
+
 /// A failure to read or write a file or stream that is not the user's input: exit code 4.
 #[derive(Debug)]
 pub struct IoFailure(pub String);

@@ -34,6 +34,21 @@ pub fn bar(len: usize, what: &str) -> ProgressBar {
     b
 }
 
+/// A bar over the `len` variants of a study, with variants per second and the time left.
+pub fn study_bar(len: usize) -> ProgressBar {
+    if !shown() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::new(len as u64);
+    b.set_style(
+        ProgressStyle::with_template(
+            "variants {bar:30} {pos}/{len} {per_sec:.1} elapsed {elapsed} left {eta}",
+        )
+        .expect("a valid constant template"),
+    );
+    b
+}
+
 /// A spinner for a stage without steps, labelled `what`.
 pub fn spinner(what: &str) -> ProgressBar {
     if !shown() {

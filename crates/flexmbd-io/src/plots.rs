@@ -68,6 +68,8 @@ pub struct Plot {
     pub hlines: Vec<(String, f64)>,
     /// Draw a marker at every point.
     pub markers: bool,
+    /// Join the points of a curve by lines (false: markers only, a scatter plot).
+    pub lines: bool,
 }
 
 /// Why a plot could not be drawn.
@@ -162,13 +164,14 @@ impl Plot {
                         .copied()
                         .filter(|&p| self.usable(p))
                         .collect();
-                    c.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                    let line = if self.lines { pts.clone() } else { Vec::new() };
+                    c.draw_series(LineSeries::new(line, color.stroke_width(2)))
                         .map_err(|e| e.to_string())?
                         .label(s.label.as_str())
                         .legend(move |(x, y)| {
                             PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                         });
-                    if self.markers {
+                    if self.markers || !self.lines {
                         c.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
                             .map_err(|e| e.to_string())?;
                     }

@@ -15,6 +15,7 @@ mod simulate;
 mod state_space;
 mod states;
 mod statics;
+mod study;
 
 use pyo3::prelude::*;
 
@@ -37,6 +38,11 @@ fn _flexmbd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(statics::modes, m)?)?;
     m.add_function(wrap_pyfunction!(state_space::state_space, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_class::<study::StudyOutputs>()?;
+    m.add_function(wrap_pyfunction!(study::study_read, m)?)?;
+    m.add_function(wrap_pyfunction!(study::study_variants, m)?)?;
+    m.add_function(wrap_pyfunction!(study::study_evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(study::study_run, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
