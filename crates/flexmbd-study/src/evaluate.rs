@@ -38,12 +38,14 @@ pub fn check_parameters(study: &Study) -> Result<Result<(), (usize, String)>, In
         if name.contains('.') {
             match spec.get(name) {
                 Ok(v) if v.is_number() => {}
-                Ok(v) => return Ok(Err((
-                    i,
-                    format!(
+                Ok(v) => {
+                    return Ok(Err((
+                        i,
+                        format!(
                         "parameter `{name}`: the model's value at this path is {v}, not a number"
                     ),
-                ))),
+                    )))
+                }
                 Err(e) => return Ok(Err((i, format!("parameter `{name}`: {e}")))),
             }
         } else if !declared(&spec).iter().any(|d| d == name) {

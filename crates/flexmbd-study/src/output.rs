@@ -184,13 +184,15 @@ fn read_records(dir: &Path, total: usize) -> Result<BTreeMap<usize, Record>, Stu
             }
             Ok(_) => {}
             Err(_) if good + line.len() == text.len() => break,
-            Err(e) => return Err(StudyError::output(
-                dir,
-                format!(
+            Err(e) => {
+                return Err(StudyError::output(
+                    dir,
+                    format!(
                     "records.jsonl line {}: not a record ({e}); replace the results to start over",
                     text[..good].matches('\n').count() + 1
                 ),
-            )),
+                ))
+            }
         }
         good += line.len();
     }
