@@ -123,7 +123,7 @@ struct FileDoc {
     #[serde(default)]
     parameters: IndexMap<String, Spanned<AxisDoc>>,
     #[serde(default)]
-    variant: Vec<Spanned<IndexMap<String, f64>>>,
+    variant: Vec<Spanned<IndexMap<String, Spanned<f64>>>>,
 }
 
 #[derive(Deserialize)]
@@ -176,7 +176,7 @@ impl Study {
         file: &str,
         read_model: impl FnOnce(&str) -> Result<(String, String), InputError>,
     ) -> Result<Study, StudyError> {
-        let doc: FileDoc = toml::from_str(text).map_err(|e| {
+        let mut doc: FileDoc = toml::from_str(text).map_err(|e| {
             let message = e.message().trim().to_string();
             match e.span() {
                 Some(s) => at(file, text, s.start, message),
@@ -186,6 +186,11 @@ impl Study {
                 },
             }
         })?;
+        // the toml crate hands tables over in key order; the file's order is the user's
+        doc.parameters.sort_by_key(|_, a| a.span().start);
+        for v in &mut doc.variant {
+            v.get_mut().sort_by_key(|_, x| x.span().start);
+        }
         let err = |offset: usize, message: String| -> StudyError {
             at(file, text, offset, message).into()
         };
@@ -375,8 +380,8 @@ impl Study {
                     let here = v.span().start;
                     let mut row = Vec::new();
                     for n in &names {
-                        match v.get_ref().get(n) {
-                            Some(x) if x.is_finite() => row.push(*x),
+                        match v.get_ref().get(n).map(|x| *x.get_ref()) {
+                            Some(x) if x.is_finite() => row.push(x),
                             Some(x) => {
                                 return Err(err(
                                     here,

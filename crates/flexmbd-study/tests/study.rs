@@ -311,3 +311,34 @@ fn study_file_errors_name_the_line_and_the_item() {
         assert!(e.is_input());
     }
 }
+
+#[test]
+fn parameters_and_listed_variants_keep_the_file_order() {
+    // TOML tables come back sorted by key; the study keeps the order the user wrote
+    let s = study(
+        r#"
+[study]
+model = "strip_f01.toml"
+analyses = ["modes"]
+sampling = "list"
+[[variant]]
+"sections.strip.t" = 0.5e-3
+"nodes.tip.x" = 0.1
+[[variant]]
+"nodes.tip.x" = 0.05
+"sections.strip.t" = 0.3e-3
+"#,
+        "strip_f01.toml",
+    );
+    assert_eq!(s.parameter_names(), ["sections.strip.t", "nodes.tip.x"]);
+    let v = variants(&s);
+    assert_eq!(v[0].values, [0.5e-3, 0.1]);
+    assert_eq!(v[1].values, [0.3e-3, 0.05]);
+    let g = study(STRIP_STUDY, "strip_f01.toml");
+    assert_eq!(g.parameter_names(), ["sections.strip.t", "nodes.tip.x"]);
+    // the grid: the last parameter fastest
+    let gv: Vec<Vec<f64>> = variants(&g).into_iter().map(|v| v.values).collect();
+    assert_eq!(gv[0], [0.2e-3, 0.08]);
+    assert_eq!(gv[1], [0.2e-3, 0.1]);
+    assert_eq!(gv[2], [0.5e-3, 0.08]);
+}
