@@ -15,7 +15,7 @@ if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV"
 fi
 PY="$VENV/bin/python"
-"$PY" -m pip install --quiet --disable-pip-version-check pytest numpy control matplotlib
+"$PY" -m pip install --quiet --disable-pip-version-check pytest numpy control matplotlib "dask[distributed]"
 # the README's install command, into the venv (maturin comes from PyPI as the build backend)
 # (--force-reinstall: the same version number, rebuilt from the current source)
 "$PY" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps ./crates/flexmbd-py
