@@ -142,7 +142,7 @@ pub fn write_html(
     h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
     h += &format!("<title>{} — flexmbd study</title>\n", esc(&study.name));
     h += "<style>body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;font-size:13px}\
-td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}th{background:#eee}tr.failed td{background:#fde8e8}\
+td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}th{background:#eee}tr.failed td{background:#fde8e8}td.err{text-align:left;min-width:32em}\
 .plots{display:flex;flex-wrap:wrap;gap:8px}.plots svg{width:480px;height:315px;border:1px solid #ddd}</style>\n";
     h += "</head><body>\n";
     h += &format!("<h1>{}</h1>\n", esc(&study.name));
@@ -225,7 +225,7 @@ td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}th{background:#eee}
             .error
             .as_ref()
             .map_or(String::new(), |f| format!("{}: {}", f.stage, f.message));
-        h += &format!("<td style=\"text-align:left\">{}</td></tr>\n", esc(&err));
+        h += &format!("<td class=\"err\">{}</td></tr>\n", esc(&err));
     }
     h += "</table>\n</body></html>\n";
     let path = dir.join("study.html");
