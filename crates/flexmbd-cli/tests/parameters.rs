@@ -7,43 +7,12 @@ mod common;
 use common::{example, run, run_json, Temp};
 use serde_json::Value;
 
-/// A cantilever strip of length L, width 10 mm and thickness t (Euler–Bernoulli: no shear).
-const STRIP: &str = r#"[model]
-name = "strip"
-
-[parameters]
-L = 0.1
-t = 0.2e-3
-
-[nodes]
-a = { x = [0, 0, 0], rot = true }
-b = { x = ["L", 0, 0], rot = true }
-
-[fix]
-a = "all"
-
-[[material]]
-id = "steel"
-E = 2.1e11
-nu = 0.3
-rho = 7800
-
-[[section]]
-id = "s"
-shape = "rectangle"
-w = 0.01
-t = "t"
-shear = false
-
-[[beam]]
-id = "w"
-nodes = ["a", "b"]
-section = "s"
-material = "steel"
-orient = [0, 1, 0]
-segments = 10
-free = [2, 3, 4, 5, 6]
-"#;
+/// A cantilever strip of length L, width 10 mm and thickness t (Euler–Bernoulli: no shear),
+/// with the parameters `L` and `t`.
+fn strip() -> String {
+    std::fs::read_to_string(common::root().join("crates/flexmbd-cli/tests/models/param_strip.toml"))
+        .expect("the strip model")
+}
 
 /// First bending frequency of a clamped-free Euler–Bernoulli beam bending across its
 /// thickness: f1 = (β1 L)² / (2π) · sqrt(E I / (ρ A L⁴)), β1 L = 1.8751041 (Timoshenko &
@@ -77,7 +46,7 @@ fn first_frequency(model: &std::path::Path, args: &[&str]) -> (f64, Value) {
 #[test]
 fn the_first_frequency_of_a_strip_follows_t_and_l_under_set() {
     let dir = Temp::new("param-strip");
-    let model = dir.write("strip.toml", STRIP.as_bytes());
+    let model = dir.write("strip.toml", strip().as_bytes());
     for (args, t, l) in [
         (vec![], 0.2e-3, 0.1),
         (vec!["--set", "t=0.4e-3"], 0.4e-3, 0.1),
@@ -99,7 +68,7 @@ fn the_first_frequency_of_a_strip_follows_t_and_l_under_set() {
     let (f_b, _) = first_frequency(&model, &["--set", "t=0.4e-3"]);
     assert!((f_b / f_a - 2.0).abs() < 1e-4, "{f_b} / {f_a}");
     // a path of the document sets the same value on a model without parameters
-    let plain = STRIP
+    let plain = strip()
         .replace("[parameters]\nL = 0.1\nt = 0.2e-3\n", "")
         .replace("\"L\"", "0.1")
         .replace("t = \"t\"", "t = 0.2e-3");
@@ -117,7 +86,7 @@ fn the_first_frequency_of_a_strip_follows_t_and_l_under_set() {
 #[test]
 fn text_outputs_state_the_parameters_under_their_title() {
     let dir = Temp::new("param-text");
-    let model = dir.write("strip.toml", STRIP.as_bytes());
+    let model = dir.write("strip.toml", strip().as_bytes());
     for cmd in ["check", "static", "modes"] {
         let out = run(&[cmd, model.to_str().expect("path"), "--set", "t=3e-4"]);
         let text = String::from_utf8_lossy(&out.stdout);
@@ -146,7 +115,7 @@ fn fails(args: &[&str]) -> String {
 #[test]
 fn set_errors_exit_with_code_2_naming_file_line_and_item() {
     let dir = Temp::new("param-errors");
-    let model = dir.write("strip.toml", STRIP.as_bytes());
+    let model = dir.write("strip.toml", strip().as_bytes());
     let m = model.to_str().expect("path");
     // a parameter the model does not declare: the declared ones are listed
     let e = fails(&["modes", m, "--set", "thickness=1e-4"]);
@@ -168,13 +137,13 @@ fn set_errors_exit_with_code_2_naming_file_line_and_item() {
         e.contains("sections.s.q") && e.contains("no key `q`"),
         "{e}"
     );
-    // a value that makes an expression of the file fail: line 25 `t = "t"` of the section,
+    // a value that makes an expression of the file fail: line 27 `t = "t"` of the section,
     // column 10 the `/`
-    let bad = STRIP.replace("t = \"t\"", "t = \"0.01/(t - 2e-4)\"");
+    let bad = strip().replace("t = \"t\"", "t = \"0.01/(t - 2e-4)\"");
     let model = dir.write("bad.toml", bad.as_bytes());
     let e = fails(&["modes", model.to_str().expect("path")]);
     assert!(
-        e.contains("bad.toml:25:10") && e.contains("section `s`") && e.contains("division by zero"),
+        e.contains("bad.toml:27:10") && e.contains("section `s`") && e.contains("division by zero"),
         "{e}"
     );
     // a SPACAR file has no parameters

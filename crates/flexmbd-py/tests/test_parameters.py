@@ -11,35 +11,7 @@ from conftest import ROOT
 GUIDE = ROOT / "examples" / "folded_sheet_guide_param.toml"
 
 # A cantilever strip of length L, width 10 mm, thickness t (Euler-Bernoulli: no shear).
-STRIP = """
-[parameters]
-L = 0.1
-t = 0.2e-3
-[nodes]
-a = { x = [0, 0, 0], rot = true }
-b = { x = ["L", 0, 0], rot = true }
-[fix]
-a = "all"
-[[material]]
-id = "steel"
-E = 2.1e11
-nu = 0.3
-rho = 7800
-[[section]]
-id = "s"
-shape = "rectangle"
-w = 0.01
-t = "t"
-shear = false
-[[beam]]
-id = "w"
-nodes = ["a", "b"]
-section = "s"
-material = "steel"
-orient = [0, 1, 0]
-segments = 10
-free = [2, 3, 4, 5, 6]
-"""
+STRIP = (ROOT / "crates" / "flexmbd-cli" / "tests" / "models" / "param_strip.toml").read_text()
 
 
 def f1_closed_form(t, L):
