@@ -44,3 +44,10 @@ def test_the_parametric_guide_loads_with_set_and_writes_its_member():
     back = flexmbd.Model.from_toml(m2.to_toml())
     assert back.parameters == m2.parameters
     assert back.to_dict()["nodes"] == m2.to_dict()["nodes"]
+
+
+def test_the_command_line_states_the_parameters_of_the_model(cli):
+    for args, set in [([], None), (["--set", "t=3e-4", "--set", "angle=200"], {"t": 3e-4, "angle": 200})]:
+        code, doc, err = cli("check", "examples/folded_sheet_guide_param.toml", *args)
+        assert code == 0, err
+        assert doc["parameters"] == flexmbd.load(GUIDE, set=set).parameters
