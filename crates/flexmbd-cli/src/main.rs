@@ -8,6 +8,7 @@ mod dynamics_cmd;
 mod hints;
 mod output_cmd;
 mod outputs;
+mod params;
 mod partial;
 mod progress;
 mod simulate_cmd;
@@ -37,6 +38,11 @@ struct Cli {
     /// file names only) from output folders. Without it, existing outputs are refused.
     #[arg(long, global = true)]
     force: bool,
+    /// Evaluate the model with this value (repeatable): NAME a parameter of the TOML model's
+    /// [parameters] (the values that use it follow), or a path of keys such as
+    /// sections.sheet.t or nodes.c.x; VALUE a number or an expression of numbers, pi and deg.
+    #[arg(long = "set", global = true, value_name = "NAME=VALUE", value_parser = params::parse_set)]
+    set: Vec<(String, f64)>,
     #[command(subcommand)]
     command: Command,
 }
@@ -204,7 +210,7 @@ impl std::error::Error for BadInput {}
 
 fn load(path: &Path) -> anyhow::Result<flexmbd_core::Model> {
     match extension(path).as_deref() {
-        Some("toml") => flexmbd_io::read_model(path).map_err(|e| BadInput(e.to_string()).into()),
+        Some("toml") => params::read_toml(path).map(|f| f.model),
         Some("dat") => read_spacar(path)?
             .to_model()
             .map_err(|e| BadInput(e.to_string()).into()),
@@ -225,6 +231,7 @@ fn extension(path: &Path) -> Option<String> {
 
 /// Read a SPACAR file and print its warnings to stderr.
 fn read_spacar(path: &Path) -> anyhow::Result<flexmbd_io::SpacarModel> {
+    params::refuse_for_dat(path)?;
     let m = flexmbd_io::read_dat(path).map_err(|e| BadInput(e.to_string()))?;
     for w in &m.warnings {
         eprintln!(
@@ -248,7 +255,7 @@ fn load_with_settings(path: &Path) -> anyhow::Result<(flexmbd_core::Model, flexm
 /// Read a model file with its settings, whatever its format.
 fn load_file(path: &Path) -> anyhow::Result<flexmbd_io::ModelFile> {
     match extension(path).as_deref() {
-        Some("toml") => Ok(flexmbd_io::read_model_file(path).map_err(|e| BadInput(e.to_string()))?),
+        Some("toml") => params::read_toml(path),
         Some("dat") => {
             let m = read_spacar(path)?;
             let (file, warnings) = m.to_model_file().map_err(|e| BadInput(e.to_string()))?;
@@ -315,6 +322,7 @@ impl From<CheckMethodArg> for flexmbd_core::kinematics::CheckMethod {
 /// Write to stdout; a closed pipe (`flexmbd check … | head`) is not an error.
 fn emit(text: &str) -> anyhow::Result<()> {
     use std::io::Write;
+    let text = params::mark(text);
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
@@ -352,6 +360,7 @@ fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     progress::set_quiet(cli.quiet);
     outputs::set_force(cli.force);
+    params::set_overrides(cli.set);
     match cli.command {
         Command::Convert { input, output } => convert(&input, &output),
         Command::Statespace(args) => dynamics_cmd::run_statespace(args),
@@ -436,15 +445,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             let names = generalised_names(&m, &partition.x, &partition.e);
             if json {
-                let out = std::io::stdout().lock();
-                // a closed pipe (`flexmbd check --json … | head`) is not an error
-                if let Err(e) = write_check_json(out, &report, &names) {
-                    if e.kind() != std::io::ErrorKind::BrokenPipe {
-                        return Err(
-                            anyhow::Error::new(e).context("cannot write to standard output")
-                        );
-                    }
-                }
+                let mut out = Vec::new();
+                write_check_json(&mut out, &report, &names)?;
+                emit(&String::from_utf8_lossy(&out))?;
             } else {
                 emit(&check_text(&report, &names))?;
             }

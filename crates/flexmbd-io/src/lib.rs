@@ -28,7 +28,8 @@ pub mod vtk;
 
 pub use error::InputError;
 pub use model_toml::{
-    parse_model, parse_model_file, parse_spec, read_model, read_model_file, read_spec, write_toml,
+    parse_model, parse_model_file, parse_spec, parse_spec_with, read_model, read_model_file,
+    read_model_file_with, read_spec, read_spec_with, write_toml,
 };
 pub use spacar::{parse_dat, read_dat, SpacarModel};
 pub use spec::{ModelFile, ModelSpec, Settings, SimulateSettings, SpecError};

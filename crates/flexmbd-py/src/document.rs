@@ -93,10 +93,15 @@ impl Document {
         Ok(r)
     }
 
-    /// A document read from TOML text, built (its errors are the reader's, with line and
+    /// A document read from TOML text with the overrides `set` (parameters or paths,
+    /// [`flexmbd_io::parse_spec_with`]), built (its errors are the reader's, with line and
     /// column, as on the command line).
-    pub fn parse_toml(text: String, file: String) -> Result<Document, Failure> {
-        let spec = flexmbd_io::parse_spec(&text, &file).map_err(errors::input)?;
+    pub fn parse_toml(
+        text: String,
+        file: String,
+        set: &[(String, f64)],
+    ) -> Result<Document, Failure> {
+        let spec = flexmbd_io::parse_spec_with(&text, &file, set).map_err(errors::input)?;
         let mf = spec
             .build_file()
             .map_err(|e| errors::input(flexmbd_io::model_toml::spec_error(e, &file)))?;
@@ -188,6 +193,15 @@ impl Document {
     #[getter]
     fn source(&self) -> Option<String> {
         self.lock().source.clone()
+    }
+
+    /// The parameters the document was evaluated with (`[parameters]`), in file order.
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let d = pyo3::types::PyDict::new(py);
+        for (k, v) in &self.lock().spec.parameters {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
     }
 
     /// The model's name and the numbers of nodes and elements the document states.
@@ -318,14 +332,20 @@ impl Document {
     }
 }
 
-/// Read a model file: a `Document` for TOML, a `CoreModel` for a SPACAR `.dat` file.
+/// Read a model file: a `Document` for TOML (with the overrides `set`), a `CoreModel` for a
+/// SPACAR `.dat` file (which takes none).
 #[pyfunction]
-pub fn load(py: Python<'_>, path: &str) -> PyResult<Py<PyAny>> {
+#[pyo3(signature = (path, set=Vec::new()))]
+pub fn load(py: Python<'_>, path: &str, set: Vec<(String, f64)>) -> PyResult<Py<PyAny>> {
     let path = path.to_string();
     let read = py.detach(move || -> Result<Result<Document, Loaded>, Failure> {
         let (text, format) = Loaded::read_text(&path)?;
         match format {
-            Format::Toml => Document::parse_toml(text, path).map(Ok),
+            Format::Toml => Document::parse_toml(text, path, &set).map(Ok),
+            Format::Dat if !set.is_empty() => Err(errors::input(flexmbd_io::InputError::File {
+                file: path,
+                message: "parameters and overrides (`set`) are a feature of TOML models; convert the SPACAR file first".into(),
+            })),
             Format::Dat => Loaded::parse(text, path, Format::Dat).map(Err),
         }
     });
@@ -335,9 +355,15 @@ pub fn load(py: Python<'_>, path: &str) -> PyResult<Py<PyAny>> {
     }
 }
 
-/// A document from TOML text, named `file` in messages.
+/// A document from TOML text, named `file` in messages, with the overrides `set`.
 #[pyfunction]
-pub fn parse_toml(py: Python<'_>, text: String, file: String) -> PyResult<Document> {
-    py.detach(move || Document::parse_toml(text, file))
+#[pyo3(signature = (text, file, set=Vec::new()))]
+pub fn parse_toml(
+    py: Python<'_>,
+    text: String,
+    file: String,
+    set: Vec<(String, f64)>,
+) -> PyResult<Document> {
+    py.detach(move || Document::parse_toml(text, file, &set))
         .map_err(|f| f.into_py(py))
 }

@@ -36,6 +36,8 @@
 //! the build every reader uses. Writing ([`write_toml`], `write.rs`) is the reverse: a spec as
 //! a TOML file that reads back to the same spec.
 
+pub mod expr;
+mod params;
 mod read;
 mod schema;
 mod spans;
@@ -89,7 +91,62 @@ pub fn read_spec(path: &std::path::Path) -> Result<ModelSpec, InputError> {
 /// form (syntax, unknown keys, types, names of degrees of freedom, shapes, settings) are
 /// reported here, errors of values and references by [`ModelSpec::build_file`].
 pub fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError> {
-    read::parse_spec(text, file)
+    read::parse_spec(text, file, &[])
+}
+
+/// [`parse_spec`] of one member of a parametric model (docs/model-format.md, "Parameters and
+/// expressions"): every `(name, value)` of `set` overrides a value of the file.
+///
+/// - A plain name (`t`) is a parameter of `[parameters]`: it takes `value` instead of the
+///   file's value or expression before anything is evaluated, so the parameters and values
+///   that depend on it follow. A name the file does not declare is an error listing the
+///   declared ones.
+/// - A name with a dot (`sections.sheet.t`, `nodes.c.x`, `loads.tip.force.1`) is a path of
+///   the document, set with [`ModelSpec::set`] after the file is evaluated (also in a file
+///   without parameters; nothing depends on it).
+///
+/// The evaluated parameters (the overrides included) are [`ModelSpec::parameters`].
+pub fn parse_spec_with(
+    text: &str,
+    file: &str,
+    set: &[(String, f64)],
+) -> Result<ModelSpec, InputError> {
+    let (paths, names): (Vec<_>, Vec<_>) = set.iter().cloned().partition(|(k, _)| k.contains('.'));
+    let mut spec = read::parse_spec(text, file, &names)?;
+    for (path, value) in &paths {
+        // a whole number is set as one, so that it also fits an integer key (`static.steps`)
+        let v = if value.fract() == 0.0 && value.abs() < 9.0e15 {
+            serde_json::Value::from(*value as i64)
+        } else {
+            serde_json::Value::from(*value)
+        };
+        spec.set(path, v).map_err(|e| InputError::File {
+            file: file.into(),
+            message: format!("cannot set `{path}` = {value}: {e}"),
+        })?;
+    }
+    Ok(spec)
+}
+
+/// [`read_spec`] of one member of a parametric model: see [`parse_spec_with`].
+pub fn read_spec_with(
+    path: &std::path::Path,
+    set: &[(String, f64)],
+) -> Result<ModelSpec, InputError> {
+    let file = path.display().to_string();
+    let text = read_text(path, &file)?;
+    parse_spec_with(&text, &file, set)
+}
+
+/// [`read_model_file`] of one member of a parametric model: see [`parse_spec_with`].
+pub fn read_model_file_with(
+    path: &std::path::Path,
+    set: &[(String, f64)],
+) -> Result<ModelFile, InputError> {
+    let file = path.display().to_string();
+    read_spec_with(path, set)?
+        .build_file()
+        .map_err(|e| spec_error(e, &file))
 }
 
 /// A build error of a spec read from `file`, at its item's line and column, in this format's
@@ -153,6 +210,8 @@ fn read_text(path: &std::path::Path, file: &str) -> Result<String, InputError> {
     })
 }
 
+#[cfg(test)]
+mod param_tests;
 #[cfg(test)]
 mod round_trip;
 #[cfg(test)]

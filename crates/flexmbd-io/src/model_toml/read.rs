@@ -2,6 +2,7 @@
 //! item, the names of degrees of freedom, shapes and settings turned into their types. Values
 //! and references are checked by [`ModelSpec::build`].
 
+use super::params::Params;
 use super::schema::{self, FileSpec};
 use super::spans::{key_span, name_item, pos};
 use crate::error::{at, InputError};
@@ -10,10 +11,20 @@ use flexmbd_core::model::Dof;
 use std::ops::Range;
 use toml::Spanned;
 
-/// Parse TOML model text into a spec; `file` names it in messages.
-pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError> {
+/// Parse TOML model text into a spec; `file` names it in messages; the parameters named in
+/// `set` take the values given there.
+pub(super) fn parse_spec(
+    text: &str,
+    file: &str,
+    set: &[(String, f64)],
+) -> Result<ModelSpec, InputError> {
     let mut f: FileSpec = toml::from_str(text).map_err(|e| {
-        let msg = e.message().trim().to_string();
+        let mut msg = e.message().trim().to_string();
+        if msg.starts_with("invalid type: string") && msg.contains("expected usize") {
+            msg.push_str(
+                " (this key takes a whole number; expressions of parameters are for real values)",
+            );
+        }
         match e.span() {
             Some(span) => at(file, text, span.start, name_item(text, span.start, msg)),
             None => InputError::File {
@@ -31,6 +42,7 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
         map.sort_by_key(|_, v| v.span().start);
     }
     let err = |span: &Range<usize>, msg: String| at(file, text, span.start, msg);
+    let p = Params::read(f.parameters.as_ref(), set, text, file)?;
     let src = |span: &Range<usize>| Src {
         at: Some(pos(text, span.start)),
         keys: Vec::new(),
@@ -55,11 +67,13 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
     let mut spec = ModelSpec {
         name,
         description,
+        parameters: p.values.clone(),
         ..Default::default()
     };
     for (id, v) in node_table {
         let span = v.span();
-        let place = node_value(v.get_ref()).map_err(|m| err(&span, format!("node `{id}`: {m}")))?;
+        let place = node_value(v.get_ref(), &|s| p.expr_in(s, &span))
+            .map_err(|e| e.into_input(|m| err(&span, format!("node `{id}`: {m}"))))?;
         spec.nodes.push(NodeSpec {
             name: id.clone(),
             place,
@@ -94,7 +108,7 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
             t.span(),
             &s.id,
             &s.nodes,
-            ElementKind::Truss { ea: s.ea },
+            ElementKind::Truss { ea: p.real(&s.ea)? },
             &s.free,
             &s.input,
         );
@@ -102,17 +116,17 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
     for t in &f.beam {
         let s = t.get_ref();
         let beam = BeamSpec {
-            orient: s.orient,
-            ct: s.ct,
+            orient: p.opt_arr(&s.orient)?,
+            ct: p.opt(&s.ct)?,
             fixed: s.fixed.clone(),
             section: s.section.clone(),
             material: s.material.clone(),
             segments: s.segments,
-            ea: s.ea,
-            gj: s.gj,
-            eiy: s.eiy,
-            eiz: s.eiz,
-            rho_a: s.rho_a,
+            ea: p.opt(&s.ea)?,
+            gj: p.opt(&s.gj)?,
+            eiy: p.opt(&s.eiy)?,
+            eiz: p.opt(&s.eiz)?,
+            rho_a: p.opt(&s.rho_a)?,
             shear: None,
             rho_i: None,
         };
@@ -128,8 +142,8 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
     for t in &f.hinge {
         let s = t.get_ref();
         let kind = ElementKind::Hinge {
-            axis: s.axis,
-            k: s.k,
+            axis: p.arr(&s.axis)?,
+            k: p.real(&s.k)?,
         };
         push(t.span(), &s.id, &s.nodes, kind, &s.free, &s.input);
     }
@@ -144,16 +158,17 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
         let s = m.get_ref();
         spec.materials.push(MaterialSpec {
             name: s.id.clone(),
-            e: s.e,
-            g: s.g,
-            nu: s.nu,
-            rho: s.rho,
+            e: p.real(&s.e)?,
+            g: p.opt(&s.g)?,
+            nu: p.opt(&s.nu)?,
+            rho: p.real(&s.rho)?,
             src: src(&m.span()),
         });
     }
     for sec in &f.section {
-        let shape = section_shape(sec.get_ref())
-            .map_err(|m| err(&sec.span(), format!("section `{}`: {m}", sec.get_ref().id)))?;
+        let shape = section_shape(sec.get_ref(), &p).map_err(|e| {
+            e.into_input(|m| err(&sec.span(), format!("section `{}`: {m}", sec.get_ref().id)))
+        })?;
         spec.sections.push(SectionSpec {
             name: sec.get_ref().id.clone(),
             shape,
@@ -182,8 +197,8 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
         let s = l.get_ref();
         spec.loads.push(LoadEntry {
             node: s.node.clone(),
-            force: s.force,
-            moment: s.moment,
+            force: p.arr(&s.force)?,
+            moment: p.arr(&s.moment)?,
             history: s.history.clone(),
             comments: Vec::new(),
             src: src(&l.span()),
@@ -193,7 +208,7 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
         let s = m.get_ref();
         spec.masses.push(MassEntry {
             node: s.node.clone(),
-            m: s.m,
+            m: p.real(&s.m)?,
             comments: Vec::new(),
             src: src(&m.span()),
         });
@@ -202,27 +217,29 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
         let s = m.get_ref();
         spec.inertias.push(InertiaEntry {
             node: s.node.clone(),
-            i: s.i,
+            i: p.arr(&s.i)?,
             comments: Vec::new(),
             src: src(&m.span()),
         });
     }
-    for p in &f.prescribe {
-        let target = prescribe_target(p.get_ref()).map_err(|m| err(&p.span(), m))?;
+    let values = &p;
+    for sp in &f.prescribe {
+        let pr = sp.get_ref();
+        let target = prescribe_target(pr).map_err(|m| err(&sp.span(), m))?;
         spec.prescribed.push(PrescribeEntry {
             target,
-            value: p.get_ref().value,
-            history: p.get_ref().history.clone(),
+            value: values.real(&pr.value)?,
+            history: pr.history.clone(),
             comments: Vec::new(),
-            src: src(&p.span()),
+            src: src(&sp.span()),
         });
     }
     if let Some(sp) = &f.statics {
-        spec.statics = statics(sp, text).map_err(|(span, m)| err(&span, m))?;
+        spec.statics = statics(sp, text, &p, &err)?;
         spec.statics.src = src_keys(&sp.span(), &["steps", "max_iterations", "buckling"]);
     }
     if let Some(sp) = &f.simulate {
-        let mut s = simulate(sp.get_ref()).map_err(|m| err(&sp.span(), m))?;
+        let mut s = simulate(sp.get_ref(), &p).map_err(|e| e.into_input(|m| err(&sp.span(), m)))?;
         s.src = src(&sp.span());
         spec.simulate = Some(s);
     }
@@ -230,40 +247,81 @@ pub(super) fn parse_spec(text: &str, file: &str) -> Result<ModelSpec, InputError
         let s = v.get_ref();
         spec.velocities.push(VelocityEntry {
             node: s.node.clone(),
-            v: s.v,
-            omega: s.omega,
+            v: p.arr(&s.v)?,
+            omega: p.arr(&s.omega)?,
             src: src(&v.span()),
         });
     }
     Ok(spec)
 }
 
+/// A problem of a value: a message for its item, or an error placed already (an
+/// expression's).
+enum ValueError {
+    Msg(String),
+    Placed(InputError),
+}
+
+impl ValueError {
+    /// The error, a message placed by `place`.
+    fn into_input(self, place: impl FnOnce(String) -> InputError) -> InputError {
+        match self {
+            Self::Msg(m) => place(m),
+            Self::Placed(e) => e,
+        }
+    }
+}
+
+impl From<String> for ValueError {
+    fn from(m: String) -> Self {
+        Self::Msg(m)
+    }
+}
+
+impl From<&str> for ValueError {
+    fn from(m: &str) -> Self {
+        Self::Msg(m.into())
+    }
+}
+
+impl From<InputError> for ValueError {
+    fn from(e: InputError) -> Self {
+        Self::Placed(e)
+    }
+}
+
 /// A section's shape with the dimensions it needs.
-fn section_shape(s: &schema::SectionSpec) -> Result<ShapeSpec, String> {
-    let need = |name: &str, v: Option<f64>| -> Result<f64, String> {
-        v.ok_or_else(|| format!("shape `{}` needs `{name}`", s.shape))
+fn section_shape(s: &schema::SectionSpec, p: &Params) -> Result<ShapeSpec, ValueError> {
+    let need = |name: &str, v: &Option<schema::Real>| -> Result<f64, ValueError> {
+        let v = v
+            .as_ref()
+            .ok_or_else(|| format!("shape `{}` needs `{name}`", s.shape))?;
+        Ok(p.real(v)?)
     };
     Ok(match s.shape.as_str() {
         "rectangle" => ShapeSpec::Rectangle {
-            w: need("w", s.w)?,
-            t: need("t", s.t)?,
+            w: need("w", &s.w)?,
+            t: need("t", &s.t)?,
         },
-        "circle" => ShapeSpec::Circle { d: need("d", s.d)? },
+        "circle" => ShapeSpec::Circle {
+            d: need("d", &s.d)?,
+        },
         "tube" => ShapeSpec::Tube {
-            d_out: need("d_out", s.d_out)?,
-            d_in: need("d_in", s.d_in)?,
+            d_out: need("d_out", &s.d_out)?,
+            d_in: need("d_in", &s.d_in)?,
         },
         "general" => ShapeSpec::General {
-            a: need("A", s.a)?,
-            iy: need("Iy", s.iy)?,
-            iz: need("Iz", s.iz)?,
-            j: need("J", s.j)?,
-            k: s.k,
+            a: need("A", &s.a)?,
+            iy: need("Iy", &s.iy)?,
+            iz: need("Iz", &s.iz)?,
+            j: need("J", &s.j)?,
+            k: p.opt(&s.k)?,
         },
         other => {
             return Err(format!(
                 "unknown shape `{other}`, expected rectangle, circle, tube or general"
-            ))
+            )
+            .into())
         }
     })
 }
@@ -288,19 +346,21 @@ fn prescribe_target(s: &schema::PrescribeSpec) -> Result<PrescribeTarget, String
     }
 }
 
-/// `[static]`; `Err` holds the span of the problem.
+/// `[static]`; `err` places a message at a span.
 fn statics(
     sp: &Spanned<schema::StaticSpec>,
     text: &str,
-) -> Result<StaticSpec, (Range<usize>, String)> {
+    p: &Params,
+    err: &dyn Fn(&Range<usize>, String) -> InputError,
+) -> Result<StaticSpec, InputError> {
     let s = sp.get_ref();
     let path = match s.path.as_deref() {
         None => None,
         Some("load-steps") => Some(PathSpec::LoadSteps),
         Some("arc-length") => Some(PathSpec::ArcLength),
         Some(p) => {
-            return Err((
-                key_span(text, &sp.span(), "path"),
+            return Err(err(
+                &key_span(text, &sp.span(), "path"),
                 format!("[static]: `path` must be \"load-steps\" or \"arc-length\", found \"{p}\""),
             ))
         }
@@ -308,11 +368,11 @@ fn statics(
     Ok(StaticSpec {
         steps: s.steps,
         max_iterations: s.max_iterations,
-        tol_force: s.tol_force,
-        tol_disp: s.tol_disp,
-        gravity: s.gravity,
-        spin: s.spin,
-        spin_point: s.spin_point,
+        tol_force: p.opt(&s.tol_force)?,
+        tol_disp: p.opt(&s.tol_disp)?,
+        gravity: p.opt_arr(&s.gravity)?,
+        spin: p.opt_arr(&s.spin)?,
+        spin_point: p.opt_arr(&s.spin_point)?,
         compliance: s.compliance.clone(),
         buckling: s.buckling,
         line_search: s.line_search,
@@ -323,7 +383,7 @@ fn statics(
 }
 
 /// `[simulate]`.
-fn simulate(s: &schema::SimulateSpec) -> Result<SimulateSpec, String> {
+fn simulate(s: &schema::SimulateSpec, p: &Params) -> Result<SimulateSpec, ValueError> {
     let step = match s.step.as_deref() {
         None => None,
         Some("fixed") => Some(StepSpec::Fixed),
@@ -331,7 +391,8 @@ fn simulate(s: &schema::SimulateSpec) -> Result<SimulateSpec, String> {
         Some(o) => {
             return Err(format!(
                 "[simulate]: `step` must be \"adaptive\" or \"fixed\", found \"{o}\""
-            ))
+            )
+            .into())
         }
     };
     let start = match s.start.as_deref() {
@@ -341,20 +402,21 @@ fn simulate(s: &schema::SimulateSpec) -> Result<SimulateSpec, String> {
         Some(o) => {
             return Err(format!(
                 "[simulate]: `start` must be \"reference\" or \"static\", found \"{o}\""
-            ))
+            )
+            .into())
         }
     };
     Ok(SimulateSpec {
-        t_end: s.t_end,
-        dt: s.dt,
+        t_end: p.opt(&s.t_end)?,
+        dt: p.opt(&s.dt)?,
         step,
-        dt_min: s.dt_min,
-        dt_max: s.dt_max,
-        rho_inf: s.rho_inf,
-        tolerance: s.tolerance,
-        output_step: s.output_step,
+        dt_min: p.opt(&s.dt_min)?,
+        dt_max: p.opt(&s.dt_max)?,
+        rho_inf: p.opt(&s.rho_inf)?,
+        tolerance: p.opt_arr(&s.tolerance)?,
+        output_step: p.opt(&s.output_step)?,
         max_iterations: s.max_iterations,
-        rayleigh: s.rayleigh,
+        rayleigh: p.opt_arr(&s.rayleigh)?,
         start,
         static_steps: s.static_steps,
         gravity_history: s.gravity_history.clone(),
@@ -363,47 +425,54 @@ fn simulate(s: &schema::SimulateSpec) -> Result<SimulateSpec, String> {
     })
 }
 
-fn vec3(v: &toml::Value, what: &str) -> Result<[f64; 3], String> {
+/// A position: 3 numbers or expressions (`expr` evaluates one).
+fn vec3(v: &toml::Value, what: &str, expr: &Expr) -> Result<[f64; 3], ValueError> {
     let arr = v
         .as_array()
         .ok_or_else(|| format!("`{what}` must be an array of 3 numbers"))?;
     if arr.len() != 3 {
-        return Err(format!("`{what}` must have 3 numbers, found {}", arr.len()));
+        return Err(format!("`{what}` must have 3 numbers, found {}", arr.len()).into());
     }
     let mut out = [0.0; 3];
     for (i, a) in arr.iter().enumerate() {
         out[i] = match a {
             toml::Value::Float(f) => *f,
             toml::Value::Integer(k) => *k as f64,
-            other => return Err(format!("`{what}` entry {} is not a number: {other}", i + 1)),
+            toml::Value::String(s) => expr(s)?,
+            other => {
+                return Err(format!(
+                    "`{what}` entry {} is not a number or an expression: {other}",
+                    i + 1
+                )
+                .into())
+            }
         };
         if !out[i].is_finite() {
-            return Err(format!(
-                "`{what}` entry {} is not finite ({})",
-                i + 1,
-                out[i]
-            ));
+            return Err(format!("`{what}` entry {} is not finite ({})", i + 1, out[i]).into());
         }
     }
     Ok(out)
 }
 
+/// Evaluates an expression of a value.
+type Expr<'a> = dyn Fn(&str) -> Result<f64, InputError> + 'a;
+
 /// A node: `[x, y, z]`, `{ x = [x, y, z], rot = bool }` or `{ at = "host" }`.
-fn node_value(v: &toml::Value) -> Result<NodePlace, String> {
+fn node_value(v: &toml::Value, expr: &Expr) -> Result<NodePlace, ValueError> {
     match v {
         toml::Value::Array(_) => Ok(NodePlace::Position {
-            x: vec3(v, "position")?,
+            x: vec3(v, "position", expr)?,
             rot: false,
         }),
         toml::Value::Table(t) => {
             for k in t.keys() {
                 if !["x", "rot", "at"].contains(&k.as_str()) {
-                    return Err(format!("unknown key `{k}`, expected `x`, `rot` or `at`"));
+                    return Err(format!("unknown key `{k}`, expected `x`, `rot` or `at`").into());
                 }
             }
             if let Some(host) = t.get("at") {
                 let toml::Value::String(h) = host else {
-                    return Err(format!("`at` must name a node, found {host}"));
+                    return Err(format!("`at` must name a node, found {host}").into());
                 };
                 if t.contains_key("x") {
                     return Err(
@@ -424,16 +493,19 @@ fn node_value(v: &toml::Value) -> Result<NodePlace, String> {
             let rot = match t.get("rot") {
                 None => false,
                 Some(toml::Value::Boolean(b)) => *b,
-                Some(other) => return Err(format!("`rot` must be true or false, found {other}")),
+                Some(other) => {
+                    return Err(format!("`rot` must be true or false, found {other}").into())
+                }
             };
             Ok(NodePlace::Position {
-                x: vec3(x, "x")?,
+                x: vec3(x, "x", expr)?,
                 rot,
             })
         }
         other => Err(format!(
             "expected a position [x, y, z] or a table {{ x = [...] }}, found {other}"
-        )),
+        )
+        .into()),
     }
 }
 

@@ -5,13 +5,57 @@
 use flexmbd_core::simulation::TimeFunction;
 use indexmap::IndexMap;
 use serde::Deserialize;
+use serde::Deserializer;
+use std::ops::Range;
 use toml::Spanned;
+
+/// A real value as written: a number, or a string holding an expression of the parameters
+/// (docs/model-format.md, "Parameters and expressions"), with its place in the file.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Real {
+    pub(super) value: RealValue,
+    /// The value's bytes in the file (empty for a default).
+    pub(super) span: Range<usize>,
+}
+
+/// A number or an expression.
+#[derive(Clone, Debug)]
+pub(super) enum RealValue {
+    Num(f64),
+    Expr(String),
+}
+
+impl Default for RealValue {
+    fn default() -> Self {
+        Self::Num(0.0)
+    }
+}
+
+impl<'de> Deserialize<'de> for Real {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Spanned::<toml::Value>::deserialize(d)?;
+        let span = v.span();
+        let value = match v.into_inner() {
+            toml::Value::Float(f) => RealValue::Num(f),
+            toml::Value::Integer(i) => RealValue::Num(i as f64),
+            toml::Value::String(s) => RealValue::Expr(s),
+            other => {
+                return Err(serde::de::Error::custom(format!(
+                    "invalid type: {}, expected a number or an expression in a string",
+                    other.type_str()
+                )))
+            }
+        };
+        Ok(Real { value, span })
+    }
+}
 
 /// The whole file.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct FileSpec {
     pub(super) model: Option<ModelSection>,
+    pub(super) parameters: Option<IndexMap<String, Spanned<toml::Value>>>,
     pub(super) nodes: Option<IndexMap<String, Spanned<toml::Value>>>,
     pub(super) fix: Option<IndexMap<String, Spanned<toml::Value>>>,
     pub(super) inputs: Option<IndexMap<String, Spanned<toml::Value>>>,
@@ -48,12 +92,12 @@ pub(super) struct FileSpec {
 pub(super) struct MaterialSpec {
     pub(super) id: String,
     #[serde(rename = "E")]
-    pub(super) e: f64,
+    pub(super) e: Real,
     #[serde(rename = "G")]
-    pub(super) g: Option<f64>,
-    pub(super) nu: Option<f64>,
+    pub(super) g: Option<Real>,
+    pub(super) nu: Option<Real>,
     #[serde(default)]
-    pub(super) rho: f64,
+    pub(super) rho: Real,
 }
 
 /// `[[section]]`: a shape with its dimensions [m], or properties given directly.
@@ -62,20 +106,20 @@ pub(super) struct MaterialSpec {
 pub(super) struct SectionSpec {
     pub(super) id: String,
     pub(super) shape: String,
-    pub(super) w: Option<f64>,
-    pub(super) t: Option<f64>,
-    pub(super) d: Option<f64>,
-    pub(super) d_out: Option<f64>,
-    pub(super) d_in: Option<f64>,
+    pub(super) w: Option<Real>,
+    pub(super) t: Option<Real>,
+    pub(super) d: Option<Real>,
+    pub(super) d_out: Option<Real>,
+    pub(super) d_in: Option<Real>,
     #[serde(rename = "A")]
-    pub(super) a: Option<f64>,
+    pub(super) a: Option<Real>,
     #[serde(rename = "Iy")]
-    pub(super) iy: Option<f64>,
+    pub(super) iy: Option<Real>,
     #[serde(rename = "Iz")]
-    pub(super) iz: Option<f64>,
+    pub(super) iz: Option<Real>,
     #[serde(rename = "J")]
-    pub(super) j: Option<f64>,
-    pub(super) k: Option<f64>,
+    pub(super) j: Option<Real>,
+    pub(super) k: Option<Real>,
     /// Include shear flexibility (Timoshenko); default true as SPACAR Light.
     #[serde(default = "yes")]
     pub(super) shear: bool,
@@ -91,9 +135,9 @@ fn yes() -> bool {
 pub(super) struct LoadSpec {
     pub(super) node: String,
     #[serde(default)]
-    pub(super) force: [f64; 3],
+    pub(super) force: [Real; 3],
     #[serde(default)]
-    pub(super) moment: [f64; 3],
+    pub(super) moment: [Real; 3],
     /// φ(t) in a time simulation.
     pub(super) history: Option<TimeFunction>,
 }
@@ -103,7 +147,7 @@ pub(super) struct LoadSpec {
 #[serde(deny_unknown_fields)]
 pub(super) struct MassSpec {
     pub(super) node: String,
-    pub(super) m: f64,
+    pub(super) m: Real,
 }
 
 /// `[[inertia]]`: an inertia tensor about a rotational node (global axes, reference
@@ -113,7 +157,7 @@ pub(super) struct MassSpec {
 pub(super) struct InertiaSpec {
     pub(super) node: String,
     #[serde(rename = "I")]
-    pub(super) i: [f64; 6],
+    pub(super) i: [Real; 6],
 }
 
 /// `[[prescribe]]`: the final value of an input coordinate or deformation.
@@ -124,7 +168,7 @@ pub(super) struct PrescribeSpec {
     pub(super) dof: Option<String>,
     pub(super) element: Option<String>,
     pub(super) mode: Option<i64>,
-    pub(super) value: f64,
+    pub(super) value: Real,
     /// φ(t) in a time simulation.
     pub(super) history: Option<TimeFunction>,
 }
@@ -135,11 +179,11 @@ pub(super) struct PrescribeSpec {
 pub(super) struct StaticSpec {
     pub(super) steps: Option<usize>,
     pub(super) max_iterations: Option<usize>,
-    pub(super) tol_force: Option<f64>,
-    pub(super) tol_disp: Option<f64>,
-    pub(super) gravity: Option<[f64; 3]>,
-    pub(super) spin: Option<[f64; 3]>,
-    pub(super) spin_point: Option<[f64; 3]>,
+    pub(super) tol_force: Option<Real>,
+    pub(super) tol_disp: Option<Real>,
+    pub(super) gravity: Option<[Real; 3]>,
+    pub(super) spin: Option<[Real; 3]>,
+    pub(super) spin_point: Option<[Real; 3]>,
     #[serde(default)]
     pub(super) compliance: Vec<String>,
     #[serde(default)]
@@ -163,7 +207,7 @@ pub(super) struct TrussSpec {
     pub(super) nodes: Vec<String>,
     /// EA [N].
     #[serde(rename = "EA", default)]
-    pub(super) ea: f64,
+    pub(super) ea: Real,
     #[serde(default)]
     pub(super) free: Vec<i64>,
     #[serde(default)]
@@ -175,8 +219,8 @@ pub(super) struct TrussSpec {
 pub(super) struct BeamSpec {
     pub(super) id: String,
     pub(super) nodes: Vec<String>,
-    pub(super) orient: Option<[f64; 3]>,
-    pub(super) ct: Option<f64>,
+    pub(super) orient: Option<[Real; 3]>,
+    pub(super) ct: Option<Real>,
     #[serde(default)]
     pub(super) free: Vec<i64>,
     #[serde(default)]
@@ -189,15 +233,15 @@ pub(super) struct BeamSpec {
     /// Split into this many elements.
     pub(super) segments: Option<usize>,
     #[serde(rename = "EA")]
-    pub(super) ea: Option<f64>,
+    pub(super) ea: Option<Real>,
     #[serde(rename = "GJ")]
-    pub(super) gj: Option<f64>,
+    pub(super) gj: Option<Real>,
     #[serde(rename = "EIy")]
-    pub(super) eiy: Option<f64>,
+    pub(super) eiy: Option<Real>,
     #[serde(rename = "EIz")]
-    pub(super) eiz: Option<f64>,
+    pub(super) eiz: Option<Real>,
     /// Mass per length ρA [kg/m] when the constants are given directly.
-    pub(super) rho_a: Option<f64>,
+    pub(super) rho_a: Option<Real>,
 }
 
 #[derive(Deserialize)]
@@ -205,9 +249,9 @@ pub(super) struct BeamSpec {
 pub(super) struct HingeSpec {
     pub(super) id: String,
     pub(super) nodes: Vec<String>,
-    pub(super) axis: [f64; 3],
+    pub(super) axis: [Real; 3],
     #[serde(default)]
-    pub(super) k: f64,
+    pub(super) k: Real,
     #[serde(default)]
     pub(super) free: Vec<i64>,
     #[serde(default)]
@@ -225,16 +269,16 @@ pub(super) struct RigidSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct SimulateSpec {
-    pub(super) t_end: Option<f64>,
-    pub(super) dt: Option<f64>,
+    pub(super) t_end: Option<Real>,
+    pub(super) dt: Option<Real>,
     pub(super) step: Option<String>,
-    pub(super) dt_min: Option<f64>,
-    pub(super) dt_max: Option<f64>,
-    pub(super) rho_inf: Option<f64>,
-    pub(super) tolerance: Option<[f64; 2]>,
-    pub(super) output_step: Option<f64>,
+    pub(super) dt_min: Option<Real>,
+    pub(super) dt_max: Option<Real>,
+    pub(super) rho_inf: Option<Real>,
+    pub(super) tolerance: Option<[Real; 2]>,
+    pub(super) output_step: Option<Real>,
     pub(super) max_iterations: Option<usize>,
-    pub(super) rayleigh: Option<[f64; 2]>,
+    pub(super) rayleigh: Option<[Real; 2]>,
     pub(super) start: Option<String>,
     pub(super) static_steps: Option<usize>,
     pub(super) gravity_history: Option<TimeFunction>,
@@ -246,7 +290,7 @@ pub(super) struct SimulateSpec {
 pub(super) struct VelocitySpec {
     pub(super) node: String,
     #[serde(default)]
-    pub(super) v: [f64; 3],
+    pub(super) v: [Real; 3],
     #[serde(default)]
-    pub(super) omega: [f64; 3],
+    pub(super) omega: [Real; 3],
 }

@@ -5,8 +5,9 @@ use crate::spec::Pos;
 use std::ops::Range;
 
 /// The top-level tables of the format, for messages.
-const SECTIONS: [&str; 16] = [
+const SECTIONS: [&str; 17] = [
     "model",
+    "parameters",
     "nodes",
     "fix",
     "inputs",
@@ -87,6 +88,10 @@ pub(super) fn name_item(text: &str, offset: usize, msg: String) -> String {
         }
         "nodes" | "fix" | "inputs" => Some(format!("[{section}]")),
         "model" => Some("[model]".to_string()),
+        "parameters" => Some(match entry_key() {
+            Some(k) if !is_header(here) => format!("parameter `{k}`"),
+            _ => "[parameters]".to_string(),
+        }),
         "truss" | "beam" | "hinge" | "rigid" | "material" | "section" | "load" | "mass"
         | "inertia" | "prescribe"
             if header.is_some_and(|h| !h.trim_start().starts_with("[["))

@@ -195,7 +195,7 @@ p1 = [0.0, 1.0]  # <-
 fn position_not_a_number() {
     check(
         r#"[nodes]
-p1 = [0.0, "1", 0.0]  # <-
+p1 = [0.0, true, 0.0]  # <-
 "#,
         &["node `p1`", "entry 2", "not a number"],
     );
@@ -1083,7 +1083,7 @@ fn errors_in_data_tables_name_the_item() {
         &["[[load]] 2 (on `b`)", "invalid length 2"],
     );
     check_ab(
-        "\n[[mass]]\nnode = \"b\"\nm = \"x\"  # <-\n",
+        "\n[[mass]]\nnode = \"b\"\nm = true  # <-\n",
         &["[[mass]] 1 (on `b`)", "invalid type"],
     );
     check_ab(
@@ -1091,7 +1091,7 @@ fn errors_in_data_tables_name_the_item() {
         &["[[inertia]] 1 (on `b`)", "invalid length 2"],
     );
     check_ab(
-        "\n[[prescribe]]\nnode = \"b\"\ndof = \"x\"\nvalue = \"x\"  # <-\n",
+        "\n[[prescribe]]\nnode = \"b\"\ndof = \"x\"\nvalue = [1.0]  # <-\n",
         &["[[prescribe]] 1 (on `b`)", "invalid type"],
     );
     check_ab(

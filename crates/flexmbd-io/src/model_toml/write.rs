@@ -171,7 +171,9 @@ impl ModelSpec {
     }
 }
 
-/// Serialise to the native TOML format. Fails only for what the format cannot express (free
+/// Serialise to the native TOML format. A parametric model is written as the member the spec
+/// is: `[parameters]` with the values used and the evaluated numbers in every other place
+/// (the expressions of the file it was read from are not kept). Fails only for what the format cannot express (free
 /// or input modes of a rigid body, a history that is not a time function of the format).
 /// The shear flexibilities and rotary inertias of beam constants given directly (SPACAR) are
 /// not written (the format has no keys for them).
@@ -186,6 +188,13 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
     let _ = writeln!(out, "[model]\nname = {}", quote(&spec.name));
     if let Some(d) = &spec.description {
         let _ = writeln!(out, "description = {}", quote(d));
+    }
+    // the evaluated member: the parameters' values, and evaluated numbers everywhere else
+    if !spec.parameters.is_empty() {
+        out.push_str("\n[parameters]\n");
+        for (name, v) in &spec.parameters {
+            let _ = writeln!(out, "{name} = {}", num(*v));
+        }
     }
     out.push_str("\n[nodes]\n");
     for n in &spec.nodes {

@@ -374,6 +374,23 @@ impl ModelSpec {
                 Ok(v)
             }
             "static" => edit_item(&mut self.statics, path, rest, value),
+            "parameters" => match (rest, value) {
+                ([name], None) => self
+                    .parameters
+                    .get(*name)
+                    .map(|v| Value::from(*v))
+                    .ok_or_else(|| {
+                        let names: Vec<&str> = self.parameters.keys().map(String::as_str).collect();
+                        bad(format!(
+                            "no parameter `{name}`; the parameters are: {}",
+                            names.join(", ")
+                        ))
+                    }),
+                (_, None) => Err(bad("give `parameters.NAME`".into())),
+                (_, Some(_)) => Err(bad(
+                    "the parameters were evaluated when the model was read: read it again with the new value (values of the spec do not follow a changed parameter)".into(),
+                )),
+            },
             "simulate" => {
                 let mut s = self.simulate.clone().unwrap_or_default();
                 let v = edit_item(&mut s, path, rest, value.clone())?;
@@ -406,7 +423,7 @@ impl ModelSpec {
                     "velocities" => pick!(self.velocities, |d: &VelocityEntry| d.node.as_str()),
                     "prescribed" => pick!(self.prescribed, target_name),
                     other => Err(bad(format!(
-                        "no `{other}` in a model; the first key is one of name, description, nodes, elements, materials, sections, fix, inputs, loads, masses, inertias, prescribed, velocities, static, simulate"
+                        "no `{other}` in a model; the first key is one of name, description, nodes, elements, materials, sections, fix, inputs, loads, masses, inertias, prescribed, velocities, static, simulate, parameters (to read)"
                     ))),
                 }
             }

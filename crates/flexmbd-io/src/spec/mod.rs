@@ -34,6 +34,7 @@ pub use settings::{ModelFile, Settings, SimulateSettings};
 
 use flexmbd_core::model::Dof;
 use flexmbd_core::simulation::TimeFunction;
+use indexmap::IndexMap;
 use serde::{Deserialize, Serialize};
 
 /// A place in a model file: 1-based line and column.
@@ -670,6 +671,12 @@ pub struct ModelSpec {
     /// Comment lines at the top of the file.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub header: Vec<String>,
+    /// The parameters of the file (`[parameters]`, docs/model-format.md), evaluated, in file
+    /// order; empty when it has none. The values of the spec are evaluated with them: a spec
+    /// is one member of a parametric model, and changing a parameter here changes no value
+    /// (read the file again with the new value: `model_toml::parse_spec_with`).
+    #[serde(skip_serializing_if = "IndexMap::is_empty")]
+    pub parameters: IndexMap<String, f64>,
     /// Nodes, in order; a host before the nodes placed `at` it.
     pub nodes: Vec<NodeSpec>,
     /// Elements, in order.

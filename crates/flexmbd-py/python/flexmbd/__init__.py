@@ -66,14 +66,28 @@ __all__ = [
 ]
 
 
-def load(path):
+def _overrides(set):
+    """``set`` (a dict, or pairs) as a list of (name, float) pairs, in order."""
+    if set is None:
+        return []
+    items = set.items() if hasattr(set, "items") else set
+    return [(str(k), float(v)) for k, v in items]
+
+
+def load(path, set=None):
     """Read a model file: ``.toml`` (docs/model-format.md) or a SPACAR ``.dat`` file.
 
+    ``set`` evaluates one member of a parametric TOML model (docs/model-format.md,
+    "Parameters and expressions"), as ``--set`` on the command line: ``{"t": 0.2e-3}``
+    replaces the value of the parameter ``t`` (the values that use it follow), a name with
+    dots is a path of the document (``{"sections.sheet.t": 0.2e-3}``). The values used are
+    ``Model.parameters``.
+
     The file name (as given) names the model in messages and in ``to_dict()["file"]``.
-    Raises ``ModelError`` (with ``file``, ``line``, ``item``) for invalid input and
-    ``ReadError`` for a file that cannot be read.
+    Raises ``ModelError`` (with ``file``, ``line``, ``item``) for invalid input (a parameter
+    the model does not declare, too) and ``ReadError`` for a file that cannot be read.
     """
-    return Model._wrap(_flexmbd.load(_os.fspath(path)))
+    return Model._wrap(_flexmbd.load(_os.fspath(path), _overrides(set)))
 
 
 def _from_source(text, file, format):
@@ -120,9 +134,10 @@ class Model(_Editing):
         return m
 
     @classmethod
-    def from_toml(cls, text, file="<string>"):
-        """A model from TOML text (docs/model-format.md); ``file`` names it in messages."""
-        return cls._wrap(_flexmbd.parse_toml(text, file))
+    def from_toml(cls, text, file="<string>", set=None):
+        """A model from TOML text (docs/model-format.md); ``file`` names it in messages;
+        ``set`` overrides parameters or paths as in ``flexmbd.load``."""
+        return cls._wrap(_flexmbd.parse_toml(text, file, _overrides(set)))
 
     @classmethod
     def from_dat(cls, text, file="<string>.dat"):
@@ -179,6 +194,14 @@ class Model(_Editing):
         if self._doc is None:
             return self._dat.name
         return self._doc.summary()[0]
+
+    @property
+    def parameters(self):
+        """The parameters of a parametric TOML model (``[parameters]``) with the values it was
+        evaluated with, in file order (``{}`` for a model without parameters)."""
+        if self._doc is None:
+            return {}
+        return self._doc.parameters()
 
     @property
     def file(self):

@@ -1,7 +1,7 @@
 """Type stubs of flexmbd (the package; the result classes come from flexmbd._flexmbd)."""
 
 import os
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -28,7 +28,10 @@ from ._flexmbd import (
 
 __version__: str
 
-def load(path: Union[str, "os.PathLike[str]"]) -> Model:
+def load(
+    path: Union[str, "os.PathLike[str]"],
+    set: Optional[Union[Mapping[str, float], Iterable[Tuple[str, float]]]] = None,
+) -> Model:
     """Read a model file: ``.toml`` or a SPACAR ``.dat`` file."""
 
 Vec3 = Union[Sequence[float], npt.ArrayLike]
@@ -41,7 +44,12 @@ class Model:
         """An empty model named ``name``."""
 
     @classmethod
-    def from_toml(cls, text: str, file: str = "<string>") -> Model: ...
+    def from_toml(
+        cls,
+        text: str,
+        file: str = "<string>",
+        set: Optional[Union[Mapping[str, float], Iterable[Tuple[str, float]]]] = None,
+    ) -> Model: ...
     @classmethod
     def from_dat(cls, text: str, file: str = "<string>.dat") -> Model: ...
     @property
@@ -52,6 +60,8 @@ class Model:
     def format(self) -> str: ...
     @property
     def source(self) -> Optional[str]: ...
+    @property
+    def parameters(self) -> Dict[str, float]: ...
     def copy(self) -> Model: ...
     def to_toml(self) -> str: ...
     def to_dict(self) -> Dict[str, Any]: ...
