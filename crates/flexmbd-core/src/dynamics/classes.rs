@@ -28,7 +28,7 @@ pub const INTERNAL_BELOW: f64 = 0.5;
 pub const INTENDED_FROM: f64 = 0.5;
 
 /// The class of a mode (paper §5).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ModeClass {
     /// The bodies move along the released deformations: the motion the design intends.
     Intended,
