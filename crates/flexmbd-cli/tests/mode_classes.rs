@@ -196,3 +196,37 @@ m = 0.01
         }
     }
 }
+
+#[test]
+fn the_html_report_names_the_class_of_each_mode() {
+    let dir = Temp::new("mode_classes_view");
+    let out = dir.0.join("report.html");
+    let path = example("paper_dynamic_5_sheets.toml");
+    let r = run(&[
+        "view",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--analysis",
+        "modes",
+        "--count",
+        "5",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let html = std::fs::read_to_string(&out).expect("report written");
+    let open = r#"<script type="application/json" id="flexmbd-data">"#;
+    let start = html.find(open).expect("data block") + open.len();
+    let end = start + html[start..].find("</script>").expect("end of data");
+    let data: Value = serde_json::from_str(&html[start..end]).expect("data is JSON");
+    let class = |k: usize| {
+        data["animations"][k]["class"]
+            .as_str()
+            .unwrap_or("")
+            .to_string()
+    };
+    assert!(class(0).starts_with("intended β 0."), "{}", class(0));
+    assert!(class(1).starts_with("support β"), "{}", class(1));
+    assert!(class(4).starts_with("internal β"), "{}", class(4));
+    // the selector and the heading show it
+    assert!(html.contains("a.class ? ', ' + a.class"), "viewer script");
+}

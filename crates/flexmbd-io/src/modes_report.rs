@@ -44,7 +44,7 @@ fn kinetic_text(model: &Model, m: &flexmbd_core::dynamics::Mode, count: usize) -
 
 /// The class of a mode with the fractions that decide it (docs/dynamics.md "Mode classes"):
 /// `intended  β 0.99  ρ 1.00`; `rigid body` for a rigid-body mode.
-fn class_text(m: &flexmbd_core::dynamics::Mode) -> String {
+pub(crate) fn class_text(m: &flexmbd_core::dynamics::Mode) -> String {
     if m.class == ModeClass::RigidBody {
         return "rigid body".to_string();
     }
