@@ -2,11 +2,11 @@
 //! (the bodies move along the motions the kinematic analysis releases), *support* (the bodies
 //! move in directions the design constrains: parasitic, they limit the closed-loop bandwidth)
 //! or *internal* (the flexures move while the bodies stay nearly still), decided by two
-//! energy fractions of the mass-normalised mode v at the state:
+//! energy fractions of the mass-normalised mode Φ at the state (docs/notation.md):
 //!
 //! ```text
-//! β = vᵀ M_bodies v / vᵀ M v                       body fraction
-//! ρ = Σ_{i ∈ e^c ∪ e^m} ½ σᵢ δeᵢ / Σᵢ ½ σᵢ δeᵢ       released fraction, σ = S δe, δe = D v
+//! β = Φᵀ M_bodies Φ / Φᵀ M Φ                       body fraction
+//! ρ = Σ_{i ∈ e^c ∪ e^m} ½ σᵢ δeᵢ / Σᵢ ½ σᵢ δeᵢ       released fraction, σ = S δe, δe = D Φ
 //! ```
 //!
 //! M = M_bodies + M_elements exactly (the point masses and inertia tensors on nodes, and the
@@ -76,9 +76,9 @@ pub struct ClassFractions {
     /// ρ = `strain_released` / (`strain_released` + `strain_stiff`), clamped to [0, 1]; `None`
     /// for a rigid-body mode and for a mode without material strain energy.
     pub released: Option<f64>,
-    /// vᵀ M_bodies v: the point masses and inertia tensors on nodes.
+    /// Φᵀ M_bodies Φ: the point masses and inertia tensors on nodes.
     pub kinetic_bodies: f64,
-    /// vᵀ M_elements v: the elements' own mass.
+    /// Φᵀ M_elements Φ: the elements' own mass.
     pub kinetic_elements: f64,
     /// ½ Σ σᵢ δeᵢ over the released deformations (e^c, e^m).
     pub strain_released: f64,
