@@ -125,7 +125,7 @@ pub(super) fn fractions(
     });
     // strain: the released deformations of each element by the partition of e
     for (entry, u) in model.elements.iter().zip(strain) {
-        let ne = if nm == 0 { 0 } else { u.len() / nm };
+        let ne = u.len().checked_div(nm).unwrap_or(0);
         for (k, f) in out.iter_mut().enumerate() {
             for (a, &ua) in u[k * ne..(k + 1) * ne].iter().enumerate() {
                 match model.partition.e.get(entry.ie + a) {
