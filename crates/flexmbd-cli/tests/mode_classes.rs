@@ -108,12 +108,26 @@ fn six_sheet_guide_intended_support_pair_and_six_internal_modes() {
     assert_eq!(classes(&m), want);
 }
 
+/// The text report of `flexmbd modes examples/NAME --count N`.
+fn modes_text(name: &str, count: usize) -> String {
+    let path = example(name);
+    let out = run(&[
+        "modes",
+        path.to_str().unwrap(),
+        "--count",
+        &count.to_string(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 #[test]
 fn the_text_shows_the_class_with_its_fractions() {
-    let path = example("paper_dynamic_5_sheets.toml");
-    let out = run(&["modes", path.to_str().unwrap(), "--count", "5"]);
-    assert!(out.status.success());
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = modes_text("paper_dynamic_5_sheets.toml", 5);
     let row = |k: usize| {
         text.lines()
             .find(|l| l.trim_start().starts_with(&format!("{k} ")))
@@ -131,15 +145,12 @@ fn the_text_shows_the_class_with_its_fractions() {
 #[test]
 fn a_model_without_bodies_says_that_every_mode_is_internal() {
     // the F01 strip has no point mass and no inertia: β = 0 for every mode
-    let path = example("strip_f01.toml");
-    let out = run(&["modes", path.to_str().unwrap(), "--count", "3"]);
-    assert!(out.status.success());
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = modes_text("strip_f01.toml", 3);
     assert!(
         text.contains("no bodies (masses/inertias on nodes): every mode counts as internal"),
         "{text}"
     );
-    for m in modes(&path, 3, "auto") {
+    for m in modes(&example("strip_f01.toml"), 3, "auto") {
         assert_eq!(m["class"], "internal");
         assert_eq!(m["body_fraction"], 0.0);
     }
