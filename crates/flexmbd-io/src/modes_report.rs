@@ -2,7 +2,7 @@
 
 use crate::report::{fmt_num, table};
 use crate::stopped::StopNote;
-use flexmbd_core::dynamics::Modal;
+use flexmbd_core::dynamics::{Modal, ModeClass};
 use flexmbd_core::elements::ElementKind;
 use flexmbd_core::Model;
 use serde_json::{json, Value};
@@ -40,6 +40,24 @@ fn kinetic_text(model: &Model, m: &flexmbd_core::dynamics::Mode, count: usize) -
         })
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+/// The class of a mode with the fractions that decide it (docs/dynamics.md "Mode classes"):
+/// `intended  β 0.99  ρ 1.00`; `rigid body` for a rigid-body mode.
+pub(crate) fn class_text(m: &flexmbd_core::dynamics::Mode) -> String {
+    if m.class == ModeClass::RigidBody {
+        return "rigid body".to_string();
+    }
+    let rho = m
+        .fractions
+        .released
+        .map_or_else(|| "  – ".to_string(), |r| format!("{r:.2}"));
+    format!("{:<8}  β {:.2}  ρ {rho}", m.class.name(), m.fractions.body)
+}
+
+/// No point mass and no inertia tensor: every elastic mode is internal (β = 0).
+fn has_bodies(model: &Model) -> bool {
+    !model.loads.point_masses.is_empty() || !model.loads.inertias.is_empty()
 }
 
 /// Text report: one row per mode with where its strain and kinetic energy are; `stop` marks a
@@ -86,15 +104,25 @@ pub fn modes_text(
             vec![
                 (k + 1).to_string(),
                 f,
+                class_text(m),
                 strain_text(model, m, 3),
                 kinetic_text(model, m, 3),
             ]
         })
         .collect();
     s += &table(
-        &["mode", "f [Hz]", "strain energy in", "kinetic energy in"],
+        &[
+            "mode",
+            "f [Hz]",
+            "class",
+            "strain energy in",
+            "kinetic energy in",
+        ],
         &rows,
     );
+    if !modal.modes.is_empty() && !has_bodies(model) {
+        s += "\nno bodies (masses/inertias on nodes): every mode counts as internal\n";
+    }
     if modal
         .modes
         .iter()
@@ -161,6 +189,9 @@ pub fn modes_json(
                 "frequency_hz": if m.frequency.is_nan() { Value::Null } else { json!(m.frequency) },
                 "eigenvalue": m.eigenvalue,
                 "rigid_body": m.rigid_body,
+                "class": m.class.name(),
+                "body_fraction": m.fractions.body,
+                "released_fraction": m.fractions.released,
                 "strain_energy": m.strain.iter().map(|(el, mode, f)| json!({
                     "element": model.elements[*el].name,
                     "mode": mode + 1,

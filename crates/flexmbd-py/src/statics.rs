@@ -472,6 +472,35 @@ impl ModesResult {
         self.modal.modes.iter().map(|m| m.rigid_body).collect()
     }
 
+    /// The class of each mode: `intended`, `support`, `internal` or `rigid_body`
+    /// (docs/dynamics.md "Mode classes").
+    #[getter]
+    fn classes(&self) -> Vec<&'static str> {
+        self.modal.modes.iter().map(|m| m.class.name()).collect()
+    }
+
+    /// Body fraction β of each mode: the share of its kinetic energy in the point masses and
+    /// inertias on nodes.
+    #[getter]
+    fn body_fractions(&self, py: Python<'_>) -> Py<PyAny> {
+        vec1(
+            py,
+            self.modal.modes.iter().map(|m| m.fractions.body).collect(),
+        )
+    }
+
+    /// Released fraction ρ of each mode: the share of its strain energy in the deformations the
+    /// kinematic analysis releases (`free`, `input`); NaN for a rigid-body mode.
+    #[getter]
+    fn released_fractions(&self, py: Python<'_>) -> Py<PyAny> {
+        let r = self.modal.modes.iter();
+        vec1(
+            py,
+            r.map(|m| m.fractions.released.unwrap_or(f64::NAN))
+                .collect(),
+        )
+    }
+
     /// Mode shapes by node: (modes, nodes, 6): translation x, y, z and rotation x, y, z of
     /// each node (mass-normalised).
     #[getter]

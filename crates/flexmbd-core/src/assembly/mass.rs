@@ -113,6 +113,21 @@ impl NodeMass {
     }
 }
 
+impl NodeMass {
+    /// vᵀ M_node v of a vector v in x: m |v_r|² of a point mass, v_λᵀ (4 Λ̄ᵀ I Λ̄) v_λ of an
+    /// inertia tensor (twice the kinetic energy of the node's mass at the velocity v).
+    pub(crate) fn quadratic_form(&self, v: &[f64]) -> f64 {
+        match self {
+            NodeMass::Point { ix, mass } => {
+                mass * v[*ix..*ix + 3].iter().map(|u| u * u).sum::<f64>()
+            }
+            NodeMass::Tensor { r, block } => (0..4)
+                .map(|a| v[r + a] * (0..4).map(|c| block[a][c] * v[r + c]).sum::<f64>())
+                .sum(),
+        }
+    }
+}
+
 /// The point masses, then (with `rotary`) the inertia tensors of the model at x, in model
 /// order: the one source of the node masses for M, its products and the softening.
 pub(crate) fn for_each_node_mass(

@@ -2,7 +2,7 @@
 //! rotations, and the split of strain energy over the element deformations and of kinetic
 //! energy over the nodes (element by element, no global matrices).
 
-use super::Mode;
+use super::{Mode, ModeClass};
 use crate::elements::ElementKind;
 use crate::math::sparse_lu::sort_small_by;
 use crate::model::Model;
@@ -61,6 +61,7 @@ pub(super) fn describe_all(
             .map(element_energies)
             .collect()
     };
+    let fractions = super::classes::fractions(model, &step.x, eigenvalues, &shapes, &per_element);
     // kinetic energy per node: the quadratic form δxᵀ M δx split by rows (a node `at` a host
     // has no translation rows of its own)
     let kinetic = kinetic.unwrap_or_else(|| {
@@ -98,7 +99,10 @@ pub(super) fn describe_all(
                     .map(|(a, &v)| (el, a, v)),
             );
         }
-        describe(model, step, eigenvalues[k], shape, &kinetic[k], strain)
+        let mut mode = describe(model, step, eigenvalues[k], shape, &kinetic[k], strain);
+        mode.fractions = fractions[k];
+        mode.class = ModeClass::of(&mode.fractions, false);
+        mode
     };
     if small || nm < 2 {
         shapes.into_iter().enumerate().map(one).collect()
@@ -181,5 +185,7 @@ fn describe(
         strain,
         kinetic,
         rigid_body: false,
+        class: ModeClass::Internal,
+        fractions: Default::default(),
     }
 }

@@ -21,6 +21,7 @@
 //! directions with m ≤ 1e-12 max m are condensed out of the stiffness (exact for the quasi-static
 //! response of massless coordinates); they are reported.
 
+mod classes;
 mod dense;
 pub mod dense_size;
 mod describe;
@@ -30,6 +31,7 @@ pub mod sparse;
 pub mod state_space;
 pub mod sweep;
 
+pub use classes::{ClassFractions, ModeClass, INTENDED_FROM, INTERNAL_BELOW};
 pub use dense_size::check_dense_size;
 pub use describe::{fix_sign, SIGN_TIE_TOL};
 pub use reduced::{massless_nodes, reduced_matrices, Reduced};
@@ -63,6 +65,10 @@ pub struct Mode {
     /// A rigid-body mode (see [`rigid_body_count`]): its eigenvalue is round-off of zero, its
     /// frequency is reported as 0 and it is no sign of instability.
     pub rigid_body: bool,
+    /// The class of the mode (paper §5: intended, support, internal, or rigid body).
+    pub class: ModeClass,
+    /// The body and released fractions that decide [`Mode::class`], with their parts.
+    pub fractions: ClassFractions,
 }
 
 /// Ratio of ω² below which the lowest modes count as rigid-body modes: the lowest `k` modes
@@ -251,6 +257,8 @@ pub fn modes_at(t: &Tangent, count: usize, opts: &ModalOptions) -> Result<Modal,
         m.frequency = 0.0;
         // its strain energy is round-off of zero: fractions of it mean nothing
         m.strain.clear();
+        m.fractions.released = None;
+        m.class = ModeClass::RigidBody;
     }
     let finite = |m: &Mode| {
         m.nodal

@@ -790,7 +790,8 @@ function updateHeading() {
   }
   if (state.item >= 0) {
     const a = DATA.animations[state.item];
-    parts.push(a.label + ' (' + a.detail + ')');
+    // the class's name here (the selector shows its fractions too)
+    parts.push(a.label + ' (' + a.detail + (a.class ? ', ' + a.class.replace(/ β.*$/, '') : '') + ')');
   }
   const f = DATA.fields.find((x) => x.key === state.color);
   parts.push('colour: ' + (f ? f.label : 'element type'));
@@ -845,7 +846,7 @@ function controlsHtml() {
   if (DATA.animations.length > 0) {
     const kind = DATA.animations[0].kind === 'mode' ? 'Modes' : 'Motions';
     h += '<h2>' + kind + '</h2>';
-    h += '<select id="sel-item"><option value="-1">none</option>' + DATA.animations.map((a, k) => '<option value="' + k + '">' + esc(a.label + ' — ' + a.detail) + '</option>').join('') + '</select>';
+    h += '<select id="sel-item"><option value="-1">none</option>' + DATA.animations.map((a, k) => '<option value="' + k + '">' + esc(a.label + ' — ' + a.detail + (a.class ? ', ' + a.class : '')) + '</option>').join('') + '</select>';
     h += '<div class="row"><button id="btn-play"></button><label for="rng-phase">phase</label><input type="range" id="rng-phase" min="0" max="1" step="0.01"></div>';
     h += '<div class="row"><label for="rng-amp">amplitude</label><input type="range" id="rng-amp" min="0" max="3" step="0.05"><span id="amp-val" class="mono"></span></div>';
     h += '<div class="row"><input type="checkbox" id="chk-ghost"><label for="chk-ghost">show the ' + (DATA.analysis === 'check' ? 'reference' : 'static') + ' configuration</label></div>';

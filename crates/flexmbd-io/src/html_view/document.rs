@@ -158,6 +158,10 @@ pub struct ViewAnimation {
     pub detail: String,
     /// Singular value (motion) or frequency [Hz] (mode).
     pub value: Option<f64>,
+    /// A mode's class with the fractions that decide it, e.g. `intended β 0.99 ρ 1.00`
+    /// (docs/dynamics.md "Mode classes"); `None` for a motion.
+    #[serde(default)]
+    pub class: Option<String>,
     /// Index of the frame it is animated about.
     pub frame: usize,
     /// Scale of u and w for the default amplitude.

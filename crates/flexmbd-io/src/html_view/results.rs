@@ -108,6 +108,7 @@ pub(super) fn motion_animations(
                 label: format!("motion {}", k + 1),
                 detail,
                 value,
+                class: None,
                 frame: 0,
                 scale: animation_scale(&u, &w, size),
                 u: flat(&u),
@@ -138,6 +139,12 @@ pub(super) fn mode_animations(model: &Model, modal: &Modal, size: f64) -> Vec<Vi
                 label: format!("mode {}", k + 1),
                 detail,
                 value,
+                class: Some(
+                    crate::modes_report::class_text(mode)
+                        .split_whitespace()
+                        .collect::<Vec<_>>()
+                        .join(" "),
+                ),
                 frame: 0,
                 scale: animation_scale(&u, &w, size),
                 u: flat(&u),

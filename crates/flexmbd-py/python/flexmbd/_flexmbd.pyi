@@ -190,6 +190,15 @@ class ModesResult:
     @property
     def rigid_body(self) -> List[bool]: ...
     @property
+    def classes(self) -> List[str]:
+        """Per mode: "intended", "support", "internal" or "rigid_body"."""
+    @property
+    def body_fractions(self) -> Array:
+        """Per mode: share of the kinetic energy in the point masses and inertias (β)."""
+    @property
+    def released_fractions(self) -> Array:
+        """Per mode: share of the strain energy in free/input deformations (ρ); NaN for rigid-body modes."""
+    @property
     def shapes(self) -> Array:
         """(modes, nodes, 6): translation and rotation of each node."""
     @property
