@@ -1,4 +1,6 @@
-//! The example models in `examples/`, run through the built `flexmbd check --json`.
+//! The example models in `examples/`, checked at the io level: read with `flexmbd_io`, the
+//! core's kinematic check, and the `check --json` document of the io writer (formerly run
+//! through the built `flexmbd check --json`).
 //!
 //! For the straight guides (wire flexures, folded sheets) the counts are also checked against an
 //! independent computation inside this file: the rank r_L of the Plücker coordinates (w, p × w)
@@ -9,36 +11,15 @@
 //! flexmbd must report 6 − r_L − 1 motions and k − r_L self-stresses.
 
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn examples_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
+mod common;
+use common::examples_dir;
 
-/// Run `flexmbd check <examples/name> --json <extra>` and parse its output.
+/// The `check --json` document of `examples/name`; `extra` holds the command's options
+/// (`--auto` only).
 fn check_json(name: &str, extra: &[&str]) -> Value {
-    let path = examples_dir().join(name);
-    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .arg("check")
-        .arg(&path)
-        .arg("--json")
-        .args(extra)
-        .output()
-        .expect("flexmbd runs");
-    assert!(
-        out.status.success(),
-        "flexmbd check {} failed ({}):\n{}",
-        path.display(),
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
-        panic!(
-            "{name}: output is not JSON ({e}):\n{}",
-            String::from_utf8_lossy(&out.stdout)
-        )
-    })
+    assert!(extra.iter().all(|&e| e == "--auto"), "{extra:?}");
+    common::check_doc(&examples_dir().join(name), extra.contains(&"--auto"))
 }
 
 fn uint(v: &Value, key: &str) -> usize {
@@ -510,29 +491,4 @@ fn spatial_four_bar_moves_and_has_three_self_stresses() {
         "{m:?}"
     );
     assert!((motion_value(&m, "j1", "rz") - w).abs() < 1e-9, "{m:?}");
-}
-
-#[test]
-fn every_example_checks() {
-    let mut n = 0;
-    for entry in std::fs::read_dir(examples_dir()).expect("examples/ exists") {
-        let path = entry.unwrap().path();
-        if path.extension().and_then(|e| e.to_str()) != Some("toml") {
-            continue;
-        }
-        let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-            .arg("check")
-            .arg(&path)
-            .output()
-            .expect("flexmbd runs");
-        assert!(
-            out.status.success(),
-            "flexmbd check {} exited with {}:\n{}",
-            path.display(),
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        );
-        n += 1;
-    }
-    assert!(n >= 8, "found only {n} example models");
 }
