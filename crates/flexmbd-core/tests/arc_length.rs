@@ -308,15 +308,6 @@ fn column(p: f64, q: f64) -> Model {
     b.build().unwrap()
 }
 
-/// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
-fn elliptic_k(k: f64) -> f64 {
-    let (mut a, mut g) = (1.0f64, (1.0 - k * k).sqrt());
-    while (a - g).abs() > 1e-15 * a {
-        (a, g) = (0.5 * (a + g), (a * g).sqrt());
-    }
-    std::f64::consts::PI / (2.0 * a)
-}
-
 #[test]
 fn a_column_into_post_buckling_bifurcates_and_follows_the_elastica() {
     // Euler load of the cantilever column: P_cr = π² EI / (4 L²)
@@ -356,7 +347,7 @@ fn a_column_into_post_buckling_bifurcates_and_follows_the_elastica() {
         if alpha < 0.3 {
             continue;
         }
-        let want = (2.0 * elliptic_k((0.5 * alpha).sin()) / std::f64::consts::PI).powi(2);
+        let want = (2.0 * common::elliptic_k((0.5 * alpha).sin()) / std::f64::consts::PI).powi(2);
         let got = 3.0 * st.load_factor;
         assert!(
             (got - want).abs() < 0.01 * want,

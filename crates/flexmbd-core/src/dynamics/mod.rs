@@ -375,6 +375,3 @@ fn lowest(t: &Tangent, count: usize, opts: &ModalOptions) -> Result<Lowest, Moda
         kinetic: None,
     })
 }
-
-#[cfg(test)]
-mod tests;

@@ -56,7 +56,7 @@ fn subspace_sine(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
 #[test]
 fn sparse_and_dense_paths_agree_on_counts_and_null_spaces() {
     let models = [
-        super::tests::twelve_truss(),
+        super::test_models::twelve_truss(),
         lattice(2),
         lattice(3),
         lattice_with_pendants(3, 3),

@@ -1,6 +1,7 @@
 //! Model generators of the kinematics tests, also compiled into the lattice bench
 //! (`benches/lattice_check.rs` includes this file; it names only `crate::model`, which the bench
-//! re-exports): a 3D lattice of rigid pin-jointed trusses and a strip of beams.
+//! re-exports; so do the core's integration tests): a 3D lattice of rigid pin-jointed trusses, a
+//! strip of beams and the 12-truss of the paper (validation.md K08).
 
 use crate::model::{Dof, ElementSpec, Model, ModelBuilder};
 
@@ -158,4 +159,50 @@ pub fn lattice_with_pendants(k: usize, p: usize) -> Model {
         }
     }
     b.build().expect("valid lattice")
+}
+
+/// The 12-truss of the paper (Fig. 2, theory.md §7).
+pub fn twelve_truss() -> Model {
+    let mut b = ModelBuilder::new("12-truss");
+    let pts = [
+        ("s1", [1.0, 1.0, 0.0]),
+        ("s2", [-1.0, 1.0, 0.0]),
+        ("s3", [-1.0, -1.0, 0.0]),
+        ("s4", [1.0, -1.0, 0.0]),
+        ("t1", [0.0, -1.0, 1.0]),
+        ("t2", [1.0, 0.0, 1.0]),
+        ("t3", [0.0, 1.0, 1.0]),
+        ("t4", [-1.0, 0.0, 1.0]),
+    ];
+    for (n, p) in pts {
+        b.add_node(n, p, false).unwrap();
+    }
+    let bars = [
+        ("s1", "t2"),
+        ("s1", "t3"),
+        ("s2", "t3"),
+        ("s2", "t4"),
+        ("s3", "t1"),
+        ("s3", "t4"),
+        ("s4", "t1"),
+        ("s4", "t2"),
+        ("t1", "t2"),
+        ("t2", "t3"),
+        ("t3", "t4"),
+        ("t4", "t1"),
+    ];
+    for (i, (p, q)) in bars.iter().enumerate() {
+        b.add_element(
+            &format!("{}", i + 1),
+            &[p, q],
+            ElementSpec::Truss { ea: 0.0 },
+            &[],
+            &[],
+        )
+        .unwrap();
+    }
+    for s in ["s1", "s2", "s3", "s4"] {
+        b.fix(s, None).unwrap();
+    }
+    b.build().unwrap()
 }

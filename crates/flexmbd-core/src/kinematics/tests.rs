@@ -7,120 +7,13 @@ use crate::model::{ElementSpec, ModelBuilder};
 
 const FREE_WIRE: [i64; 5] = [2, 3, 4, 5, 6];
 
-/// The 12-truss of the paper (Fig. 2, theory.md §7).
-pub(super) fn twelve_truss() -> Model {
-    let mut b = ModelBuilder::new("12-truss");
-    let pts = [
-        ("s1", [1.0, 1.0, 0.0]),
-        ("s2", [-1.0, 1.0, 0.0]),
-        ("s3", [-1.0, -1.0, 0.0]),
-        ("s4", [1.0, -1.0, 0.0]),
-        ("t1", [0.0, -1.0, 1.0]),
-        ("t2", [1.0, 0.0, 1.0]),
-        ("t3", [0.0, 1.0, 1.0]),
-        ("t4", [-1.0, 0.0, 1.0]),
-    ];
-    for (n, p) in pts {
-        b.add_node(n, p, false).unwrap();
-    }
-    let bars = [
-        ("s1", "t2"),
-        ("s1", "t3"),
-        ("s2", "t3"),
-        ("s2", "t4"),
-        ("s3", "t1"),
-        ("s3", "t4"),
-        ("s4", "t1"),
-        ("s4", "t2"),
-        ("t1", "t2"),
-        ("t2", "t3"),
-        ("t3", "t4"),
-        ("t4", "t1"),
-    ];
-    for (i, (p, q)) in bars.iter().enumerate() {
-        b.add_element(
-            &format!("{}", i + 1),
-            &[p, q],
-            ElementSpec::Truss { ea: 0.0 },
-            &[],
-            &[],
-        )
-        .unwrap();
-    }
-    for s in ["s1", "s2", "s3", "s4"] {
-        b.fix(s, None).unwrap();
-    }
-    b.build().unwrap()
-}
-
 fn run(m: &Model) -> ConstraintAnalysis {
     check(m, &m.partition, &m.x0(), &CheckOptions::default()).unwrap()
 }
 
 #[test]
-fn twelve_truss_matches_paper() {
-    // K08 / theory.md §7: singular values from an independent numpy reproduction, tolerance
-    // 1e-6 as validation.md states; motion of the paper's eq. (16); self-stress ±√3/6.
-    let m = twelve_truss();
-    let a = run(&m);
-    assert_eq!((a.m(), a.n(), a.rank), (12, 12, 11));
-    assert_eq!(a.case, Table1::SquareSingular);
-    let phi = (1.0 + 5f64.sqrt()) / 2.0;
-    let expect = [
-        3f64.sqrt(),
-        phi,
-        phi,
-        2f64.sqrt(),
-        1.0,
-        1.0,
-        1.0,
-        1.0,
-        1.0,
-        phi - 1.0,
-        phi - 1.0,
-        0.0,
-    ];
-    for (s, e) in a.singular_values.iter().zip(expect) {
-        assert!(
-            (s - e).abs() < 1e-9,
-            "singular values {:?}",
-            a.singular_values
-        );
-    }
-    // motion: t1 (0, −½, 0), t2 (−½, 0, 0), t3 (0, ½, 0), t4 (½, 0, 0), up to sign
-    let mv = &a.motions[0].coordinates;
-    assert_eq!(mv.len(), 4, "{mv:?}");
-    let sign = mv.iter().find(|c| c.node == "t3").unwrap().value.signum();
-    for (node, dof, val) in [
-        ("t1", Dof::Y, -0.5),
-        ("t2", Dof::X, -0.5),
-        ("t3", Dof::Y, 0.5),
-        ("t4", Dof::X, 0.5),
-    ] {
-        let c = mv
-            .iter()
-            .find(|c| c.node == node && c.dof == dof)
-            .expect("entry");
-        assert!((c.value - sign * val).abs() < 1e-12, "{node}: {}", c.value);
-    }
-    // self-stress: all twelve ±√3/6, signs as in theory.md §7 up to overall sign
-    let ss = &a.self_stresses[0].deformations;
-    assert_eq!(ss.len(), 12);
-    let pattern = [-1., -1., 1., 1., -1., -1., 1., 1., -1., 1., -1., 1.];
-    let s0 = ss[0].value.signum() * pattern[0];
-    for (d, p) in ss.iter().zip(pattern) {
-        assert!(
-            (d.value - s0 * p * 3f64.sqrt() / 6.0).abs() < 1e-12,
-            "{}: {}",
-            d.element,
-            d.value
-        );
-    }
-}
-
-#[test]
 fn twelve_truss_advice_releases_any_bar_and_fixes_a_top_coordinate() {
-    let m = twelve_truss();
+    let m = test_models::twelve_truss();
     let a = run(&m);
     let adv = advise(&m, &m.partition, &m.x0(), &a, &CheckOptions::default(), 20).unwrap();
     // paper §3.3: releasing the elongation of any one truss removes the over-constraint
@@ -426,7 +319,7 @@ fn assert_predictions(m: &Model, x: &[f64], what: &str) -> (usize, usize) {
 #[test]
 fn predicted_counts_of_every_action_match_a_full_reanalysis() {
     let mut tally = Vec::new();
-    let m = twelve_truss();
+    let m = test_models::twelve_truss();
     tally.push(assert_predictions(&m, &m.x0(), "12-truss"));
     for k in 1..=2 {
         let m = test_models::lattice(k);

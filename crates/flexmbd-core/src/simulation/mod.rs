@@ -340,6 +340,3 @@ pub fn simulate(
 ) -> Result<Simulation, SimFailure> {
     integrator::run(model, excitation, options, progress)
 }
-
-#[cfg(test)]
-mod tests;

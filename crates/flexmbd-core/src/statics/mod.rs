@@ -367,7 +367,4 @@ pub use path::{solve, solve_path, StaticAnalysis, Stopped};
 
 mod arc;
 #[cfg(test)]
-pub(crate) use path::{last_step, solve_steps};
-
-#[cfg(test)]
-mod tests;
+pub(crate) use path::last_step;

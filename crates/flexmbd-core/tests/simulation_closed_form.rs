@@ -1,106 +1,13 @@
-//! Tests of the integrator against closed forms and conservation laws.
+//! The integrator against closed forms: second-order convergence in the step size (the
+//! pendulum of N04), and a hinge driven through several turns from t = 0.
 
-use super::*;
-use crate::model::{Dof, ModelBuilder};
-use crate::section::BeamProps;
+mod common;
 
-/// K(k) = π / (2 AGM(1, √(1 − k²))), the complete elliptic integral of the first kind.
-fn elliptic_k(k: f64) -> f64 {
-    let (mut a, mut b) = (1.0_f64, (1.0 - k * k).sqrt());
-    for _ in 0..40 {
-        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
-        a = an;
-        b = bn;
-    }
-    std::f64::consts::PI / (2.0 * a)
-}
-
-/// A very stiff uniform bar of length 1 m and 1 kg/m pinned at the origin (rotation about y
-/// only), hanging at `theta0` from the downward vertical in the x-z plane, in `n` beams.
-fn pendulum(theta0: f64, n: usize, rho_i: f64) -> Model {
-    let props = BeamProps {
-        ea: 1e10,
-        gj: 1e8,
-        eiy: 1e8,
-        eiz: 1e8,
-        rho_a: 1.0,
-        rho_i: [2.0 * rho_i, rho_i, rho_i],
-        ..Default::default()
-    };
-    let mut b = ModelBuilder::new("pendulum");
-    let end = [theta0.sin(), 0.0, -theta0.cos()];
-    b.add_beam_chain("", [0.0; 3], end, n, Some([0.0, 1.0, 0.0]), Some(props))
-        .unwrap();
-    b.fix("n0", Some(&[Dof::X, Dof::Y, Dof::Z, Dof::Rx, Dof::Rz]))
-        .unwrap();
-    b.set_gravity([0.0, 0.0, -9.81]).unwrap();
-    b.build().unwrap()
-}
-
-/// Angle of the tip from the downward vertical.
-fn tip_angle(model: &Model, f: &Frame) -> f64 {
-    let tip = &model.nodes[model.nodes.len() - 1];
-    let (x, z) = (f.x[tip.ix_pos], f.x[tip.ix_pos + 2]);
-    x.atan2(-z)
-}
-
-/// Times where θ crosses zero downwards (θ from + to −), linearly interpolated.
-fn crossings(model: &Model, frames: &[Frame]) -> Vec<f64> {
-    let th: Vec<f64> = frames.iter().map(|f| tip_angle(model, f)).collect();
-    let mut out = Vec::new();
-    for k in 1..frames.len() {
-        if th[k - 1] > 0.0 && th[k] <= 0.0 {
-            let s = th[k - 1] / (th[k - 1] - th[k]);
-            out.push(frames[k - 1].t + s * (frames[k].t - frames[k - 1].t));
-        }
-    }
-    out
-}
-
-fn run(model: &Model, exc: &Excitation, o: &SimOptions) -> Simulation {
-    simulate(model, exc, o, &mut |_| {}).unwrap()
-}
-
-/// validation.md N04: the period of a large-amplitude rigid pendulum, T = (4/ω0) K(sin θ0/2),
-/// ω0² = m g (L/2) / I_pin with I_pin = m L²/3 + ρI_y L (the lumped rotary inertia turns with
-/// the bar). Tolerance 1e-4 relative.
-#[test]
-fn n04_large_amplitude_pendulum_period() {
-    let rho_i = 1e-5;
-    for (deg, n) in [(90.0_f64, 2), (150.0, 3)] {
-        let theta0 = deg.to_radians();
-        let model = pendulum(theta0, n, rho_i);
-        let i_pin = 1.0 / 3.0 + rho_i;
-        let w0 = (9.81 * 0.5 / i_pin).sqrt();
-        let want = 4.0 / w0 * elliptic_k((0.5 * theta0).sin());
-        let mut o = SimOptions::new(2.3 * want);
-        o.output_step = 1e-4;
-        o.atol = 1e-10;
-        o.rtol = 1e-8;
-        o.dt = 1e-4;
-        let sim = run(&model, &Excitation::default(), &o);
-        let c = crossings(&model, &sim.frames);
-        assert!(c.len() >= 2, "{deg}°: crossings {c:?}");
-        let got = c[1] - c[0];
-        assert!(
-            ((got - want) / want).abs() < 1e-4,
-            "{deg}°: period {got} vs {want}"
-        );
-        // energy T + V (V = m g z_centre) is kept to 1e-4 of m g L/2, the tolerance of N04
-        // (ρ∞ = 0.9 dissipates a little in the stiff axial modes; the energy test with ρ∞ = 1
-        // is `undamped_free_vibration_keeps_energy_and_the_modes_frequency`)
-        let tip = model.nodes.len() - 1;
-        let scale = 9.81 * 0.5;
-        for f in &sim.frames {
-            let z = f.x[model.nodes[tip].ix_pos + 2];
-            let e = f.energy.kinetic + scale * z;
-            assert!(
-                (e + scale * theta0.cos()).abs() < 1e-4 * scale,
-                "energy {e}"
-            );
-        }
-    }
-}
+use common::{pendulum, run, tip_angle};
+use flexmbd_core::model::{ElementSpec, ModelBuilder};
+use flexmbd_core::section::BeamProps;
+use flexmbd_core::simulation::{Excitation, SimOptions, TimeFunction};
+use flexmbd_core::Model;
 
 /// Second-order convergence in the step size on a smooth problem (the 30° pendulum with
 /// fixed steps, ρ∞ = 0.9): the error of the tip angle at t = 0.5 s against a run with a much
@@ -146,7 +53,7 @@ fn driven_rotor(angle: f64) -> Model {
     b.add_element(
         "rotor",
         &["hub", "tip"],
-        crate::model::ElementSpec::Beam {
+        ElementSpec::Beam {
             orient: Some([0.0, 1.0, 0.0]),
             ct: 0.0,
         },
@@ -155,7 +62,7 @@ fn driven_rotor(angle: f64) -> Model {
     )
     .unwrap();
     b.set_beam_props("rotor", props).unwrap();
-    let hinge = crate::model::ElementSpec::Hinge {
+    let hinge = ElementSpec::Hinge {
         axis: [0.0, 0.0, 1.0],
         k: 0.0,
     };

@@ -1,28 +1,14 @@
-//! Validation of the modal analysis (validation.md F01, F02).
+//! Validation of the modal analysis through the public API (validation.md F01, F02; F03 is in
+//! `validation_spin.rs`), and the conventions of the modes (signs, rigid-body modes).
 
-use super::*;
-use crate::assembly::mass::mass_matrix;
-use crate::model::ModelBuilder;
-use crate::section::{BeamProps, Material, Shape};
+mod common;
 
-/// A strip along x of `n` beams; width along global z (orientation vector), thickness along y,
-/// so out-of-plane bending moves the nodes along y.
-fn strip(n: usize, l: f64, props: BeamProps, clamp: bool) -> ModelBuilder {
-    let mut b = ModelBuilder::new("strip");
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [l, 0.0, 0.0],
-        n,
-        Some([0.0, 0.0, 1.0]),
-        Some(props),
-    )
-    .unwrap();
-    if clamp {
-        b.fix("n0", None).unwrap();
-    }
-    b
-}
+use common::{last_step, spring_steel_strip, strip};
+use flexmbd_core::assembly::mass::mass_matrix;
+use flexmbd_core::dynamics::{
+    fix_sign, modes, modes_with, rigid_body_count, EigenSolver, ModalOptions, Mode, SIGN_TIE_TOL,
+};
+use flexmbd_core::section::BeamProps;
 
 /// Out-of-plane bending: most kinetic energy in translation, and the translations along y.
 fn y_share(m: &Mode) -> f64 {
@@ -38,31 +24,28 @@ fn y_share(m: &Mode) -> f64 {
     y / all
 }
 
+/// The F01 instance: the spring-steel strip (L = 0.1 m, b = 20 mm, t = 0.5 mm, E = 200 GPa,
+/// ρ = 7800 kg/m³), the frequency scale √(EI/(ρA L⁴)) and L.
 fn f01_strip() -> (BeamProps, f64, f64) {
-    // F01 instance: spring steel L = 0.1 m, b = 20 mm, t = 0.5 mm, E = 200 GPa, ρ = 7800 kg/m³
-    let steel = Material {
-        e: 200e9,
-        g: 200e9 / 2.6,
-        rho: 7800.0,
-    };
-    let p = BeamProps::from_section(&steel, &Shape::Rectangle { w: 0.02, t: 0.5e-3 }, true);
+    let p = spring_steel_strip();
     // √(EI/(ρA L⁴)) = 73.0882 rad/s
     let c = (p.eiy / (p.rho_a * 0.1f64.powi(4))).sqrt();
     (p, c, 0.1)
 }
 
-fn step_of(model: &Model) -> StepResult {
-    crate::statics::last_step(model, 1)
+#[test]
+fn f01_euler_bernoulli_frequency_roots() {
+    f01_clamped_free_strip_bending_frequencies();
+    f01_free_free_strip_has_six_rigid_modes_then_bending();
 }
 
-#[test]
 fn f01_clamped_free_strip_bending_frequencies() {
     // validation.md F01: β L = 1.875104, 4.694091, 7.854757; f = (βL)² √(EI/(ρA L⁴))/(2π);
     // tolerance 0.1 % with ≥ 10 cubic elements (rotary inertia lowers them by < 0.05 %)
     let (p, c, l) = f01_strip();
     assert!((c - 73.0882).abs() < 1e-3, "{c}");
     let model = strip(10, l, p, true).build().unwrap();
-    let step = step_of(&model);
+    let step = last_step(&model, 1);
     let modal = modes(&model, &step, 12).unwrap();
     let bending: Vec<&Mode> = modal.modes.iter().filter(|m| y_share(m) > 0.99).collect();
     for (k, beta) in [1.875104f64, 4.694091, 7.854757].iter().enumerate() {
@@ -93,12 +76,11 @@ fn f01_clamped_free_strip_bending_frequencies() {
     }
 }
 
-#[test]
 fn f01_free_free_strip_has_six_rigid_modes_then_bending() {
     // free–free: 6 rigid-body modes at 0 Hz, first elastic bending β L = 4.730041
     let (p, c, l) = f01_strip();
     let model = strip(12, l, p, false).build().unwrap();
-    let step = step_of(&model);
+    let step = last_step(&model, 1);
     let modal = modes(&model, &step, 10).unwrap();
     // rigid-body eigenvalues relative to the first elastic one
     let first_elastic = modal.modes[6].eigenvalue;
@@ -154,7 +136,7 @@ fn f02_prestressed_cantilever_frequencies() {
         b.add_load("n16", [ratio * p_cr, 0.0, 0.0], [0.0; 3])
             .unwrap();
         let model = b.build().unwrap();
-        let step = step_of(&model);
+        let step = last_step(&model, 1);
         let modal = modes(&model, &step, 8).unwrap();
         assert!(modal.massless > 0, "rotations carry no inertia here");
         let bending: Vec<&Mode> = modal.modes.iter().filter(|m| y_share(m) > 0.99).collect();
@@ -186,7 +168,7 @@ fn sign_convention_of_mode_shapes() {
     // both eigen solvers give the convention, and so the same shapes (distinct frequencies)
     let (p, _, l) = f01_strip();
     let model = strip(60, l, p, true).build().unwrap();
-    let step = step_of(&model);
+    let step = last_step(&model, 1);
     let run = |solver| modes_with(&model, &step, 6, &ModalOptions::with_solver(solver)).unwrap();
     let (d, s) = (run(EigenSolver::Dense), run(EigenSolver::Sparse));
     assert_eq!(

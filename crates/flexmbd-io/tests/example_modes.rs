@@ -1,46 +1,26 @@
-//! `flexmbd modes` through the built binary: the F01 strip against the closed form, and the
-//! paper's folded-sheet guides (examples/paper_dynamic_{5,6}_sheets.toml) against facts that
-//! follow independently of the modal analysis.
+//! The modes of the shipped examples at the io level (the example read with `flexmbd_io`, the
+//! core's modal analysis, the `modes --json` document of the io writer; formerly run through
+//! the binary): the F01 strip against the closed form, the F03 rotating blade, and the paper's
+//! folded-sheet guides (examples/paper_dynamic_{5,6}_sheets.toml) against facts that follow
+//! independently of the modal analysis.
 //!
 //! - F01 (examples/strip_f01.toml): clamped–free Euler–Bernoulli strip, out-of-plane bending
 //!   f = (βL)² √(EI/(ρA L⁴))/(2π), βL = 1.875104, 4.694091, 7.854757, computed here from the
 //!   stated data (E, b, t, ρ, L). Tolerance 0.1 % (10 cubic elements).
 //! - The guides: the first mode is the intended translation along x, with its frequency
-//!   bounded by and close to √(k/m)/(2π), where k = F/δ comes from a `flexmbd static` run of a
+//!   bounded by and close to √(k/m)/(2π), where k = F/δ comes from a static solution of a
 //!   copy of the model with a small force along x on the platform (and also matches the closed
 //!   form 7.5 EI/L³ per folded sheet, see `folded_sheet_motion_stiffness`); the six-sheet guide
 //!   is stiffer along x; its 120° symmetry makes modes 2 and 3 an exact pair; no eigenvalue is
 //!   negative.
 
 use serde_json::Value;
-use std::process::Command;
 
 mod common;
 use common::example;
 
-/// Run the binary with `args`, require success and parse stdout as JSON.
-fn run_json(args: &[&str]) -> Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args(args)
-        .output()
-        .expect("flexmbd runs");
-    assert!(
-        out.status.success(),
-        "flexmbd {args:?} failed ({}):\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
-        panic!(
-            "flexmbd {args:?}: output is not JSON ({e}):\n{}",
-            String::from_utf8_lossy(&out.stdout)
-        )
-    })
-}
-
 fn modes_json(path: &std::path::Path, count: usize) -> Vec<Value> {
-    let count = count.to_string();
-    let doc = run_json(&["modes", path.to_str().unwrap(), "--json", "--count", &count]);
+    let doc = common::modes_doc(path, count);
     doc["modes"].as_array().expect("modes array").clone()
 }
 
@@ -173,25 +153,15 @@ const L_SHEET: f64 = 0.05;
 const W_SHEET: f64 = 0.02;
 const T_SHEET: f64 = 0.2e-3;
 
-/// k = F/δ along x of the platform node c from `flexmbd static` on a copy of the model with a
-/// force F along x on c (written to a temporary file).
+/// k = F/δ along x of the platform node c from the static solution (one load step) of a copy
+/// of the model with a force F along x on c.
 fn motion_stiffness(name: &str) -> f64 {
     let force = 0.01; // N: δ ≈ 10 µm, far in the linear range
     let text = std::fs::read_to_string(example(name)).expect("read the example");
     let copy = format!("{text}\n[[load]]\nnode = \"c\"\nforce = [{force:e}, 0.0, 0.0]\n");
-    let dir = std::env::temp_dir().join(format!("flexmbd-modes-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, copy).unwrap();
-    let doc = run_json(&[
-        "static",
-        path.to_str().unwrap(),
-        "--json",
-        "--quiet",
-        "--steps",
-        "1",
-    ]);
-    let _ = std::fs::remove_file(&path);
+    let mut f = flexmbd_io::parse_model_file(&copy, name).unwrap_or_else(|e| panic!("{e}"));
+    f.settings.steps = Some(1);
+    let doc = common::static_doc(&f, name, None);
     let last = doc["steps"].as_array().unwrap().last().unwrap().clone();
     let c = last["nodes"]
         .as_array()

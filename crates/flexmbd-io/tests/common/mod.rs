@@ -1,0 +1,111 @@
+//! The shipped examples at the io level (each test file is its own crate and includes this
+//! module): a model file read with `flexmbd_io`, one core call, and the io writer's JSON
+//! document — what `flexmbd check|modes|static|simulate --json` prints, without starting a
+//! process. The command line's own concerns (arguments, exit codes, formats) are tested in
+//! `crates/flexmbd-cli/tests/`.
+
+#![allow(dead_code)]
+
+use flexmbd_core::dynamics::{modes_with, ModalOptions};
+use flexmbd_core::kinematics::classify::{classify, ClassifyOptions};
+use flexmbd_core::linearized::{analyse, LinearRequest};
+use flexmbd_core::simulation::simulate;
+use flexmbd_core::statics::{solve_path, PathMethod};
+use flexmbd_io::report::{generalised_names, write_check_json, CheckReport};
+use flexmbd_io::requests::{static_options, SimOverrides};
+use flexmbd_io::ModelFile;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+/// The repository's `examples/` folder.
+pub fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// A shipped example model, `examples/NAME`.
+pub fn example(name: &str) -> PathBuf {
+    examples_dir().join(name)
+}
+
+/// Read a model file with its settings (the test fails on an input error).
+pub fn read(path: &Path) -> ModelFile {
+    flexmbd_io::read_model_file(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The `check --json` document of a model file: the kinematic check with the command's
+/// defaults (`--auto` when `auto`).
+pub fn check_doc(path: &Path, auto: bool) -> Value {
+    let m = read(path).model;
+    let opts = ClassifyOptions {
+        auto,
+        ..Default::default()
+    };
+    let c = classify(&m, &opts).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let file = path.display().to_string();
+    let report = CheckReport {
+        model: &m,
+        file: &file,
+        rank_tol: opts.check.rank_tol,
+        analysis: &c.analysis,
+        advice: &c.advice,
+        auto: c.chosen.as_deref().map(|chosen| (chosen, &c.before)),
+    };
+    let names = generalised_names(&m, &c.partition.x, &c.partition.e);
+    let mut out = Vec::new();
+    write_check_json(&mut out, &report, &names).expect("write to memory");
+    serde_json::from_slice(&out).expect("the check document is JSON")
+}
+
+/// The `modes --json --count COUNT` document of a model file: the modes about the last step of
+/// its static solution (the file's `[static]` settings), automatic solver choice.
+pub fn modes_doc(path: &Path, count: usize) -> Value {
+    let f = read(path);
+    let opts = static_options(&f.settings, None, None).unwrap_or_else(|e| panic!("{}", e.0));
+    let sol = solve_path(&f.model, &opts, |_, _| {}).unwrap_or_else(|s| panic!("{}", s.error));
+    let step = sol.steps.last().expect("a converged step");
+    let modal = modes_with(&f.model, step, count, &ModalOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let file = path.display().to_string();
+    flexmbd_io::modes_report::modes_json(&f.model, &file, step.load_factor, &modal, None)
+}
+
+/// The `static --json [--path arc-length]` document of a model file `f` read from `file`: the
+/// equilibrium path with the file's `[static]` settings (the path method `path` when given) and
+/// the linearised results the file asks for.
+pub fn static_doc(f: &ModelFile, file: &str, path: Option<PathMethod>) -> Value {
+    let mut opts = static_options(&f.settings, None, path).unwrap_or_else(|e| panic!("{}", e.0));
+    opts.line_search = f.settings.line_search;
+    let compliance = f
+        .settings
+        .compliance
+        .iter()
+        .map(|n| f.model.node_id(n).expect("compliance node"))
+        .collect();
+    let request = LinearRequest {
+        compliance,
+        buckling: f.settings.buckling,
+        ..Default::default()
+    };
+    let a = analyse(&f.model, &opts, &request, |_, _| {}).unwrap_or_else(|s| panic!("{}", s.error));
+    flexmbd_io::static_report::static_json(&f.model, file, &a.solution, &a.linear, None)
+}
+
+/// The `simulate --json --t-end T_END [--csv DIR]` document of a model file (the CSV tables
+/// written into the existing folder `csv` when given).
+pub fn simulate_doc(path: &Path, t_end: f64, csv: Option<&Path>) -> Value {
+    let f = read(path);
+    let file = path.display().to_string();
+    let over = SimOverrides {
+        t_end: Some(t_end),
+        ..Default::default()
+    };
+    let opts = over
+        .options(&file, &f.simulate, &|name| name.to_string())
+        .unwrap_or_else(|e| panic!("{}", e.0));
+    let sim = simulate(&f.model, &f.simulate.excitation, &opts, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    if let Some(dir) = csv {
+        flexmbd_io::sim_report::write_sim_csv(dir, &f.model, &sim).expect("write the CSV tables");
+    }
+    flexmbd_io::sim_report::sim_json(&f.model, &file, &sim, None)
+}
