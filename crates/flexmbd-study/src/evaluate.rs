@@ -4,7 +4,7 @@
 use crate::record::{Failure, Record, Status};
 use crate::spec::{support_dir, Study};
 use crate::Variant;
-use flexmbd_core::dynamics::{modes_with, ModalOptions};
+use flexmbd_core::dynamics::{modes_with, ModalOptions, ModeClass};
 use flexmbd_core::kinematics::classify::{classify, ClassifyOptions};
 use flexmbd_core::kinematics::CheckOptions;
 use flexmbd_core::linearized::{analyse, LinearRequest};
@@ -23,7 +23,7 @@ pub fn member(study: &Study, values: &[f64]) -> Result<ModelFile, flexmbd_io::er
         .zip(values)
         .map(|(p, &v)| (p.name.clone(), v))
         .collect();
-    let spec = parse_spec_with(&study.model_text, &study.model_file, &set)?;
+    let spec = flexmbd_io::model_toml::parse_spec_with(&study.model_text, &study.model_file, &set)?;
     spec.build_file()
         .map_err(|e| flexmbd_io::model_toml::spec_error(e, &study.model_file))
 }
@@ -32,7 +32,7 @@ pub fn member(study: &Study, values: &[f64]) -> Result<ModelFile, flexmbd_io::er
 /// in its document; returns the index of the first one that is not, with the reason. The
 /// model file itself must read (its errors are returned as they are).
 pub fn check_parameters(study: &Study) -> Result<Result<(), (usize, String)>, InputError> {
-    let spec = parse_spec_with(&study.model_text, &study.model_file, &[])?;
+    let spec = flexmbd_io::model_toml::parse_spec_with(&study.model_text, &study.model_file, &[])?;
     for (i, p) in study.parameters.iter().enumerate() {
         let name = p.name.as_str();
         if name.contains('.') {
@@ -48,8 +48,8 @@ pub fn check_parameters(study: &Study) -> Result<Result<(), (usize, String)>, In
                 }
                 Err(e) => return Ok(Err((i, format!("parameter `{name}`: {e}")))),
             }
-        } else if !declared(&spec).iter().any(|d| d == name) {
-            let declared = declared(&spec);
+        } else if !spec.parameters.contains_key(name) {
+            let declared: Vec<&str> = spec.parameters.keys().map(String::as_str).collect();
             return Ok(Err((
                 i,
                 format!(
@@ -238,29 +238,24 @@ fn modes_merits(
         .iter()
         .map(|m| m.frequency.is_finite().then_some(m.frequency))
         .collect();
-    let first_elastic = modal.modes.iter().find(|m| !m.rigid_body);
-    r.set("f1", first_elastic.map_or(f64::NAN, |m| m.frequency));
+    r.classes = modal
+        .modes
+        .iter()
+        .map(|m| m.class.name().to_string())
+        .collect();
+    let first = |c: Option<ModeClass>| {
+        modal
+            .modes
+            .iter()
+            .find(|m| c.map_or(!m.rigid_body, |c| m.class == c))
+            .map_or(f64::NAN, |m| m.frequency)
+    };
+    let f_int = first(Some(ModeClass::Intended));
+    r.set("f1", first(None));
+    r.set("f_intended", f_int);
+    r.set("f_support", first(Some(ModeClass::Support)));
+    r.set("f_internal", first(Some(ModeClass::Internal)));
+    r.set("support_ratio", first(Some(ModeClass::Support)) / f_int);
+    r.set("internal_ratio", first(Some(ModeClass::Internal)) / f_int);
     Ok(())
-}
-
-// TEMPORARY until the model parameters land (branch `param`): paths only.
-fn parse_spec_with(
-    text: &str,
-    file: &str,
-    set: &[(String, f64)],
-) -> Result<flexmbd_io::spec::ModelSpec, flexmbd_io::error::InputError> {
-    let mut spec = flexmbd_io::model_toml::parse_spec(text, file)?;
-    for (k, v) in set {
-        spec.set(k, *v)
-            .map_err(|e| flexmbd_io::error::InputError::File {
-                file: file.into(),
-                message: format!("--set {k}: {e}"),
-            })?;
-    }
-    Ok(spec)
-}
-
-// TEMPORARY until the model parameters land (branch `param`).
-fn declared(_spec: &flexmbd_io::spec::ModelSpec) -> Vec<String> {
-    Vec::new()
 }

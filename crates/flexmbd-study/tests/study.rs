@@ -342,3 +342,27 @@ sampling = "list"
     assert_eq!(gv[1], [0.2e-3, 0.1]);
     assert_eq!(gv[2], [0.5e-3, 0.08]);
 }
+
+#[test]
+fn the_paper_guide_study_reports_the_intended_and_support_frequencies() {
+    // examples/folded_sheet_guide_param.toml at the paper's t = 0.2 mm, L = 50 mm: mode 1 the
+    // intended x translation at 8.2 Hz (paper §5), then support modes (the paper: "about
+    // 20 x" higher), the fold modes internal; f_intended scales as t^1.5 (the model's header)
+    let s = study(
+        r#"
+[study]
+model = "folded_sheet_guide_param.toml"
+analyses = ["modes"]
+modes = 10
+[parameters]
+t = { values = [0.2e-3, 0.3e-3] }
+"#,
+        "folded_sheet_guide_param.toml",
+    );
+    let r = all(&s, 2);
+    let f = |k: usize, m: &str| r[k].merits[m].unwrap_or_else(|| panic!("{m}"));
+    assert!((f(0, "f_intended") / 8.2 - 1.0).abs() < 0.01);
+    assert_eq!(r[0].classes[0], "intended");
+    assert!(f(0, "support_ratio") > 15.0 && f(0, "f_internal") > f(0, "f_support"));
+    assert!((f(1, "f_intended") / f(0, "f_intended") / 1.5f64.powf(1.5) - 1.0).abs() < 0.01);
+}
