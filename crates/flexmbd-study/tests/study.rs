@@ -302,9 +302,7 @@ fn study_file_errors_name_the_line_and_the_item() {
     ];
     for (text, line, words) in cases {
         let m = example("strip_f01.toml");
-        let e = Study::parse(text, "s.toml", move |_| Ok(m))
-            .err()
-            .expect("an error");
+        let e = Study::parse(text, "s.toml", move |_| Ok(m)).expect_err("an error");
         let msg = e.to_string();
         assert!(msg.starts_with(&format!("s.toml:{line}:")), "{msg}");
         assert!(msg.contains(words), "{msg}");
