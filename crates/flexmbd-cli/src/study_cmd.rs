@@ -145,29 +145,14 @@ fn summary(
     s += &format!("Parameters: {}\n", study.parameter_names().join(", "));
     s += "\nFigure of merit            unit          min            max   variants\n";
     for m in flexmbd_study::merit_names(&study.analyses) {
-        let v: Vec<f64> = out
-            .records
-            .values()
-            .filter_map(|r| r.merits.get(&m).copied().flatten())
-            .collect();
-        let (lo, hi) = v
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
-        let f = |x: f64| {
-            if x.is_finite() {
-                flexmbd_study::plots::cell(Some(x))
-            } else {
-                "-".into()
-            }
-        };
+        let range = flexmbd_study::plots::merit_range(&out.records, &m);
+        let f = |x: Option<f64>| x.map_or("-".into(), |x| flexmbd_study::plots::cell(Some(x)));
         s += &format!(
             "{m:<26} {:<8} {:>14} {:>14} {:>10}\n",
             flexmbd_study::plots::merit_unit(&m),
-            f(lo),
-            f(hi),
-            v.len()
+            f(range.min),
+            f(range.max),
+            range.count
         );
     }
     if !failed.is_empty() {

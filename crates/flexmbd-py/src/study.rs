@@ -98,6 +98,15 @@ pub struct StudyOutputs {
     out: Mutex<Outputs>,
 }
 
+impl StudyOutputs {
+    /// The folder, for one writer at a time (a writer that panicked leaves it unusable).
+    fn lock(&self) -> Result<std::sync::MutexGuard<'_, Outputs>, Failure> {
+        self.out
+            .lock()
+            .map_err(|_| Failure::new(errors::Kind::Numerical, "the output folder is unusable"))
+    }
+}
+
 #[pymethods]
 impl StudyOutputs {
     /// Open (create, resume, or with `replace` start over) the folder `out` of a study.
@@ -125,9 +134,7 @@ impl StudyOutputs {
     /// Write records (JSON lines) as they arrive.
     fn write(&self, py: Python<'_>, lines: Vec<String>) -> PyResult<()> {
         let records = parse_lines(&lines).map_err(|f| f.into_py(py))?;
-        let mut o = self.out.lock().map_err(|_| {
-            Failure::new(errors::Kind::Numerical, "the output folder is unusable").into_py(py)
-        })?;
+        let mut o = self.lock().map_err(|f| f.into_py(py))?;
         for r in records {
             o.write(r).map_err(|e| study_failure(e).into_py(py))?;
         }
@@ -137,9 +144,7 @@ impl StudyOutputs {
     /// Rewrite results.csv in variant order and, with `plots`, draw the plots and the page;
     /// returns every record of the folder (JSON lines, in variant order).
     fn finish(&self, py: Python<'_>, plots: bool) -> PyResult<Vec<String>> {
-        let o = self.out.lock().map_err(|_| {
-            Failure::new(errors::Kind::Numerical, "the output folder is unusable").into_py(py)
-        })?;
+        let o = self.lock().map_err(|f| f.into_py(py))?;
         o.finish(&self.study)
             .map_err(|e| study_failure(e).into_py(py))?;
         if plots {
@@ -176,11 +181,7 @@ pub fn study_run(
         flexmbd_study::run(&s, &todo, jobs, |r| {
             if let Some(o) = outputs {
                 let written = o
-                    .out
                     .lock()
-                    .map_err(|_| {
-                        Failure::new(errors::Kind::Numerical, "the output folder is unusable")
-                    })
                     .and_then(|mut o| o.write(r.clone()).map_err(study_failure));
                 if let Err(f) = written {
                     failure.get_or_insert(f);

@@ -2,7 +2,7 @@
 //! (the same calls as `flexmbd check`, `static` and `modes`), then its figures of merit.
 
 use crate::record::{Failure, Record, Status};
-use crate::spec::{support_dir, Study};
+use crate::spec::{support_dir, support_merit, Study};
 use crate::Variant;
 use flexmbd_core::dynamics::{modes_with, ModalOptions, ModeClass};
 use flexmbd_core::kinematics::classify::{classify, ClassifyOptions};
@@ -65,25 +65,22 @@ pub fn check_parameters(study: &Study) -> Result<Result<(), (usize, String)>, In
 /// Evaluate one variant. Never panics and never fails: a failure is a record with its stage
 /// and message.
 pub fn evaluate(study: &Study, v: &Variant) -> Record {
-    let mut r = Record::empty(study, v);
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let mut r2 = r.clone();
-        let out = evaluate_into(study, v, &mut r2);
-        (r2, out)
+        let mut r = Record::empty(study, v);
+        let out = evaluate_into(study, v, &mut r);
+        (r, out)
     }));
-    let outcome = match run {
-        Ok((r2, out)) => {
-            r = r2;
-            out
-        }
-        Err(p) => Err(Failure::new(
+    // after a defect, none of the variant's values are trusted: an empty record
+    let (mut r, outcome) = run.unwrap_or_else(|p| {
+        let failure = Failure::new(
             "internal",
             format!(
                 "flexmbd failed on this variant ({}); please report it with the study file",
                 panic_text(&p)
             ),
-        )),
-    };
+        );
+        (Record::empty(study, v), Err(failure))
+    });
     if let Err(f) = outcome {
         r.status = Status::Failed;
         r.error = Some(f);
@@ -136,7 +133,7 @@ fn evaluate_into(study: &Study, v: &Variant, r: &mut Record) -> Result<(), Failu
                 )
             })?;
             request.compliance.push(id);
-            support.push((s.clone(), request.compliance.len() - 1, dir));
+            support.push((support_merit(s), request.compliance.len() - 1, dir));
         }
         request.buckling = usize::from(a.buckling);
     }
@@ -177,7 +174,7 @@ fn stroke_merits(
         return;
     };
     r.set("stroke_reached", last.load_factor);
-    for (s, slot, dir) in support {
+    for (name, slot, dir) in support {
         let k_at = |i: usize| -> f64 {
             an.linear
                 .get(i)
@@ -191,8 +188,6 @@ fn stroke_merits(
                 })
         };
         let (k0, k1) = (k_at(0), k_at(steps.len() - 1));
-        let (node, d) = support_dir(s).unwrap_or_default();
-        let name = format!("k_{node}_{}", ["x", "y", "z", "rx", "ry", "rz"][d]);
         r.set(&format!("{name}_start"), k0);
         r.set(&format!("{name}_end"), k1);
         r.set(&format!("{name}_drop"), 1.0 - k1 / k0);

@@ -36,16 +36,49 @@ pub(crate) fn clear(dir: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The smallest and largest value of a figure of merit over a study's records, and how many
+/// records have a value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeritRange {
+    /// The smallest value (none without a value).
+    pub min: Option<f64>,
+    /// The largest value.
+    pub max: Option<f64>,
+    /// The number of records with a value.
+    pub count: usize,
+}
+
+/// The [`MeritRange`] of `merit` over `records`.
+pub fn merit_range(records: &BTreeMap<usize, Record>, merit: &str) -> MeritRange {
+    let mut r = MeritRange {
+        min: None,
+        max: None,
+        count: 0,
+    };
+    for v in records
+        .values()
+        .filter_map(|r| r.merits.get(merit).copied().flatten())
+    {
+        r.min = Some(r.min.map_or(v, |m| m.min(v)));
+        r.max = Some(r.max.map_or(v, |m| m.max(v)));
+        r.count += 1;
+    }
+    r
+}
+
 /// The (merit, parameter) pairs worth a plot: merits with at least two different values.
 fn plotted(study: &Study, records: &BTreeMap<usize, Record>) -> Vec<(String, String)> {
     let mut out = Vec::new();
     for m in merit_names(&study.analyses) {
-        let vals: Vec<f64> = records
-            .values()
-            .filter_map(|r| r.merits.get(&m).copied().flatten())
-            .collect();
-        let varies = vals.iter().any(|v| *v != vals[0]);
-        if varies {
+        let MeritRange {
+            min: Some(lo),
+            max: Some(hi),
+            ..
+        } = merit_range(records, &m)
+        else {
+            continue;
+        };
+        if lo < hi {
             for p in study.parameter_names() {
                 out.push((m.clone(), p.to_string()));
             }
@@ -157,22 +190,14 @@ td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}th{background:#eee}
     );
     h += "<h2>Figures of merit</h2>\n<table><tr><th>figure of merit</th><th>unit</th><th>min</th><th>max</th><th>variants with a value</th></tr>\n";
     for m in &merits {
-        let v: Vec<f64> = records
-            .values()
-            .filter_map(|r| r.merits.get(m).copied().flatten())
-            .collect();
-        let (lo, hi) = v
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
+        let range = merit_range(records, m);
         h += &format!(
             "<tr><td style=\"text-align:left\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
             esc(m),
             esc(merit_unit(m)),
-            cell(lo.is_finite().then_some(lo)),
-            cell(hi.is_finite().then_some(hi)),
-            v.len()
+            cell(range.min),
+            cell(range.max),
+            range.count
         );
     }
     h += "</table>\n<h2>Plots</h2>\n";

@@ -2,7 +2,7 @@
 //! One JSON line per record; the CSV table has one row per record with the same columns for
 //! every variant of a study.
 
-use crate::spec::{support_dir, Analyses, Study};
+use crate::spec::{support_merit, Analyses, Study};
 use crate::Variant;
 use indexmap::IndexMap;
 use serde::{Deserialize, Serialize};
@@ -162,10 +162,9 @@ pub fn merit_names(a: &Analyses) -> Vec<String> {
     if a.stroke {
         n.push("stroke_reached".into());
         for s in &a.support {
-            let (node, dir) = support_dir(s).unwrap_or_default();
-            let d = ["x", "y", "z", "rx", "ry", "rz"][dir];
+            let name = support_merit(s);
             for end in ["start", "end", "drop"] {
-                n.push(format!("k_{node}_{d}_{end}"));
+                n.push(format!("{name}_{end}"));
             }
         }
         n.extend(["max_stress", "max_actuation_force"].map(String::from));

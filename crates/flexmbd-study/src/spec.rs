@@ -481,10 +481,19 @@ impl Study {
     }
 }
 
+/// The support directions, in the order of a compliance's rows.
+const DIRS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+/// The name stem of the figures of merit of a support direction `NODE:DIR`: `k_NODE_DIR`
+/// (followed by `_start`, `_end`, `_drop`); `s` is one the study reader accepted.
+pub fn support_merit(s: &str) -> String {
+    let (node, dir) = support_dir(s).unwrap_or_default();
+    format!("k_{node}_{}", DIRS[dir])
+}
+
 /// `NODE:DIR` → (node, index of the direction in x, y, z, rx, ry, rz). Node names may hold
 /// `:`, so the direction is read from the right.
 pub fn support_dir(s: &str) -> Result<(String, usize), String> {
-    const DIRS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
     let usage = || format!("`{s}`: expected NODE:DIR with DIR one of x, y, z, rx, ry, rz");
     let (node, dir) = s.rsplit_once(':').ok_or_else(usage)?;
     let k = DIRS.iter().position(|d| *d == dir).ok_or_else(usage)?;
