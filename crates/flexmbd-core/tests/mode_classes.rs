@@ -145,10 +145,9 @@ fn massless_leaves_give_exactly_one_for_both_fractions() {
     let m = 0.5;
     let model = guide_builder(1, m, 0.0, false).build().unwrap();
     let step = last_step(&model, 1);
-    // (dense path only: the sparse one returns no mode for this model, whose only mass sits on
-    // a node held by a rigid body; reported with the branch `mclass`)
-    let solver = EigenSolver::Dense;
-    {
+    // (both paths: the sparse one once returned no mode for this model, whose only mass sits on
+    // a node that only a rigid body holds)
+    for solver in [EigenSolver::Dense, EigenSolver::Sparse] {
         let r = modal(&model, &step, 3, solver);
         let first = &r.modes[0];
         assert_eq!(first.class, ModeClass::Intended, "{solver:?}");
@@ -262,5 +261,31 @@ fn dense_and_sparse_paths_give_the_same_classes() {
         assert!((fa.body - fb.body).abs() < 1e-8, "mode {k}: {fa:?} {fb:?}");
         let (ra, rb) = (fa.released.unwrap(), fb.released.unwrap());
         assert!((ra - rb).abs() < 1e-8, "mode {k}: {fa:?} {fb:?}");
+    }
+}
+
+#[test]
+fn a_mass_held_still_by_constraints_adds_no_mode_on_either_path() {
+    // The massless-leaf guide plus a second body: a rigid arm from a clamped node to a node
+    // `g` that carries a point mass. g cannot move (the arm is held at its clamped end), so
+    // its mass adds no finite eigenvalue: still the three translations of c (x at the static
+    // frequency √(24 EI/(L³ m))/2π), however many modes are asked for; the sparse path must not
+    // invent modes from the held mass nor lose the real ones.
+    let m = 0.5;
+    let mut b = guide_builder(1, m, 0.0, false);
+    b.add_node("base", [0.2, 0.0, 0.0], true).unwrap();
+    b.fix("base", None).unwrap();
+    b.add_node("g", [0.3, 0.0, 0.0], false).unwrap();
+    b.add_element("arm", &["base", "g"], ElementSpec::Rigid, &[], &[])
+        .unwrap();
+    b.add_point_mass("g", 2.0).unwrap();
+    let model = b.build().unwrap();
+    let step = last_step(&model, 1);
+    let want = (24.0 * ei() / (L.powi(3) * m)).sqrt() / (2.0 * PI);
+    for solver in [EigenSolver::Dense, EigenSolver::Sparse] {
+        let r = modal(&model, &step, 6, solver);
+        assert_eq!(r.modes.len(), 3, "{solver:?}: {:?}", classes(&r));
+        let f = r.modes[0].frequency;
+        assert!((f - want).abs() < 1e-9 * want, "{solver:?}: {f} vs {want}");
     }
 }

@@ -182,6 +182,25 @@ impl SparseProblem {
     }
 }
 
+/// The scale of the eigenvalues, from the diagonals of K and M: the largest Rayleigh quotient
+/// of a unit coordinate that carries mass; when every coordinate with mass has no stiffness of
+/// its own (a point mass on a node that only a rigid body holds: its stiffness reaches it through
+/// the constraints), the largest stiffness over the largest mass. It sets the round-off level of
+/// the shifts and the shift above every finite eigenvalue that counts the massless directions,
+/// so it must never collapse to zero while the model has mass and stiffness.
+fn eigenvalue_scale(kd: &[f64], md: &[f64]) -> f64 {
+    let own = kd
+        .iter()
+        .zip(md)
+        .filter(|(_, &m)| m > 0.0)
+        .map(|(&k, &m)| k.abs() / m)
+        .fold(0.0f64, f64::max);
+    let k_max = kd.iter().fold(0.0f64, |a, &k| a.max(k.abs()));
+    let m_max = md.iter().copied().fold(0.0f64, f64::max);
+    let across = if m_max > 0.0 { k_max / m_max } else { 0.0 };
+    own.max(across).max(f64::MIN_POSITIVE)
+}
+
 /// The lowest `count` eigenpairs of the problem `p` of `model` at `step`.
 fn modes_of(
     p: &Problem,
@@ -203,15 +222,8 @@ fn modes_of(
     }
     let ndof = nc - n_constraints;
     let mut op = Shifted::new(p);
-    // scale of the eigenvalues: the largest Rayleigh quotient of a unit coordinate
     let (kd, md) = p.diagonals();
-    let lambda_ref = kd
-        .iter()
-        .zip(&md)
-        .filter(|(_, &m)| m > 0.0)
-        .map(|(&k, &m)| k.abs() / m)
-        .fold(0.0f64, f64::max)
-        .max(f64::MIN_POSITIVE);
+    let lambda_ref = eigenvalue_scale(&kd, &md);
     // shift: 0 when K is positive definite on the constrained space, else lowered until no
     // eigenvalue lies below it (inertia), starting just above the round-off level
     let mut shifts = vec![0.0];
@@ -246,11 +258,19 @@ fn modes_of(
         return Err(ModalError::SparseSingular);
     };
     // massless directions: the finite eigenvalues all lie below a shift far above them
+    // (when L D Lᵀ cannot count there — a coordinate with neither stiffness nor mass of its own,
+    // held only through constraints, is a zero pivot at any shift — the finite eigenvalues are
+    // at most as many as the coordinates with mass: M is positive semi-definite, so a zero
+    // diagonal entry is a zero row, and its rank on the constrained space is no larger)
     let massless = match op.count_below(p, 1e8 * lambda_ref) {
         Some(finite) if finite <= ndof => ndof - finite,
-        _ => md.iter().filter(|&&m| m <= 0.0).count().min(ndof),
+        _ => ndof - md.iter().filter(|&&m| m > 0.0).count().min(ndof),
     };
     let n_finite = ndof - massless;
+    if n_finite == 0 {
+        // the mass lies only in directions the constraints remove (as the dense path finds it)
+        return Err(ModalError::NoMass);
+    }
     let want = count.min(n_finite);
     if want == 0 {
         return Ok(SparseModes {
