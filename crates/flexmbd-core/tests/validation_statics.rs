@@ -554,3 +554,80 @@ fn huge_step_counts_are_an_error_not_an_allocation_failure() {
         }
     }
 }
+
+#[test]
+fn s08_lateral_torsional_buckling_of_a_narrow_cantilever() {
+    // validation.md S08 (FinEtoolsFlexStructures.jl tippling example; closed form): L = 30,
+    // thickness b = 0.5 (local z), depth h = 4 (local y, the stiff plane), E = 1e6,
+    // G = 384615, I_weak = h b³/12, J = 0.153536 (St-Venant series). A transverse tip load at
+    // the centroid along the depth: P_cr = γ √(E I_weak G J)/L², γ = 4.012599, 221.15 for the
+    // instance; tolerance 1 %. The load is 1 (far below P_cr: a linear pre-buckling state), so
+    // the first buckling multiplier is P_cr itself.
+    let (l, b, h, e, g, j) = (30.0f64, 0.5f64, 4.0f64, 1.0e6, 384_615.0, 0.153536);
+    let (i_weak, i_strong, a) = (h * b.powi(3) / 12.0, b * h.powi(3) / 12.0, b * h);
+    let props = BeamProps {
+        ea: e * a,
+        gj: g * j,
+        eiy: e * i_weak,
+        eiz: e * i_strong,
+        shear: [0.0; 2],
+        ct: (i_weak + i_strong) / a,
+        rho_a: 0.0,
+        rho_i: [0.0; 3],
+        area: 0.0,
+        i: [0.0; 2],
+        fibre: [0.0; 2],
+    };
+    let n = 20;
+    let mut bld = cantilever(n, l, props);
+    bld.add_load(&format!("n{n}"), [0.0, 1.0, 0.0], [0.0; 3])
+        .unwrap();
+    let model = bld.build().unwrap();
+    let step = last_step(&model, 1);
+    let bk = buckling(&Tangent::new(&model, &step), 2).unwrap();
+    let want = 4.012599 * (e * i_weak * g * j).sqrt() / (l * l);
+    assert!((want - 221.15).abs() < 0.01, "{want}");
+    let p_cr = bk.multipliers[0];
+    assert!((p_cr - want).abs() < 1e-2 * want, "{p_cr} vs {want}");
+}
+
+#[test]
+fn s07_greenhill_shaft_under_axial_torque() {
+    // validation.md S07 (opensees-gallery FrameHockle after Nour-Omid & Rankin): L = 240,
+    // E = 71240, G = 27190, A = 10, I = 0.0833, J = 2.16 (N, mm); clamped at s = 0; at s = L
+    // the transverse translations and the rotations about the transverse axes held, the axial
+    // translation free and the axial rotation free, loaded by a torque T about the axis.
+    // Greenhill: T_cr = 2 λ EI/L with λ = 4.493409 the smallest root of tan λ = λ,
+    // 222.21 N·mm; tolerance +2 % / −0.5 % (validation.md). Here the linear buckling of the
+    // straight shaft under T = 1 (no imperfection is needed for the eigenvalue).
+    let (l, e, g, a, i, j) = (240.0f64, 71240.0, 27190.0, 10.0, 0.0833, 2.16);
+    let props = BeamProps {
+        ea: e * a,
+        gj: g * j,
+        eiy: e * i,
+        eiz: e * i,
+        shear: [0.0; 2],
+        ct: 2.0 * i / a,
+        rho_a: 0.0,
+        rho_i: [0.0; 3],
+        area: 0.0,
+        i: [0.0; 2],
+        fibre: [0.0; 2],
+    };
+    let n = 20;
+    let mut bld = cantilever(n, l, props);
+    let end = format!("n{n}");
+    bld.fix(&end, Some(&[Dof::Y, Dof::Z, Dof::Ry, Dof::Rz]))
+        .unwrap();
+    bld.add_load(&end, [0.0; 3], [1.0, 0.0, 0.0]).unwrap();
+    let model = bld.build().unwrap();
+    let step = last_step(&model, 1);
+    let bk = buckling(&Tangent::new(&model, &step), 2).unwrap();
+    let want = 2.0 * 4.493409 * e * i / l;
+    assert!((want - 222.21).abs() < 0.01, "{want}");
+    let t_cr = bk.multipliers[0];
+    assert!(
+        t_cr > (1.0 - 0.005) * want && t_cr < 1.02 * want,
+        "{t_cr} vs {want}"
+    );
+}
