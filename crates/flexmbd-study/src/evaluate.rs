@@ -7,7 +7,7 @@ use crate::Variant;
 use flexmbd_core::dynamics::{modes_with, ModalOptions, ModeClass};
 use flexmbd_core::kinematics::classify::{classify, ClassifyOptions};
 use flexmbd_core::kinematics::CheckOptions;
-use flexmbd_core::linearized::{analyse, LinearRequest};
+use flexmbd_core::linearized::{analyse, at_step, LinearRequest};
 use flexmbd_core::statics::{StaticAnalysis, StepResult};
 use flexmbd_core::Model;
 use flexmbd_io::error::InputError;
@@ -132,18 +132,45 @@ fn evaluate_into(study: &Study, v: &Variant, r: &mut Record) -> Result<(), Failu
                     format!("support `{s}`: node `{node}` is not in the model"),
                 )
             })?;
-            request.compliance.push(id);
-            support.push((support_merit(s), request.compliance.len() - 1, dir));
+            // one compliance per node, however many of its directions are asked for
+            let slot = match request.compliance.iter().position(|&c| c == id) {
+                Some(slot) => slot,
+                None => {
+                    request.compliance.push(id);
+                    request.compliance.len() - 1
+                }
+            };
+            support.push((support_merit(s), slot, dir));
         }
         request.buckling = usize::from(a.buckling);
     }
-    let (analysis, stopped) = match analyse(model, &opts, &request, |_, _| {}) {
+    // The buckling margin needs every loaded state linearised; the support stiffness only the
+    // first and the last (the figures of merit are k_start and k_end): then the path is solved
+    // alone and linearised at its two ends.
+    let ends_only = request.buckling == 0;
+    let along = if ends_only {
+        LinearRequest::default()
+    } else {
+        request.clone()
+    };
+    let (mut analysis, stopped) = match analyse(model, &opts, &along, |_, _| {}) {
         Ok(an) => (an, None),
         Err(s) => {
             let message = format!("{s}: {}", s.error);
             (s.analysis, Some(message))
         }
     };
+    if ends_only && !request.is_empty() {
+        let steps = &analysis.solution.steps;
+        let n = steps.len();
+        for i in [0, n.saturating_sub(1)] {
+            if let (Some(st), Some(slot)) = (steps.get(i), analysis.linear.get_mut(i)) {
+                if slot.compliance.is_empty() {
+                    *slot = at_step(model, st, &request);
+                }
+            }
+        }
+    }
     if a.stroke {
         stroke_merits(model, &analysis, &support, r);
     }
