@@ -21,11 +21,16 @@ the first of chromium, chromium-browser, google-chrome on PATH) from a file:// U
   the time slider moves the tip, playing advances the time, the pictures at two times differ;
 - every control (selectors, sliders, buttons, views, clicks on the canvas, keys) works without
   error, in a copy of each report with a small script added that operates them;
-- a broken page (invalid data) is reported as an error, so the checks above can fail.
+- a broken page (invalid data) is reported as an error, so the checks above can fail;
+- the page of a design study (`flexmbd study`, docs/studies.md): a 2 × 2 grid over two
+  parameters of examples/folded_sheet_guide_param.toml gives a page with no console message, one
+  row per variant with the grid's values and status ok, one inlined plot per varying figure of
+  merit and parameter with a marker per variant, and a screenshot that is not blank.
 
 Only the Python standard library is used (the PNG decoder is below). Screenshots are kept in
 OUTDIR for a look.
 """
+import json
 import math
 import os
 import re
@@ -484,6 +489,66 @@ def view(out, name, model, *args):
     return path
 
 
+# the study: two thicknesses and two angles of sheet 2 (the values are the grid's, independent
+# of flexmbd: the records must carry exactly these)
+STUDY_T = (0.2e-3, 0.25e-3)
+STUDY_ANGLE = (200.0, 220.0)
+
+
+def study_checks(out, profile):
+    failed_before = len(FAILURES)
+    folder = os.path.join(out, "study")
+    path = os.path.join(out, "study.toml")
+    model = os.path.join(ROOT, "examples", "folded_sheet_guide_param.toml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(
+            "[study]\nname = \"html check\"\n"
+            f"model = {json.dumps(model)}\n"
+            "analyses = [\"check\", \"modes\"]\nmodes = 4\n"
+            "[parameters]\n"
+            f"t = {{ values = [{STUDY_T[0]!r}, {STUDY_T[1]!r}] }}\n"
+            f"angle = {{ values = [{STUDY_ANGLE[0]!r}, {STUDY_ANGLE[1]!r}] }}\n"
+        )
+    cmd = flexmbd() + ["--force", "--quiet", "study", path, "--out", folder, "--jobs", "2"]
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=900)
+    if r.returncode != 0:
+        fail(f"{' '.join(cmd)}: exit {r.returncode}: {r.stderr[-2000:]}")
+        return
+    page = os.path.join(folder, "study.html")
+    dom, console = browse(page, "", out, profile)
+    if console:
+        fail(f"study.html: console messages: {console}")
+    rows = re.findall(r"<tr(?: class=\"failed\")?><td>(\d+)</td>(.*?)</tr>", dom, re.S)
+    grid = [(t, a) for t in STUDY_T for a in STUDY_ANGLE]
+    if len(rows) != len(grid):
+        fail(f"study.html: {len(rows)} variant rows, expected {len(grid)}")
+    for (variant, rest) in rows:
+        cells = re.findall(r"<td[^>]*>(.*?)</td>", rest, re.S)
+        want = grid[int(variant)] if int(variant) < len(grid) else None
+        got = tuple(float(c) for c in cells[:2]) if len(cells) >= 3 else None
+        if want is None or got is None or any(abs(g - w) > 1e-5 * abs(w) for g, w in zip(got, want)):
+            fail(f"study.html: variant {variant} has parameters {got}, expected {want}")
+        elif cells[2] != "ok":
+            fail(f"study.html: variant {variant} status {cells[2]!r}: {cells[-1]}")
+    svgs = re.findall(r"<svg.*?</svg>", dom, re.S)
+    titles = re.findall(r"<h3>(.*?)</h3>", dom)
+    plots = sorted(os.listdir(os.path.join(folder, "plots")))
+    if not svgs or len(svgs) != len([p for p in plots if p.endswith(".svg")]):
+        fail(f"study.html: {len(svgs)} inlined plots, plots/ holds {plots}")
+    thin = [i for i, svg in enumerate(svgs) if svg.count("<circle") < len(grid)]
+    if thin:
+        fail(f"study.html: plots {thin} have fewer than {len(grid)} markers")
+    if len(FAILURES) == failed_before:
+        ok(f"study.html: {len(rows)} variants, {len(svgs)} plots of {len(titles)} figures of merit")
+    png = os.path.join(out, "study_page.png")
+    browse(page, "", out, profile, screenshot=png)
+    if os.path.exists(png):
+        w, h, pixels = read_png(png)
+        not_blank("study.html", crop((w, h, pixels), (0, 0, w, h)), min_off=0.01, min_colours=4)
+    else:
+        fail("study.html: no screenshot")
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else tempfile.mkdtemp(prefix="flexmbd-html-")
     os.makedirs(out, exist_ok=True)
@@ -561,6 +626,9 @@ def run(out, profile):
         exercise(page, out, profile)
     # the pendulum is one thin bar, which a 9 × 5 grid of clicks can miss
     exercise(sim, out, profile, clicks_select=False)
+
+    # the page of a design study
+    study_checks(out, profile)
 
     # a broken page must be reported: the checks above can fail
     with open(twelve, encoding="utf-8") as f:

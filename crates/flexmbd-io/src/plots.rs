@@ -109,7 +109,12 @@ impl Plot {
             }
         }
         if x1 <= x0 {
-            (x0, x1) = (x0 - 0.5 * x0.abs().max(1.0), x1 + 0.5 * x1.abs().max(1.0));
+            let half = if x0 == 0.0 { 1.0 } else { 0.5 * x0.abs() };
+            (x0, x1) = (x0 - half, x1 + half);
+        } else if !self.lines {
+            // a scatter plot: markers at the ends of the range clear of the axes
+            let pad = 0.04 * (x1 - x0);
+            (x0, x1) = (x0 - pad, x1 + pad);
         }
         if self.log_y {
             (y0, y1) = (y0 / 3.0, y1 * 3.0);
