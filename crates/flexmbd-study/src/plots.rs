@@ -66,7 +66,21 @@ pub fn merit_range(records: &BTreeMap<usize, Record>, merit: &str) -> MeritRange
     r
 }
 
-/// The (merit, parameter) pairs worth a plot: merits with at least two different values.
+/// Whether a figure of merit whose values span `lo..=hi` varies by more than round-off: by more
+/// than 1e-9 of its magnitude, and, for a stiffness drop 1 − k_end/k_start (a ratio of order
+/// one), by more than 1e-9 at all (the two ends of a path without a stroke give a drop of a
+/// few 1e-11, which is no drop).
+fn varies(merit: &str, lo: f64, hi: f64) -> bool {
+    let size = lo.abs().max(hi.abs());
+    let floor = if merit.ends_with("_drop") {
+        1e-9f64.max(1e-9 * size)
+    } else {
+        1e-9 * size
+    };
+    hi - lo > floor
+}
+
+/// The (merit, parameter) pairs worth a plot: merits whose values vary ([`varies`]).
 fn plotted(study: &Study, records: &BTreeMap<usize, Record>) -> Vec<(String, String)> {
     let mut out = Vec::new();
     for m in merit_names(&study.analyses) {
@@ -78,7 +92,7 @@ fn plotted(study: &Study, records: &BTreeMap<usize, Record>) -> Vec<(String, Str
         else {
             continue;
         };
-        if lo < hi {
+        if varies(&m, lo, hi) {
             for p in study.parameter_names() {
                 out.push((m.clone(), p.to_string()));
             }
@@ -255,4 +269,19 @@ td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}th{background:#eee}
     h += "</table>\n</body></html>\n";
     let path = dir.join("study.html");
     std::fs::write(&path, h).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::varies;
+
+    #[test]
+    fn round_off_is_not_a_variation() {
+        // a frequency from 8.2 to 11.5 Hz varies; the same stiffness up to the last digits
+        // does not; a drop of ±5e-11 between two identical states does not; a drop of 1 % does
+        assert!(varies("f1", 8.2, 11.5));
+        assert!(!varies("k_c_y_start", 249_390.0, 249_390.0 * (1.0 + 1e-13)));
+        assert!(!varies("k_c_y_drop", -5.9e-11, 3.4e-11));
+        assert!(varies("k_c_y_drop", 0.0, 0.01));
+    }
 }
