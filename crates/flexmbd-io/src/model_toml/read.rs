@@ -4,7 +4,7 @@
 
 use super::params::Params;
 use super::schema::{self, FileSpec};
-use super::spans::{key_span, name_item, pos};
+use super::spans::{key_span, name_item, Lines};
 use crate::error::{at, InputError};
 use crate::spec::*;
 use flexmbd_core::model::Dof;
@@ -43,15 +43,16 @@ pub(super) fn parse_spec(
     }
     let err = |span: &Range<usize>, msg: String| at(file, text, span.start, msg);
     let p = Params::read(f.parameters.as_ref(), set, text, file)?;
+    let lines = Lines::new(text);
     let src = |span: &Range<usize>| Src {
-        at: Some(pos(text, span.start)),
+        at: Some(lines.pos(span.start)),
         keys: Vec::new(),
     };
     let src_keys = |span: &Range<usize>, keys: &[&str]| Src {
-        at: Some(pos(text, span.start)),
+        at: Some(lines.pos(span.start)),
         keys: keys
             .iter()
-            .map(|k| (k.to_string(), pos(text, key_span(text, span, k).start)))
+            .map(|k| (k.to_string(), lines.pos(key_span(text, span, k).start)))
             .collect(),
     };
     let Some(node_table) = &f.nodes else {
