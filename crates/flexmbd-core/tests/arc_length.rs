@@ -622,3 +622,40 @@ fn a_prescribed_end_rotation_by_arc_length() {
         );
     }
 }
+
+#[test]
+fn arc_length_outputs_every_crossing_of_the_requested_load_levels() {
+    // With steps = 10 the path of the truss (P = 1000 N, P_max = P(y*) = 381 N) crosses the
+    // levels t = 0.1 … 0.3 three times (up to the first limit point, down to the second, up to
+    // the full load), t = 0 twice after the start, and t = 0.4 … 1 once: each crossing is an
+    // output state at exactly that load factor. The closed form puts the states at zero load
+    // at P(y) = 0: y = 0 (the flat, unstable position) and L = L0, y = −h (the mirrored
+    // stable state).
+    let model = truss(None, None);
+    let sol = arc(&model, 10);
+    let y = heights(&model, &sol, "c");
+    let p_max = load_at(limit_height());
+    assert!(p_max / P > 0.3 && p_max / P < 0.4, "{}", p_max / P);
+    for k in 0..=10usize {
+        let at: Vec<usize> = (0..sol.steps.len())
+            .filter(|&i| sol.path[i].level == Some(k))
+            .collect();
+        let want = match k {
+            0..=3 => 3,
+            _ => 1,
+        };
+        assert_eq!(at.len(), want, "level {k}: steps {at:?}");
+        for &i in &at {
+            assert_eq!(sol.steps[i].load_factor, k as f64 / 10.0);
+        }
+        if k == 0 {
+            let ys: Vec<f64> = at.iter().map(|&i| y[i]).collect();
+            for (got, want) in ys.iter().zip([H, 0.0, -H]) {
+                assert!((got - want).abs() < 1e-9 * H, "{ys:?}");
+            }
+        }
+    }
+    // and no other state is marked
+    let marked = sol.path.iter().filter(|p| p.level.is_some()).count();
+    assert_eq!(marked, 3 * 4 + 7);
+}

@@ -144,6 +144,7 @@ pub fn static_text(
     let mut header = vec!["step", "load", "iter", "energy [J]", "max |u| [m]"];
     if arc {
         header.insert(2, "path s");
+        header.insert(3, "level");
     }
     let mut names: Vec<String> = Vec::new();
     if let Some(x) = extras.first() {
@@ -183,6 +184,7 @@ pub fn static_text(
             ];
             if let Some(p) = sol.path.get(k) {
                 row.insert(2, fmt_num(p.arc_length));
+                row.insert(3, p.level.map_or(String::new(), |l| l.to_string()));
             }
             for (_, c) in &x.compliance {
                 let k = c.stiffness_local();
@@ -340,7 +342,7 @@ pub fn write_csv(
     let arc = !sol.path.is_empty();
     let mut sum = String::from("step,load_factor,iterations,residual,energy");
     if arc {
-        sum += ",arc_length";
+        sum += ",arc_length,level";
     }
     if let Some(x) = extras.first() {
         for (n, _) in &x.compliance {
@@ -361,7 +363,8 @@ pub fn write_csv(
             st.load_factor, st.iterations, st.residual, st.energy
         );
         if let Some(p) = sol.path.get(k).filter(|_| arc) {
-            let _ = write!(sum, ",{}", p.arc_length);
+            let level = p.level.map_or(String::new(), |l| l.to_string());
+            let _ = write!(sum, ",{},{level}", p.arc_length);
         }
         for (_, c) in &x.compliance {
             for v in c.stiffness_local() {

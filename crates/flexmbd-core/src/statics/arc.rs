@@ -40,6 +40,7 @@
 
 use super::critical::{critical_points, locate, Bracket, Located};
 use super::eigen::tangent_eigenvalues;
+use super::levels::{level_of, level_states};
 use super::newton::{
     check, expand, increment_size, reduced_rhs, reference_stiffness, step_to, Status, SINGULAR,
 };
@@ -164,7 +165,7 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Ve
 }
 
 /// ‖v‖²_W of a reduced increment (the coordinate unknowns; translations over L²).
-fn norm2(su: &Setup, v: &[f64]) -> f64 {
+pub(super) fn norm2(su: &Setup, v: &[f64]) -> f64 {
     dot(su, v, v)
 }
 
@@ -220,8 +221,8 @@ pub(super) fn tangent(
 /// A converged state of the path.
 pub(super) struct State {
     pub(super) x: Vec<f64>,
-    mu: Vec<f64>,
-    t: f64,
+    pub(super) mu: Vec<f64>,
+    pub(super) t: f64,
     pub(super) a: Box<Assembled>,
     tangent: Tangent,
 }
@@ -236,6 +237,19 @@ pub(super) struct Step {
     pub(super) residual: f64,
     /// The path's last step (at t = 1).
     end: bool,
+}
+
+/// A state inside a step, inserted into the path before the step's end: a located critical
+/// point or an output level.
+struct Inside {
+    /// Distance from the step's start in the norm of the constraint.
+    s: f64,
+    level: Option<usize>,
+    step: StepResult,
+    unstable: Option<usize>,
+    /// For a critical point: whether the load factor turns there, and the unstable directions
+    /// before and after.
+    critical: Option<(bool, [usize; 2])>,
 }
 
 /// One arc-length step of length `dl` from `s0` along `sign` × the tangent; the converged
@@ -405,6 +419,7 @@ fn run(
     path.push(PathPoint {
         arc_length: 0.0,
         unstable_directions: tangent0.unstable,
+        level: Some(0),
     });
     progress(0, steps);
     let mut cur = State {
@@ -517,8 +532,10 @@ fn run(
         let inc: Vec<f64> = reduced_increment(&su, &cur.x, &x);
         let dt = t - cur.t;
         let chord = (norm2(&su, &inc) + dt * dt * p2).sqrt();
-        // a critical point inside the step: the number of unstable directions changes; the
-        // load factor turns there (a limit point) when the next step goes back in t
+        // the states inside the step, in path order: a critical point (the number of
+        // unstable directions changes; the load factor turns there, a limit point, when the
+        // next step goes back in t) and the output levels crossed
+        let mut inside: Vec<Inside> = Vec::new();
         if let (Some(u0), Some(u1)) = (cur.tangent.unstable, tangent.unstable) {
             if u0 != u1 && !end {
                 let bracket = Bracket {
@@ -532,18 +549,54 @@ fn run(
                 if let Some(c) = locate(model, &su, opts, &bracket, &mut kkt) {
                     let mut cs = record(model, &c.x, &c.mu, &c.a, c.t, c.iterations, 1, c.residual);
                     cs.tangent_eigenvalues = c.kappa;
-                    push_finite(out, cs, step, Some(cur.t))?;
-                    path.push(PathPoint {
-                        arc_length: s_total + c.s,
-                        unstable_directions: c.unstable,
-                    });
                     let turns = (dot(&su, &inc, &tangent.db) + dt * p2) * sign < 0.0;
-                    located.push(Located {
-                        step: out.len() - 1,
-                        limit: turns,
-                        unstable: [u0, u1],
+                    inside.push(Inside {
+                        s: c.s,
+                        level: level_of(c.t, steps),
+                        step: cs,
+                        unstable: c.unstable,
+                        critical: Some((turns, [u0, u1])),
                     });
                 }
+            }
+        }
+        let crossed = level_states(
+            model,
+            &su,
+            opts,
+            &cur,
+            (&x, &mu, t),
+            (steps, p2, chord),
+            &mut kkt,
+        );
+        for l in crossed {
+            let mut ls = l.step;
+            ls.tangent_eigenvalues = tangent_eigenvalues(model, &su, &ls, &l.a);
+            let unstable = self::tangent(model, &su, (&ls.x, ls.load_factor), &l.a, &mut kkt)
+                .ok()
+                .and_then(|tg| tg.unstable);
+            inside.push(Inside {
+                s: l.s,
+                level: Some(l.level),
+                step: ls,
+                unstable,
+                critical: None,
+            });
+        }
+        inside.sort_by(|p, q| p.s.total_cmp(&q.s));
+        for p in inside {
+            push_finite(out, p.step, step, Some(cur.t))?;
+            path.push(PathPoint {
+                arc_length: s_total + p.s,
+                unstable_directions: p.unstable,
+                level: p.level,
+            });
+            if let Some((limit, unstable)) = p.critical {
+                located.push(Located {
+                    step: out.len() - 1,
+                    limit,
+                    unstable,
+                });
             }
         }
         push_finite(out, st, step, Some(cur.t))?;
@@ -551,6 +604,7 @@ fn run(
         path.push(PathPoint {
             arc_length: s_total,
             unstable_directions: tangent.unstable,
+            level: level_of(t, steps),
         });
         largest = largest.max(t);
         progress(((t.clamp(0.0, 1.0)) * steps as f64).floor() as usize, steps);
@@ -595,7 +649,7 @@ fn run(
 
 /// The reduced increment from `x0` to `x1` (free translations and other plain unknowns as
 /// differences; the rotation of a reduced node as Nᵀ(λ0) (λ1 − λ0)).
-fn reduced_increment(su: &Setup, x0: &[f64], x1: &[f64]) -> Vec<f64> {
+pub(super) fn reduced_increment(su: &Setup, x0: &[f64], x1: &[f64]) -> Vec<f64> {
     let red = &su.red;
     let mut v = vec![0.0; red.n];
     for (i, u) in su.unknown.iter().enumerate() {

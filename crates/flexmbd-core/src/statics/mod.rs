@@ -192,6 +192,10 @@ pub struct PathPoint {
     /// from the inertia of its factorisation; `None` when it was factored otherwise (applied
     /// moments make it unsymmetric).
     pub unstable_directions: Option<usize>,
+    /// The requested output level k of this state, whose load factor is exactly k/steps (the
+    /// unloaded state, the full load, and every crossing of a level between); `None` for the
+    /// other points of the path.
+    pub level: Option<usize>,
 }
 
 /// A critical point passed along an arc-length path.
@@ -379,6 +383,7 @@ pub use path::{solve, solve_path, StaticAnalysis, Stopped};
 mod arc;
 mod critical;
 mod eigen;
+mod levels;
 pub use eigen::{TANGENT_EIGENVALUES, TANGENT_EIGEN_MAX};
 #[cfg(test)]
 pub(crate) use path::last_step;

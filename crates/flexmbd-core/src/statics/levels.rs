@@ -1,0 +1,89 @@
+//! The requested output levels on an arc-length path (docs/statics.md, "Path following"): a
+//! step that crosses a load factor t_k = k/steps (k = 0 … steps) gives the state at exactly
+//! that load factor as an output of its own, on every crossing, like the load steps do once.
+
+use super::arc::{norm2, reduced_increment, State};
+use super::{apply_prescribed, inverted_element, newton, KktSolver, Newton, Setup, StaticOptions};
+use super::{Assembled, StepResult};
+use crate::model::Model;
+
+/// A state at an output level: the converged state, its level k and its distance s from the
+/// start of its step in the norm of the constraint.
+pub(super) struct LevelState {
+    pub(super) step: StepResult,
+    pub(super) a: Box<Assembled>,
+    pub(super) level: usize,
+    pub(super) s: f64,
+}
+
+/// The level k of a load factor that is exactly t_k = k/steps (0 ≤ k ≤ steps), else `None`.
+pub(super) fn level_of(t: f64, steps: usize) -> Option<usize> {
+    let k = (t * steps as f64).round();
+    (k >= 0.0 && k <= steps as f64 && k / steps as f64 == t).then_some(k as usize)
+}
+
+/// The states at the output levels strictly between the load factors of the step from `from`
+/// to the converged state `(x1, μ1, t1)` (chord `chord`, rate `p2` of the prescribed
+/// coordinates), in path order: each solved by Newton at t_k exactly (load control), from the
+/// state interpolated linearly between the two in t. A level whose state is not found inside
+/// the step (Newton fails, an element inverts, or it converges at a distance from `from` beyond
+/// the chord: next to a limit point, where the load factor crosses the level twice or not at
+/// all within the step) is left out.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn level_states(
+    model: &Model,
+    su: &Setup,
+    opts: &StaticOptions,
+    from: &State,
+    (x1, mu1, t1): (&[f64], &[f64], f64),
+    (steps, p2, chord): (usize, f64, f64),
+    kkt: &mut Option<KktSolver>,
+) -> Vec<LevelState> {
+    let (t0, n) = (from.t, steps as f64);
+    let (lo, hi) = (t0.min(t1), t0.max(t1));
+    let mut ks: Vec<usize> = (0..=steps)
+        .filter(|&k| {
+            let tk = k as f64 / n;
+            tk > lo && tk < hi
+        })
+        .collect();
+    if t1 < t0 {
+        ks.reverse();
+    }
+    let mut out = Vec::new();
+    for k in ks {
+        let tk = k as f64 / n;
+        let w = (tk - t0) / (t1 - t0);
+        let lerp = |a: &[f64], b: &[f64]| -> Vec<f64> {
+            a.iter().zip(b).map(|(p, q)| p + w * (q - p)).collect()
+        };
+        let (mut x, mut mu) = (lerp(&from.x, x1), lerp(&from.mu, mu1));
+        apply_prescribed(model, su, &mut x, tk);
+        let Newton::Converged {
+            iterations,
+            residual,
+            state,
+        } = newton(model, su, opts, &mut x, &mut mu, tk, kkt, None)
+        else {
+            continue;
+        };
+        if inverted_element(model, &x, &from.x).is_some() {
+            continue;
+        }
+        let inc = reduced_increment(su, &from.x, &x);
+        let dt = tk - t0;
+        let s = (norm2(su, &inc) + dt * dt * p2).sqrt();
+        if s.is_nan() || s >= chord {
+            continue;
+        }
+        let step = super::path::record(model, &x, &mu, &state, tk, iterations, 1, residual);
+        out.push(LevelState {
+            step,
+            a: state,
+            level: k,
+            s,
+        });
+    }
+    out.sort_by(|a, b| a.s.total_cmp(&b.s));
+    out
+}
