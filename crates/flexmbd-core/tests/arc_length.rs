@@ -290,6 +290,11 @@ fn s05_toggle_under_a_stroke_by_arc_length() {
 /// A column of length 1 m, EIy = 1 N·m² (EIz = 4, EA = 1e7: extensibility negligible), 20
 /// Euler–Bernoulli elements along x, clamped at x = 0, with the tip load (−p, 0, q).
 fn column(p: f64, q: f64) -> Model {
+    column_of(20, p, q)
+}
+
+/// [`column`] with `n` elements.
+fn column_of(n: usize, p: f64, q: f64) -> Model {
     let props = flexmbd_core::section::BeamProps {
         ea: 1e7,
         gj: 1.0,
@@ -302,13 +307,14 @@ fn column(p: f64, q: f64) -> Model {
         "",
         [0.0; 3],
         [1.0, 0.0, 0.0],
-        20,
+        n,
         Some([0.0, 1.0, 0.0]),
         Some(props),
     )
     .unwrap();
     b.fix("n0", None).unwrap();
-    b.add_load("n20", [-p, 0.0, q], [0.0; 3]).unwrap();
+    b.add_load(&format!("n{n}"), [-p, 0.0, q], [0.0; 3])
+        .unwrap();
     b.build().unwrap()
 }
 
@@ -658,4 +664,35 @@ fn arc_length_outputs_every_crossing_of_the_requested_load_levels() {
     // and no other state is marked
     let marked = sol.path.iter().filter(|p| p.level.is_some()).count();
     assert_eq!(marked, 3 * 4 + 7);
+}
+
+#[test]
+fn a_large_model_locates_its_bifurcation_on_the_inertia() {
+    // 60 elements: 360 reduced coordinates, beyond the dense eigenvalues
+    // (TANGENT_EIGEN_MAX = 300), so no κ is reported and the bifurcation of the perfect column
+    // is located by bisection on the count of unstable directions: at P_cr = π² EI/(4 L²)
+    // (t = 1/2 under 2 P_cr) within 1e-3
+    const { assert!(6 * 60 > flexmbd_core::statics::TANGENT_EIGEN_MAX) };
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    let sol = arc(&column_of(60, 2.0 * p_cr, 0.0), 10);
+    assert!(sol.steps.iter().all(|s| s.tangent_eigenvalues.is_none()));
+    let bif: Vec<f64> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                load_factor,
+                unstable: [0, 1],
+                located: true,
+                ..
+            } => Some(load_factor),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    assert!(
+        (2.0 * bif[0] - 1.0).abs() < 1e-3,
+        "P/P_cr = {}",
+        2.0 * bif[0]
+    );
 }

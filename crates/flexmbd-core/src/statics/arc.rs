@@ -40,7 +40,7 @@
 
 use super::critical::{critical_points, locate, Bracket, Located};
 use super::eigen::tangent_eigenvalues;
-use super::levels::{level_of, level_states};
+use super::levels::{level_of, level_states, snap_to_level};
 use super::newton::{
     check, expand, increment_size, reduced_rhs, reference_stiffness, step_to, Status, SINGULAR,
 };
@@ -236,7 +236,7 @@ pub(super) struct Step {
     pub(super) iterations: usize,
     pub(super) residual: f64,
     /// The path's last step (at t = 1).
-    end: bool,
+    pub(super) end: bool,
 }
 
 /// A state inside a step, inserted into the path before the step's end: a located critical
@@ -518,7 +518,7 @@ fn run(
             iterations,
             residual,
             end,
-        } = done;
+        } = snap_to_level(model, &su, opts, done, (&cur, p2, steps), &mut kkt);
         let mut st = record(model, &x, &mu, &a, t, iterations, halvings + 1, residual);
         st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
         let tangent = match tangent(model, &su, (&x, t), &a, &mut kkt) {

@@ -115,7 +115,7 @@ pub(super) fn locate(
             let Some(u) = u else { break };
             (u == u0, 0.0)
         };
-        let done = (s - s_last).abs() <= S_TOL * b.chord || f == 0.0;
+        let done = (s - s_last).abs() <= S_TOL * b.chord || (by_kappa && f == 0.0);
         s_last = s;
         if best.as_ref().is_none_or(|(_, _, g)| f.abs() <= *g) {
             best = Some((st, s, f.abs()));

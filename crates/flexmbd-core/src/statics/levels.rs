@@ -1,8 +1,9 @@
 //! The requested output levels on an arc-length path (docs/statics.md, "Path following"): a
 //! step that crosses a load factor t_k = k/steps (k = 0 … steps) gives the state at exactly
-//! that load factor as an output of its own, on every crossing, like the load steps do once.
+//! that load factor as an output of its own, on every crossing, like the load steps do once;
+//! a step that ends next to a level is moved onto it.
 
-use super::arc::{norm2, reduced_increment, State};
+use super::arc::{norm2, reduced_increment, State, Step};
 use super::{apply_prescribed, inverted_element, newton, KktSolver, Newton, Setup, StaticOptions};
 use super::{Assembled, StepResult};
 use crate::model::Model;
@@ -15,6 +16,10 @@ pub(super) struct LevelState {
     pub(super) level: usize,
     pub(super) s: f64,
 }
+
+/// The part of the level spacing 1/steps within which the end of a step is moved onto the
+/// level ([`snap_to_level`]).
+const SNAP: f64 = 1e-3;
 
 /// The level k of a load factor that is exactly t_k = k/steps (0 ≤ k ≤ steps), else `None`.
 pub(super) fn level_of(t: f64, steps: usize) -> Option<usize> {
@@ -86,4 +91,51 @@ pub(super) fn level_states(
     }
     out.sort_by(|a, b| a.s.total_cmp(&b.s));
     out
+}
+
+/// A step from `from` that ends within [`SNAP`]/steps of an output level t_k, but not on it
+/// (on a straight stretch the step control makes the load factor advance by about 1/steps per
+/// step): the state at t_k exactly, by Newton from the step's end, when it converges within
+/// 1 % of the step's chord of it; the step unchanged otherwise. So such a step is itself the
+/// output at that level, not a second state next to it.
+pub(super) fn snap_to_level(
+    model: &Model,
+    su: &Setup,
+    opts: &StaticOptions,
+    step: Step,
+    (from, p2, steps): (&State, f64, usize),
+    kkt: &mut Option<KktSolver>,
+) -> Step {
+    let n = steps as f64;
+    let k = (step.t * n).round();
+    let tk = k / n;
+    if step.end || !(0.0..=n).contains(&k) || tk == step.t || (step.t - tk).abs() > SNAP / n {
+        return step;
+    }
+    let (mut x, mut mu) = (step.x.clone(), step.mu.clone());
+    apply_prescribed(model, su, &mut x, tk);
+    let Newton::Converged {
+        iterations,
+        residual,
+        state,
+    } = newton(model, su, opts, &mut x, &mut mu, tk, kkt, None)
+    else {
+        return step;
+    };
+    let dt = step.t - from.t;
+    let chord = (norm2(su, &reduced_increment(su, &from.x, &step.x)) + dt * dt * p2).sqrt();
+    let dt_snap = tk - step.t;
+    let moved = (norm2(su, &reduced_increment(su, &step.x, &x)) + dt_snap * dt_snap * p2).sqrt();
+    if moved > 0.01 * chord || inverted_element(model, &x, &from.x).is_some() {
+        return step;
+    }
+    Step {
+        x,
+        mu,
+        t: tk,
+        a: state,
+        iterations: step.iterations + iterations,
+        residual,
+        end: false,
+    }
 }
