@@ -1,7 +1,7 @@
-//! Critical points along an arc-length path (docs/statics.md, "Stability, limit points,
-//! bifurcations"): where the number of unstable directions of the tangent changes within a
-//! step, the state in that step where the tangent is singular is located ([`locate`]), and
-//! every critical point passed is reported ([`critical_points`]).
+//! Critical points along an arc-length path (docs/statics.md, "Locating critical points"):
+//! where the number of unstable directions of the tangent changes within a step, the state in
+//! that step where the tangent is singular is located ([`locate`]), and every critical point
+//! passed is reported ([`critical_points`]).
 //!
 //! **Location.** The count changes from u₀ to u₁ between two converged states when the
 //! eigenvalue κ_j, j = min(u₀, u₁) (0-based, ascending: `eigen.rs`), changes sign. The states
@@ -86,7 +86,7 @@ pub(super) fn locate(
     };
     let by_kappa = f_lo.is_finite();
     let mut best: Option<(super::arc::Step, f64, f64)> = None; // state, s, |κ_j|
-    let mut kept = 0i8; // the end kept by the last update: −1 low, 1 high
+    let mut kept = 0i8; // the end the last update kept: 1 high (low replaced), −1 low
     let mut s_last = f64::NAN;
     for _ in 0..MAX_EVALUATIONS {
         let mut s = if by_kappa {
@@ -140,7 +140,7 @@ pub(super) fn locate(
         }
     }
     let (st, s, _) = best?;
-    let kappa = smallest_eigenvalues(su, &st.a, TANGENT_EIGENVALUES.max(j + 1));
+    let kappa = smallest_eigenvalues(su, &st.a, TANGENT_EIGENVALUES);
     let unstable = tangent(model, su, (&st.x, st.t), &st.a, kkt)
         .ok()
         .and_then(|t| t.unstable);
