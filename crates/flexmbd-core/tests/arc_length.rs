@@ -696,3 +696,31 @@ fn a_large_model_locates_its_bifurcation_on_the_inertia() {
         2.0 * bif[0]
     );
 }
+
+#[test]
+fn a_bifurcation_in_the_last_step_is_located() {
+    // the perfect column under 1.05 P_cr with steps = 1: the first tangent step passes t = 1,
+    // so the path is one step solved at the full load, and the bifurcation inside it is
+    // located at P_cr = π² EI/(4 L²), t = 1/1.05, within 1e-3
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    let sol = arc(&column(1.05 * p_cr, 0.0), 1);
+    let bif: Vec<f64> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                load_factor,
+                located: true,
+                ..
+            } => Some(load_factor),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    assert!(
+        (1.05 * bif[0] - 1.0).abs() < 1e-3,
+        "P/P_cr = {}",
+        1.05 * bif[0]
+    );
+    assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
+}

@@ -537,7 +537,7 @@ fn run(
         // next step goes back in t) and the output levels crossed
         let mut inside: Vec<Inside> = Vec::new();
         if let (Some(u0), Some(u1)) = (cur.tangent.unstable, tangent.unstable) {
-            if u0 != u1 && !end {
+            if u0 != u1 {
                 let bracket = Bracket {
                     from: &cur,
                     to: &a,
