@@ -8,7 +8,7 @@ use flexmbd_core::dynamics::state_space::{
 };
 use flexmbd_core::dynamics::sweep::sweep_with;
 use flexmbd_core::dynamics::{velocity_dof, EigenSolver, ModalOptions};
-use flexmbd_core::statics::{PathMethod, StaticOptions, StaticSolution};
+use flexmbd_core::statics::{PathMethod, StaticOptions};
 use flexmbd_core::Model;
 use flexmbd_io::requests::{self, InputSpec};
 use flexmbd_io::statespace_report as report;
@@ -70,6 +70,9 @@ pub struct StatespaceArgs {
     /// Number of load steps of the static solution (overrides [static] steps).
     #[arg(long, value_name = "N", value_parser = crate::parse_steps)]
     steps: Option<usize>,
+    /// How the static path is followed (overrides [static] path; default load-steps).
+    #[arg(long, value_enum)]
+    path: Option<PathArg>,
     /// Eigen solver: auto (dense up to 3000 degrees of freedom, sparse above), dense (all
     /// modes, prescribed-motion inputs) or sparse (the lowest --modes N by shift-invert
     /// Lanczos, force and moment inputs; for large models).
@@ -191,13 +194,6 @@ pub fn parse_output(model: &Model, path: &Path, spec: &str) -> Result<Output, Ba
         .map_err(|e| BadInput(e.0))
 }
 
-/// The static solution to linearise about; a path that stops part-way is an error here (the
-/// state space of a state short of the load asked for is not given).
-fn solve_static(model: &Model, opts: &StaticOptions) -> anyhow::Result<StaticSolution> {
-    crate::progress::solve_static(model, opts)
-        .context("the static equilibrium to linearise about was not found")
-}
-
 /// Most points of a Bode table (`--bode-points`).
 const MAX_BODE_POINTS: usize = 100_000;
 
@@ -287,15 +283,24 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
     }
     // the size guard of the dense path, before the static solve
     check_dense_size(&model, &ss_opts).context("state-space model refused")?;
-    let opts = static_options(&settings, a.steps, None)?;
-    let sol = solve_static(&model, &opts)?;
+    let opts = static_options(&settings, a.steps, a.path)?;
+    // a path that stops part-way: the state space of its last converged state (or of the
+    // step asked for), marked as such, then exit 1
+    let path = crate::partial::Path::of_solution(
+        crate::progress::solve_static(&model, &opts),
+        "the static equilibrium to linearise about was not found",
+    )?;
+    let (sol, note) = (path.solution(), path.note());
     let k = a.at_step.unwrap_or(sol.steps.len() - 1);
     let Some(step) = sol.steps.get(k) else {
-        return Err(BadInput(format!(
+        let msg = format!(
             "--at-step {k}: the static solution has steps 0 to {}",
             sol.steps.len() - 1
-        ))
-        .into());
+        );
+        return match &note {
+            Some(n) => Err(anyhow::anyhow!("{msg}: the path {}", n.line())),
+            None => Err(BadInput(msg).into()),
+        };
     };
     let ss = state_space_with_motions(&model, step, &inputs, &motions, &outputs, &ss_opts)
         .context("state-space model failed")?;
@@ -304,6 +309,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         file: &file,
         step: k,
         load_factor: step.load_factor,
+        stopped: note.as_ref(),
     };
     let mut written = Vec::new();
     if let Some(p) = &a.m_file {
@@ -328,7 +334,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
             .into());
         }
         let freqs = log_space(lo, hi, a.bode_points);
-        outputs::write_file(p, &report::bode_csv(&model, &ss, &freqs))?;
+        outputs::write_file(p, &report::bode_csv(&model, &ss, &freqs, note.as_ref()))?;
         written.push(p.display().to_string());
     }
     if a.json {
@@ -345,7 +351,7 @@ pub fn run_statespace(a: StatespaceArgs) -> anyhow::Result<ExitCode> {
         }
         emit(&text)?;
     }
-    Ok(ExitCode::SUCCESS)
+    path.finish()
 }
 
 /// `flexmbd sweep`.

@@ -234,3 +234,65 @@ fn an_inverted_column_keeps_its_valid_steps() {
         .unwrap()
         .contains("inverted"));
 }
+
+#[test]
+fn statespace_linearises_the_last_converged_state() {
+    let t = Temp::new("stopped_statespace");
+    let model = toggle(&t);
+    let io = ["--input", "apex:y", "--output", "apex:y"];
+    // JSON: the state of the last converged step, with the mark; near the limit point the
+    // lowest frequency is far below that of the unloaded frame (the stiffness vanishes there)
+    let mut args = vec!["statespace", &model, "--json"];
+    args.extend(io);
+    let (code, out, err) = go(&args);
+    assert_eq!(code, Some(1), "{err}");
+    let last = assert_stop_message(&err);
+    let doc: Value = serde_json::from_str(&out).expect("JSON");
+    assert_eq!(doc["step"], 17);
+    assert!(near(&doc["load_factor"], last));
+    assert_eq!(doc["stopped"]["after_step"], 17);
+    let mut args0 = args.clone();
+    args0.extend(["--at-step", "0"]);
+    let (code, out0, _) = go(&args0);
+    assert_eq!(code, Some(1));
+    let doc0: Value = serde_json::from_str(&out0).expect("JSON");
+    let f0 = doc0["frequencies_hz"][0].as_f64().expect("f");
+    let f = doc["frequencies_hz"][0].as_f64().expect("f");
+    assert!(f < 0.5 * f0, "{f} vs {f0}");
+    // text, the .m file and the Bode table carry the mark too
+    let (m, bode) = (t.path("ss.m"), t.path("bode.csv"));
+    let mut args = vec!["statespace", &model];
+    args.extend(io);
+    args.extend(["--m", m.to_str().unwrap(), "--bode", bode.to_str().unwrap()]);
+    let (code, out, err) = go(&args);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        out.contains("\nSTOPPED after step 17 (load factor 0.8"),
+        "{out}"
+    );
+    let mfile = std::fs::read_to_string(&m).expect(".m");
+    assert!(
+        mfile.contains("\n% stopped after step 17 (load factor 0.8"),
+        "{mfile}"
+    );
+    let table = std::fs::read_to_string(&bode).expect("bode");
+    assert!(
+        table
+            .lines()
+            .last()
+            .unwrap()
+            .starts_with("# stopped after step 17"),
+        "{table}"
+    );
+    // a step beyond the converged ones: an error that says where the path stopped
+    let mut args = vec!["statespace", &model, "--at-step", "19"];
+    args.extend(io);
+    let (code, out, err) = go(&args);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(
+        err.contains("--at-step 19: the static solution has steps 0 to 17")
+            && err.contains("stopped after step 17"),
+        "{err}"
+    );
+}

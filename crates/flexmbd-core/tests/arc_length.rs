@@ -1,6 +1,8 @@
 //! Arc-length path following (issue 17, item 1) against closed forms: the shallow two-bar
 //! (von Mises) truss through both limit points under load control, and with a soft spring in
-//! series, through a snap-back of the loaded end that displacement control cannot follow.
+//! series, through a snap-back of the loaded end that displacement control cannot follow; the
+//! smallest eigenvalue of the tangent along the path, the located limit points and bifurcations
+//! (S05, the truss, the Euler column), and a prescribed end rotation.
 
 mod common;
 
@@ -109,7 +111,9 @@ fn von_mises_truss_through_both_limit_points() {
         .events
         .iter()
         .filter_map(|e| match *e {
-            PathEvent::LimitPoint { step, load_factor } => Some((step, load_factor)),
+            PathEvent::LimitPoint {
+                step, load_factor, ..
+            } => Some((step, load_factor)),
             _ => None,
         })
         .collect();
@@ -286,6 +290,11 @@ fn s05_toggle_under_a_stroke_by_arc_length() {
 /// A column of length 1 m, EIy = 1 N·m² (EIz = 4, EA = 1e7: extensibility negligible), 20
 /// Euler–Bernoulli elements along x, clamped at x = 0, with the tip load (−p, 0, q).
 fn column(p: f64, q: f64) -> Model {
+    column_of(20, p, q)
+}
+
+/// [`column`] with `n` elements.
+fn column_of(n: usize, p: f64, q: f64) -> Model {
     let props = flexmbd_core::section::BeamProps {
         ea: 1e7,
         gj: 1.0,
@@ -298,13 +307,14 @@ fn column(p: f64, q: f64) -> Model {
         "",
         [0.0; 3],
         [1.0, 0.0, 0.0],
-        20,
+        n,
         Some([0.0, 1.0, 0.0]),
         Some(props),
     )
     .unwrap();
     b.fix("n0", None).unwrap();
-    b.add_load("n20", [-p, 0.0, q], [0.0; 3]).unwrap();
+    b.add_load(&format!("n{n}"), [-p, 0.0, q], [0.0; 3])
+        .unwrap();
     b.build().unwrap()
 }
 
@@ -412,4 +422,305 @@ fn load_steps_report_the_jump_across_the_snap_through() {
         "{:?}",
         sol.events
     );
+}
+
+/// The slope of the closed-form path: dP/dy = 2 EA (a²/L³ − 1/L0) (from P(y) above,
+/// d(y/L)/dy = a²/L³).
+fn slope_at(y: f64) -> f64 {
+    let (l, l0) = ((A * A + y * y).sqrt(), (A * A + H * H).sqrt());
+    2.0 * EA * (A * A / l.powi(3) - 1.0 / l0)
+}
+
+/// The smallest eigenvalue κ₁ of the truss's tangent stiffness at a step.
+fn kappa1(st: &flexmbd_core::statics::StepResult) -> f64 {
+    st.tangent_eigenvalues.as_ref().expect("κ reported")[0]
+}
+
+#[test]
+fn the_smallest_tangent_eigenvalue_of_the_truss_is_its_load_slope() {
+    // The apex has two free coordinates, x and y. By symmetry the tangent stiffness is
+    // diagonal in them: K_yy = d(internal force)/dy = −dP/dy (the load acts along −y), and
+    // K_xx = 2 (EA a²/(L0 L²) + N y²/L³) ≈ 2 EA/L0 ≫ |K_yy| (N the bar force), so κ₁ = −dP/dy
+    // at every state, positive outside the limit points, negative between them; the scale
+    // of κ₁ is its value at the start, 2 EA h²/L0³.
+    let l0 = (A * A + H * H).sqrt();
+    let scale = 2.0 * EA * H * H / l0.powi(3);
+    let model = truss(None, None);
+    let sol = arc(&model, 40);
+    let y = heights(&model, &sol, "c");
+    for (st, &y) in sol.steps.iter().zip(&y) {
+        let k = kappa1(st);
+        assert!(
+            (k + slope_at(y)).abs() < 1e-6 * scale,
+            "y = {y}: κ₁ = {k} vs {}",
+            -slope_at(y)
+        );
+        assert_eq!(st.tangent_eigenvalues.as_ref().unwrap().len(), 2);
+    }
+    assert!((kappa1(&sol.steps[0]) - scale).abs() < 1e-9 * scale);
+    // the same under load steps, to 0.9 of the limit load
+    let p_max = load_at(limit_height());
+    let mut steps = truss(None, None);
+    steps.loads.nodal[0].force[1] = -0.9 * p_max;
+    let opts = StaticOptions {
+        steps: 9,
+        ..Default::default()
+    };
+    let sol = solve_path(&steps, &opts, |_, _| {}).expect("below the limit load");
+    let y = heights(&steps, &sol, "c");
+    for (st, &y) in sol.steps.iter().zip(&y) {
+        assert!((kappa1(st) + slope_at(y)).abs() < 1e-6 * scale, "y = {y}");
+    }
+    // it decreases towards the limit point (last step: 0.9 P_max, still stable)
+    let k: Vec<f64> = sol.steps.iter().map(kappa1).collect();
+    assert!(
+        k.windows(2).all(|w| w[1] < w[0]) && k[k.len() - 1] > 0.0,
+        "{k:?}"
+    );
+}
+
+#[test]
+fn both_limit_points_of_the_truss_are_located_with_ten_steps() {
+    // the limit points at y = ±y*, L* = (a² L0)^⅓, where κ₁ = −dP/dy = 0: located inside
+    // their steps to 1e-4 of y* (sampled steps: several % off with 20 steps)
+    let model = truss(None, None);
+    let sol = arc(&model, 10);
+    let y = heights(&model, &sol, "c");
+    let (ys, p_max) = (limit_height(), load_at(limit_height()));
+    let limits: Vec<(usize, f64)> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::LimitPoint {
+                step,
+                load_factor,
+                located: true,
+            } => Some((step, load_factor)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(limits.len(), 2, "{:?}", sol.events);
+    for ((k, t), sign) in limits.into_iter().zip([1.0, -1.0]) {
+        assert!(
+            (y[k] - sign * ys).abs() < 1e-4 * ys,
+            "y = {} vs {}",
+            y[k],
+            sign * ys
+        );
+        assert!(
+            (t * P - sign * p_max).abs() < 1e-6 * p_max,
+            "{} vs {}",
+            t * P,
+            sign * p_max
+        );
+    }
+}
+
+#[test]
+fn s05_limit_points_located_with_few_steps() {
+    // validation.md S05: P_max = 33.870 lbf at δ = 0.2325 in, the minimum 31.282 lbf at
+    // δ = 0.3925 in (loads ±0.5 %, deflections ±3 %): the located critical states themselves
+    let model = common::toggle_under_load(40.0);
+    let sol = arc(&model, 8);
+    let iy = model.nodes[model.node_id("n20").unwrap()].ix_pos + 1;
+    let limits: Vec<(f64, f64)> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::LimitPoint {
+                step,
+                load_factor,
+                located: true,
+            } => Some((0.386 - sol.steps[step].x[iy], 40.0 * load_factor)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(limits.len(), 2, "{:?}", sol.events);
+    let [(d_max, p_max), (d_min, p_min)] = [limits[0], limits[1]];
+    assert!((p_max - 33.870).abs() < 5e-3 * 33.870, "P_max {p_max}");
+    assert!((d_max - 0.2325).abs() < 0.03 * 0.2325, "δ at P_max {d_max}");
+    assert!((p_min - 31.282).abs() < 5e-3 * 31.282, "P_min {p_min}");
+    assert!((d_min - 0.3925).abs() < 0.03 * 0.3925, "δ at P_min {d_min}");
+}
+
+#[test]
+fn the_column_bifurcation_is_located_where_the_smallest_eigenvalue_vanishes() {
+    // the perfect cantilever column under 2 P_cr, P_cr = π² EI/(4 L²): κ₁ > 0 below P_cr,
+    // < 0 above it, and the bifurcation is located at P_cr (t = 1/2) within 1e-3 (the 20
+    // elements' discretisation error of the buckling load is below that: S09 gives 1e-3 with
+    // 8 elements)
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    let sol = arc(&column(2.0 * p_cr, 0.0), 10);
+    let bif: Vec<(usize, f64)> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                step,
+                load_factor,
+                unstable: [0, 1],
+                located: true,
+            } => Some((step, load_factor)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    let (k, t) = bif[0];
+    assert!((2.0 * t - 1.0).abs() < 1e-3, "P/P_cr = {}", 2.0 * t);
+    for st in &sol.steps {
+        let kappa = kappa1(st);
+        if st.load_factor < 0.5 * (1.0 - 2e-3) {
+            assert!(kappa > 0.0, "t = {}: κ₁ = {kappa}", st.load_factor);
+        } else if st.load_factor > 0.5 * (1.0 + 2e-3) {
+            assert!(kappa < 0.0, "t = {}: κ₁ = {kappa}", st.load_factor);
+        }
+    }
+    // at the located state κ₁ is zero to round-off of the stiffness at the start
+    let k0 = kappa1(&sol.steps[0]);
+    assert!(
+        kappa1(&sol.steps[k]).abs() < 1e-6 * k0,
+        "{}",
+        kappa1(&sol.steps[k])
+    );
+}
+
+#[test]
+fn a_prescribed_end_rotation_by_arc_length() {
+    // A clamped Euler–Bernoulli cantilever (L = 1 m, EI = 2 N·m², 10 elements) whose tip
+    // rotation φ is prescribed to 3 rad: every state has constant curvature (a circle),
+    // with the moment of the discrete closed form M = sin(φ/N) EI/l0 (the continuous limit is
+    // M = EI φ/L), as under load steps (validation_statics.rs,
+    // prescribed_tip_rotation_gives_the_end_moment).
+    let (l, ei, n, phi) = (1.0, 2.0, 10, 3.0);
+    let props = flexmbd_core::section::BeamProps {
+        ea: 1e6,
+        gj: 1.0,
+        eiy: ei,
+        eiz: ei,
+        ..Default::default()
+    };
+    let mut b = common::cantilever(n, l, props);
+    b.prescribe_coordinate(&format!("n{n}"), Dof::Rz, phi)
+        .unwrap();
+    let model = b.build().unwrap();
+    let sol = arc(&model, 10);
+    assert!(sol.steps.len() > 5);
+    assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
+    let r = model.nodes.last().unwrap().ix_rot.unwrap();
+    let l0 = l / n as f64;
+    for st in &sol.steps[1..] {
+        let angle = st.load_factor * phi;
+        let (_, _, rot) = common::tip(&model, &st.x);
+        assert!((rot - angle).abs() < 1e-12, "{rot} vs {angle}");
+        let want = (angle / n as f64).sin() * ei / l0;
+        let lam = [st.x[r], st.x[r + 1], st.x[r + 2], st.x[r + 3]];
+        let lb = flexmbd_core::math::lambda_bar(&lam);
+        let f = [
+            0.0,
+            st.reactions[r + 1],
+            st.reactions[r + 2],
+            st.reactions[r + 3],
+        ];
+        let mz: f64 = 0.5 * (0..4).map(|c| lb[2][c] * f[c]).sum::<f64>();
+        assert!(
+            (mz - want).abs() < 1e-8 * want,
+            "φ = {angle}: {mz} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn arc_length_outputs_every_crossing_of_the_requested_load_levels() {
+    // With steps = 10 the path of the truss (P = 1000 N, P_max = P(y*) = 381 N) crosses the
+    // levels t = 0.1 … 0.3 three times (up to the first limit point, down to the second, up to
+    // the full load), t = 0 twice after the start, and t = 0.4 … 1 once: each crossing is an
+    // output state at exactly that load factor. The closed form puts the states at zero load
+    // at P(y) = 0: y = 0 (the flat, unstable position) and L = L0, y = −h (the mirrored
+    // stable state).
+    let model = truss(None, None);
+    let sol = arc(&model, 10);
+    let y = heights(&model, &sol, "c");
+    let p_max = load_at(limit_height());
+    assert!(p_max / P > 0.3 && p_max / P < 0.4, "{}", p_max / P);
+    for k in 0..=10usize {
+        let at: Vec<usize> = (0..sol.steps.len())
+            .filter(|&i| sol.path[i].level == Some(k))
+            .collect();
+        let want = match k {
+            0..=3 => 3,
+            _ => 1,
+        };
+        assert_eq!(at.len(), want, "level {k}: steps {at:?}");
+        for &i in &at {
+            assert_eq!(sol.steps[i].load_factor, k as f64 / 10.0);
+        }
+        if k == 0 {
+            let ys: Vec<f64> = at.iter().map(|&i| y[i]).collect();
+            for (got, want) in ys.iter().zip([H, 0.0, -H]) {
+                assert!((got - want).abs() < 1e-9 * H, "{ys:?}");
+            }
+        }
+    }
+    // and no other state is marked
+    let marked = sol.path.iter().filter(|p| p.level.is_some()).count();
+    assert_eq!(marked, 3 * 4 + 7);
+}
+
+#[test]
+fn a_large_model_locates_its_bifurcation_on_the_inertia() {
+    // 60 elements: 360 reduced coordinates, beyond the dense eigenvalues
+    // (TANGENT_EIGEN_MAX = 300), so no κ is reported and the bifurcation of the perfect column
+    // is located by bisection on the count of unstable directions: at P_cr = π² EI/(4 L²)
+    // (t = 1/2 under 2 P_cr) within 1e-3
+    const { assert!(6 * 60 > flexmbd_core::statics::TANGENT_EIGEN_MAX) };
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    let sol = arc(&column_of(60, 2.0 * p_cr, 0.0), 10);
+    assert!(sol.steps.iter().all(|s| s.tangent_eigenvalues.is_none()));
+    let bif: Vec<f64> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                load_factor,
+                unstable: [0, 1],
+                located: true,
+                ..
+            } => Some(load_factor),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    assert!(
+        (2.0 * bif[0] - 1.0).abs() < 1e-3,
+        "P/P_cr = {}",
+        2.0 * bif[0]
+    );
+}
+
+#[test]
+fn a_bifurcation_in_the_last_step_is_located() {
+    // the perfect column under 1.05 P_cr with steps = 1: the first tangent step passes t = 1,
+    // so the path is one step solved at the full load, and the bifurcation inside it is
+    // located at P_cr = π² EI/(4 L²), t = 1/1.05, within 1e-3
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    let sol = arc(&column(1.05 * p_cr, 0.0), 1);
+    let bif: Vec<f64> = sol
+        .events
+        .iter()
+        .filter_map(|e| match *e {
+            PathEvent::Bifurcation {
+                load_factor,
+                located: true,
+                ..
+            } => Some(load_factor),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bif.len(), 1, "{:?}", sol.events);
+    assert!(
+        (1.05 * bif[0] - 1.0).abs() < 1e-3,
+        "P/P_cr = {}",
+        1.05 * bif[0]
+    );
+    assert_eq!(sol.steps.last().unwrap().load_factor, 1.0);
 }

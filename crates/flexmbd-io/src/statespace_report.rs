@@ -24,6 +24,10 @@ pub struct Origin<'a> {
     pub step: usize,
     /// Load factor of the step.
     pub load_factor: f64,
+    /// Where and why the static path stopped, when it stopped part-way (the state is then the
+    /// last converged one, or the one asked for, short of the full load); `None` for a
+    /// complete path.
+    pub stopped: Option<&'a StopNote>,
 }
 
 fn finite_or_null(v: f64) -> Value {
@@ -133,6 +137,7 @@ pub fn statespace_json(model: &Model, origin: Origin, ss: &StateSpace) -> Value 
         "D": rows(&ss.d),
         "dc_gain": ss.dc_gain().ok().map(|g| rows(&g)),
         "warnings": ss.warnings,
+        "stopped": crate::stopped::json_field(origin.stopped),
     })
 }
 
@@ -190,6 +195,9 @@ pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
         "% linearised at step {} (load factor {}); damping ratio zeta = {}",
         origin.step, origin.load_factor, ss.damping
     );
+    if let Some(stop) = origin.stopped {
+        let _ = write!(s, "% {}", stop.csv_comment().trim_start_matches("# "));
+    }
     let _ = writeln!(
         s,
         "% state x = [{}]: {}",
@@ -261,8 +269,9 @@ fn pair(model: &Model, ss: &StateSpace, o: usize, input: &str) -> String {
 
 /// Bode table as CSV: `frequency_hz`, then for every output–input pair (outputs outer, inputs
 /// inner) the magnitude |G| in absolute units (output unit per input unit, not dB) and the
-/// phase in degrees, unwrapped along the frequencies.
-pub fn bode_csv(model: &Model, ss: &StateSpace, freqs: &[f64]) -> String {
+/// phase in degrees, unwrapped along the frequencies; `stop` ends it with a comment line saying
+/// where and why the static path stopped (the state linearised is then short of the full load).
+pub fn bode_csv(model: &Model, ss: &StateSpace, freqs: &[f64], stop: Option<&StopNote>) -> String {
     let (no, ni) = (ss.outputs.len(), ss.n_inputs());
     let info = ss.input_info(model);
     let mut s = String::from("frequency_hz");
@@ -287,6 +296,9 @@ pub fn bode_csv(model: &Model, ss: &StateSpace, freqs: &[f64]) -> String {
             let _ = write!(s, ",{},{}", num(c[k].0), num(c[k].1));
         }
         s.push('\n');
+    }
+    if let Some(stop) = stop {
+        s += &stop.csv_comment();
     }
     s
 }
@@ -408,6 +420,9 @@ pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String
     }
     for w in &ss.warnings {
         let _ = writeln!(s, "\nwarning: {w}");
+    }
+    if let Some(stop) = origin.stopped {
+        s += &stop.text();
     }
     s
 }

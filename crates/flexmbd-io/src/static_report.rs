@@ -50,6 +50,7 @@ pub fn static_json(
                 })).collect::<Vec<_>>(),
                 "buckling": x.buckling,
                 "unstable_directions": x.unstable_directions,
+                "tangent_eigenvalues": s.tangent_eigenvalues,
                 "warnings": x.failures.iter().map(|f| f.to_string()).collect::<Vec<_>>(),
                 "path": sol.path.get(k),
             })
@@ -70,7 +71,11 @@ const DIRS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 /// A critical point of an arc-length path in words.
 fn event_text(sol: &StaticSolution, e: &PathEvent) -> String {
     match *e {
-        PathEvent::LimitPoint { step, load_factor } => {
+        PathEvent::LimitPoint {
+            step,
+            load_factor,
+            located,
+        } => {
             let before = step
                 .checked_sub(1)
                 .and_then(|k| sol.steps.get(k))
@@ -80,15 +85,19 @@ fn event_text(sol: &StaticSolution, e: &PathEvent) -> String {
             } else {
                 "a minimum: the end of the unstable part of the path"
             };
-            format!("step {step}: LIMIT POINT, the load factor turns back at {load_factor:.6} ({kind})")
+            let at = if located { "located at" } else { "near" };
+            format!("step {step}: LIMIT POINT, the load factor turns back {at} {load_factor:.6} ({kind})")
         }
         PathEvent::Bifurcation {
             step,
             load_factor,
             unstable,
+            located,
         } => format!(
-            "step {step}: BIFURCATION before load factor {load_factor:.6}, unstable directions {} -> {} (another branch of equilibria crosses the path)",
-            unstable[0], unstable[1]
+            "step {step}: BIFURCATION {} load factor {load_factor:.6}, unstable directions {} -> {} (another branch of equilibria crosses the path)",
+            if located { "located at" } else { "before" },
+            unstable[0],
+            unstable[1]
         ),
         PathEvent::Jump {
             step,
@@ -135,6 +144,7 @@ pub fn static_text(
     let mut header = vec!["step", "load", "iter", "energy [J]", "max |u| [m]"];
     if arc {
         header.insert(2, "path s");
+        header.insert(3, "level");
     }
     let mut names: Vec<String> = Vec::new();
     if let Some(x) = extras.first() {
@@ -150,6 +160,10 @@ pub fn static_text(
         header.push("buckling mu1");
     }
     header.push("stable");
+    let with_kappa = sol.steps.iter().any(|s| s.tangent_eigenvalues.is_some());
+    if with_kappa {
+        header.push("kappa1");
+    }
     let rows: Vec<Vec<String>> = sol
         .steps
         .iter()
@@ -170,6 +184,7 @@ pub fn static_text(
             ];
             if let Some(p) = sol.path.get(k) {
                 row.insert(2, fmt_num(p.arc_length));
+                row.insert(3, p.level.map_or(String::new(), |l| l.to_string()));
             }
             for (_, c) in &x.compliance {
                 let k = c.stiffness_local();
@@ -197,10 +212,21 @@ pub fn static_text(
                 Some(n) => format!("NO ({n})"),
                 None => "-".into(),
             });
+            if with_kappa {
+                row.push(
+                    st.tangent_eigenvalues
+                        .as_ref()
+                        .and_then(|v| v.first())
+                        .map_or("-".into(), |k| fmt_num(*k)),
+                );
+            }
             row
         })
         .collect();
     s += &table(&header, &rows);
+    if with_kappa {
+        s += "  (kappa1: the smallest eigenvalue of the tangent stiffness on the constraints, translations in m and\n   rotations in rad: N/m, N·m/rad or mixed; negative where the equilibrium is unstable)\n";
+    }
     if !names.is_empty() {
         s += "  (support stiffness 1/C_ii in the node's local axes: N/m for x, y, z; N·m/rad for rx, ry, rz;\n   held: a support or prescribed input holds that direction)\n";
     }
@@ -316,7 +342,7 @@ pub fn write_csv(
     let arc = !sol.path.is_empty();
     let mut sum = String::from("step,load_factor,iterations,residual,energy");
     if arc {
-        sum += ",arc_length";
+        sum += ",arc_length,level";
     }
     if let Some(x) = extras.first() {
         for (n, _) in &x.compliance {
@@ -325,7 +351,11 @@ pub fn write_csv(
             }
         }
     }
-    sum += ",buckling_mu1,unstable_directions\n";
+    sum += ",buckling_mu1,unstable_directions";
+    for i in 1..=flexmbd_core::statics::TANGENT_EIGENVALUES {
+        let _ = write!(sum, ",kappa{i}");
+    }
+    sum += "\n";
     for (k, (st, x)) in sol.steps.iter().zip(extras).enumerate() {
         let _ = write!(
             sum,
@@ -333,7 +363,8 @@ pub fn write_csv(
             st.load_factor, st.iterations, st.residual, st.energy
         );
         if let Some(p) = sol.path.get(k).filter(|_| arc) {
-            let _ = write!(sum, ",{}", p.arc_length);
+            let level = p.level.map_or(String::new(), |l| l.to_string());
+            let _ = write!(sum, ",{},{level}", p.arc_length);
         }
         for (_, c) in &x.compliance {
             for v in c.stiffness_local() {
@@ -348,7 +379,16 @@ pub fn write_csv(
         let un = x
             .unstable_directions
             .map_or(String::new(), |n| n.to_string());
-        let _ = writeln!(sum, ",{mu},{un}");
+        let _ = write!(sum, ",{mu},{un}");
+        let kappa = st.tangent_eigenvalues.as_deref().unwrap_or(&[]);
+        for i in 0..flexmbd_core::statics::TANGENT_EIGENVALUES {
+            let _ = write!(
+                sum,
+                ",{}",
+                kappa.get(i).map_or(String::new(), f64::to_string)
+            );
+        }
+        sum += "\n";
         // per step: nodes then elements
         let mut t = String::from("kind,name,ux,uy,uz,rx,ry,rz,Fx,Fy,Fz,Mx,My,Mz\n");
         for n in node_results(model, st) {

@@ -87,7 +87,9 @@ fn parallel_leaf_stroke_matches_closed_forms() {
 fn williams_toggle_by_arc_length_through_both_limit_points() {
     // examples/williams_toggle.toml (validation S05, a dead load of 180 N on the frame): by arc
     // length the path passes the limit load P_max = 150.66 N and the following minimum
-    // 139.15 N (validation.md, ±0.5 %) and ends at the full load
+    // 139.15 N (validation.md, ±0.5 %) and ends at the full load; both limit points are
+    // located states of the path, where the smallest eigenvalue of the tangent vanishes (to
+    // 1e-6 of its value in the unloaded state); the full load is the output level 20
     let ex = example("williams_toggle.toml");
     let check = |doc: Value| {
         let events = doc["events"].as_array().expect("events");
@@ -99,7 +101,19 @@ fn williams_toggle_by_arc_length_through_both_limit_points() {
         }
         let steps = doc["steps"].as_array().unwrap();
         assert_eq!(steps.last().unwrap()["load_factor"], 1.0);
+        assert_eq!(steps.last().unwrap()["path"]["level"], 20);
         assert!(steps[1]["path"]["arc_length"].as_f64().unwrap() > 0.0);
+        let kappa1 = |k: usize| steps[k]["tangent_eigenvalues"][0].as_f64().expect("κ₁");
+        for e in events {
+            assert_eq!(e["located"], true, "{e}");
+            let k = e["step"].as_u64().unwrap() as usize;
+            assert!(
+                kappa1(k).abs() < 1e-6 * kappa1(0),
+                "{} vs {}",
+                kappa1(k),
+                kappa1(0)
+            );
+        }
         assert_eq!(doc["stopped"], Value::Null);
     };
     // the method asked for (`--path arc-length`)

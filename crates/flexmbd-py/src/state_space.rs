@@ -266,6 +266,7 @@ impl StateSpace {
             file: &self.model.file,
             step: self.step,
             load_factor: self.load_factor,
+            stopped: None,
         };
         json(py, &statespace_json(self.core_model(), origin, &self.ss))
     }

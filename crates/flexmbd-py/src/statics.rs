@@ -300,6 +300,23 @@ impl StaticResult {
         array(py, data, &[rows.len(), width])
     }
 
+    /// The smallest eigenvalues of the tangent stiffness on the constraints at each step,
+    /// (steps, 3), ascending, NaN where not computed or where the model has fewer free
+    /// directions (docs/statics.md, "Smallest eigenvalues of the tangent").
+    #[getter]
+    fn tangent_eigenvalues(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        let steps = &self.analysis.solution.steps;
+        let width = flexmbd_core::statics::TANGENT_EIGENVALUES;
+        let data = steps
+            .iter()
+            .flat_map(|st| {
+                let k = st.tangent_eigenvalues.as_deref().unwrap_or(&[]);
+                (0..width).map(|i| k.get(i).copied().unwrap_or(f64::NAN))
+            })
+            .collect();
+        array(py, data, &[steps.len(), width])
+    }
+
     /// Negative directions of the tangent stiffness at each step (0: stable); None where not
     /// computed.
     #[getter]

@@ -239,6 +239,7 @@ impl Frame {
             substeps: 1,
             residual: 0.0,
             multipliers: self.multipliers.clone(),
+            tangent_eigenvalues: None,
         }
     }
 }

@@ -6,8 +6,9 @@
 //! - **Constraint** (Crisfield 1981, cylindrical): ‖Δx‖²_W + Δt² ‖ṗ‖²_W = Δl², with Δx the
 //!   increment of the free coordinates since the last converged state (W: translations divided
 //!   by the model size L, rotation increments as they are: the norm of the convergence test)
-//!   and ṗ the rate of the prescribed translations (their motion Δt ṗ is part of the path; a
-//!   path under loads alone has ṗ = 0 and the plain cylindrical constraint).
+//!   and ṗ the rate of the prescribed coordinates (translations over L, rotations as half
+//!   angles; their motion Δt ṗ is part of the path; a path under loads alone has ṗ = 0 and the
+//!   plain cylindrical constraint).
 //! - **Iteration**: at (x, μ, t) two solves with one factorisation of the Newton matrix K:
 //!   K δa = −(r, g) and K δb = −∂(r, g)/∂t (the load rate: the dead loads, the moments, the
 //!   targets of prescribed deformations, and K_fp ṗ, G_p ṗ of the prescribed translations). The
@@ -28,18 +29,26 @@
 //!   t = 1 exactly (load control from the tangent), so the path ends at the full load; it
 //!   stops after 50 × steps steps otherwise ([`SolveError::PathTooLong`]).
 //! - **Stability and critical points**: the inertia of the L D Lᵀ factorisation of K at each
-//!   converged state gives its number of negative stiffness directions on the constraints; a
-//!   turn of the load factor is a limit point, a change of that number without a turn a
-//!   bifurcation ([`PathEvent`]).
+//!   converged state gives its number of negative stiffness directions on the constraints; where
+//!   it changes within a step, the critical state is located in the step and inserted into the
+//!   path (`critical.rs`): a limit point where the load factor turns, a bifurcation where it goes
+//!   on ([`PathEvent`]). Every state reports the smallest eigenvalues of the tangent
+//!   (`eigen.rs`).
+//! - **Prescribed coordinates**: translations x0 + t v and rotations (Euler parameters
+//!   sin(t v/2)) move with t; their rate ṗ enters the load rate (K_fp ṗ, G_p ṗ) and the
+//!   constraint.
 
+use super::critical::{critical_points, locate, Bracket, Located};
+use super::eigen::tangent_eigenvalues;
+use super::levels::{level_of, level_states, snap_to_level};
 use super::newton::{
     check, expand, increment_size, reduced_rhs, reference_stiffness, step_to, Status, SINGULAR,
 };
 use super::path::{check_options, record};
 use super::{
     apply_prescribed, assemble_values, inverted_element, moment_forces, newton, non_finite_parts,
-    setup, solve_single_multipliers, Assembled, KktSolver, Newton, Part, PathEvent, PathPoint,
-    Role, Setup, SolveError, StaticOptions, StepResult,
+    normalise_lambda, setup, solve_single_multipliers, Assembled, KktSolver, Newton, Part,
+    PathEvent, PathPoint, Role, Setup, SolveError, StaticOptions, StepResult,
 };
 use crate::assembly::gather;
 use crate::elements::ElementKind;
@@ -59,9 +68,47 @@ const MAX_GROWTH: f64 = 1e3;
 /// either takes long steps and a bend, a limit point or the onset of buckling short ones).
 const TARGET_TURN: f64 = 0.05;
 
-/// The rate of the residual and the constraints with the load factor at (x, μ), ∂(r, g)/∂t,
-/// with `a` the assembly there (its stress resultants).
-fn load_rate(model: &Model, su: &Setup, x: &[f64], a: &Assembled) -> (Vec<f64>, Vec<f64>) {
+/// The rate dx_p/dt of the prescribed coordinates at the load factor t (length nx): v for a
+/// translation x0 + t v, (v/2) cos(t v/2) for the Euler parameter sin(t v/2) of a rotation by
+/// t v, and for the Euler parameter that follows from the normalisation alone (a node with a
+/// single free one, λ_f² = 1 − Σ others²) −Σ λ_i λ̇_i / λ_f.
+fn prescribed_rate(su: &Setup, x: &[f64], t: f64) -> Vec<f64> {
+    let mut rate = vec![0.0; x.len()];
+    for &(i, v) in &su.x_targets {
+        rate[i] = if su.is_lambda[i] {
+            0.5 * v * (0.5 * t * v).cos()
+        } else {
+            v
+        };
+    }
+    for &(r, f, _) in &su.red.singles {
+        if x[f] != 0.0 {
+            let w: f64 = (r..r + 4).filter(|&i| i != f).map(|i| x[i] * rate[i]).sum();
+            rate[f] = -w / x[f];
+        }
+    }
+    rate
+}
+
+/// ‖ṗ‖²_W, the rate of the prescribed coordinates in the norm of the constraint: (v/L)² for a
+/// translation, (v/2)² for a rotation by t v (the rotation increments of the norm are half
+/// angles, ω = 2δ).
+fn prescribed_rate2(su: &Setup) -> f64 {
+    su.x_targets
+        .iter()
+        .map(|&(i, v)| {
+            if su.is_lambda[i] {
+                (0.5 * v).powi(2)
+            } else {
+                (v / su.l_ref).powi(2)
+            }
+        })
+        .sum()
+}
+
+/// The rate of the residual and the constraints with the load factor at (x, μ, t),
+/// ∂(r, g)/∂t, with `a` the assembly there (its stress resultants).
+fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Vec<f64>, Vec<f64>) {
     let mut qx = su.f_dead.iter().map(|f| -f).collect::<Vec<f64>>();
     for &(r, m) in &su.moments {
         let f1 = moment_forces(x, r, &m);
@@ -75,11 +122,11 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], a: &Assembled) -> (Vec<f64>, 
             qg[kc] = -su.e_targets[i];
         }
     }
-    // prescribed translations x_p = x0 + t v: the forces and constraint rates of their motion,
-    // K_fp v and G_p v, element by element
-    let mut rate = vec![0.0; model.nx];
-    for &(i, v) in &su.x_targets {
-        rate[i] = v;
+    // prescribed coordinates x_p(t): the forces and constraint rates of their motion,
+    // K_fp ẋ_p and G_p ẋ_p, element by element, and the rates of the Euler normalisations
+    let rate = prescribed_rate(su, x, t);
+    for &(r, kc) in &su.norm {
+        qg[kc] += (r..r + 4).map(|i| 2.0 * x[i] * rate[i]).sum::<f64>();
     }
     for (entry, s) in model.elements.iter().zip(&su.s_eff) {
         let v: Vec<f64> = entry.xmap.iter().map(|&i| rate[i]).collect();
@@ -118,7 +165,7 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], a: &Assembled) -> (Vec<f64>, 
 }
 
 /// ‖v‖²_W of a reduced increment (the coordinate unknowns; translations over L²).
-fn norm2(su: &Setup, v: &[f64]) -> f64 {
+pub(super) fn norm2(su: &Setup, v: &[f64]) -> f64 {
     dot(su, v, v)
 }
 
@@ -146,21 +193,21 @@ fn solver<'a>(
 }
 
 /// The tangent at a converged state: δb = −K⁻¹ ∂(r, g)/∂t (reduced), with the inertia of K.
-struct Tangent {
+pub(super) struct Tangent {
     db: Vec<f64>,
     /// The load rate on the free coordinates (for the multipliers of reduced nodes).
     qr: Vec<f64>,
-    unstable: Option<usize>,
+    pub(super) unstable: Option<usize>,
 }
 
-fn tangent(
+pub(super) fn tangent(
     model: &Model,
     su: &Setup,
-    x: &[f64],
+    (x, t): (&[f64], f64),
     a: &Assembled,
     kkt: &mut Option<KktSolver>,
 ) -> Result<Tangent, String> {
-    let (qr, qg) = load_rate(model, su, x, a);
+    let (qr, qg) = load_rate(model, su, x, t, a);
     let mut db = reduced_rhs(su, x, &qr, &qg);
     let kkt = solver(kkt, su, a)?;
     if kkt.solve(&a.vals, &mut db).is_err() || db.iter().any(|v| !v.is_finite()) {
@@ -172,29 +219,42 @@ fn tangent(
 }
 
 /// A converged state of the path.
-struct State {
-    x: Vec<f64>,
-    mu: Vec<f64>,
-    t: f64,
-    a: Box<Assembled>,
+pub(super) struct State {
+    pub(super) x: Vec<f64>,
+    pub(super) mu: Vec<f64>,
+    pub(super) t: f64,
+    pub(super) a: Box<Assembled>,
     tangent: Tangent,
 }
 
 /// A converged step of the path.
-struct Step {
-    x: Vec<f64>,
-    mu: Vec<f64>,
-    t: f64,
-    a: Box<Assembled>,
-    iterations: usize,
-    residual: f64,
+pub(super) struct Step {
+    pub(super) x: Vec<f64>,
+    pub(super) mu: Vec<f64>,
+    pub(super) t: f64,
+    pub(super) a: Box<Assembled>,
+    pub(super) iterations: usize,
+    pub(super) residual: f64,
     /// The path's last step (at t = 1).
-    end: bool,
+    pub(super) end: bool,
+}
+
+/// A state inside a step, inserted into the path before the step's end: a located critical
+/// point or an output level.
+struct Inside {
+    /// Distance from the step's start in the norm of the constraint.
+    s: f64,
+    level: Option<usize>,
+    step: StepResult,
+    unstable: Option<usize>,
+    /// For a critical point: whether the load factor turns there, and the unstable directions
+    /// before and after.
+    critical: Option<(bool, [usize; 2])>,
 }
 
 /// One arc-length step of length `dl` from `s0` along `sign` × the tangent; the converged
 /// state with its iterations, or why not.
-fn arc_step(
+pub(super) fn arc_step(
     model: &Model,
     su: &Setup,
     opts: &StaticOptions,
@@ -221,6 +281,7 @@ fn arc_step(
     step_to(su, (&mut x, &mut mu), (&s0.x, &s0.mu), &dz, 1.0);
     let mut t = s0.t + dt0;
     apply_prescribed(model, su, &mut x, t);
+    normalise_lambda(su, &mut x);
     let mut last_inc = f64::INFINITY;
     let mut r_start = 0.0;
     let mut k_ref = reference_stiffness(su, &s0.a);
@@ -245,7 +306,7 @@ fn arc_step(
             Status::Failed(reason) => return Err(reason),
             Status::Iterate => {}
         }
-        let (qr, qg) = load_rate(model, su, &x, &a);
+        let (qr, qg) = load_rate(model, su, &x, t, &a);
         let mut da = reduced_rhs(su, &x, &a.r, &a.g);
         let mut db = reduced_rhs(su, &x, &qr, &qg);
         if solver(kkt, su, &a)?
@@ -276,6 +337,7 @@ fn arc_step(
         step_to(su, (&mut x, &mut mu), (&x_old, &mu_old), &dz, 1.0);
         t += ddt;
         apply_prescribed(model, su, &mut x, t);
+        normalise_lambda(su, &mut x);
         dt += ddt;
         for (u, v) in total.iter_mut().zip(&dr) {
             *u += v;
@@ -287,7 +349,8 @@ fn arc_step(
 
 /// Follow the path by arc length from the unloaded state to load factor 1: every converged
 /// state is pushed onto `out` with its [`PathPoint`] onto `path`, the critical points passed
-/// ([`critical_points`]) onto `events`, also when the path stops part-way.
+/// ([`critical_points`]: located inside their step where possible) onto `events`, also when
+/// the path stops part-way.
 pub(super) fn follow(
     model: &Model,
     opts: &StaticOptions,
@@ -296,37 +359,10 @@ pub(super) fn follow(
     path: &mut Vec<PathPoint>,
     events: &mut Vec<PathEvent>,
 ) -> Result<(), SolveError> {
-    let r = run(model, opts, progress, out, path);
-    *events = critical_points(out, path);
+    let mut located = Vec::new();
+    let r = run(model, opts, progress, out, (path, &mut located));
+    *events = critical_points(out, path, &located);
     r
-}
-
-/// The critical points along a path: a limit point at every step where the load factor is
-/// extreme (it moves the other way before and after), a bifurcation where the number of
-/// unstable directions changes between two steps with no limit point at either of them.
-pub(super) fn critical_points(steps: &[StepResult], path: &[PathPoint]) -> Vec<PathEvent> {
-    let t: Vec<f64> = steps.iter().map(|s| s.load_factor).collect();
-    let limit = |k: usize| k > 0 && k + 1 < t.len() && (t[k] - t[k - 1]) * (t[k + 1] - t[k]) < 0.0;
-    let mut events = Vec::new();
-    for k in 1..t.len().min(path.len()) {
-        if limit(k - 1) {
-            events.push(PathEvent::LimitPoint {
-                step: k - 1,
-                load_factor: t[k - 1],
-            });
-        }
-        if let (Some(u0), Some(u1)) = (path[k - 1].unstable_directions, path[k].unstable_directions)
-        {
-            if u0 != u1 && !limit(k - 1) && !limit(k) {
-                events.push(PathEvent::Bifurcation {
-                    step: k,
-                    load_factor: t[k],
-                    unstable: [u0, u1],
-                });
-            }
-        }
-    }
-    events
 }
 
 /// [`follow`] without the critical points.
@@ -335,22 +371,12 @@ fn run(
     opts: &StaticOptions,
     mut progress: impl FnMut(usize, usize),
     out: &mut Vec<StepResult>,
-    path: &mut Vec<PathPoint>,
+    (path, located): (&mut Vec<PathPoint>, &mut Vec<Located>),
 ) -> Result<(), SolveError> {
     check_options(opts)?;
     let su = setup(model);
     if su.nf == 0 && su.nk == 0 {
         return Err(SolveError::NothingToSolve);
-    }
-    if let Some(&(i, _)) = su.x_targets.iter().find(|(i, _)| su.is_lambda[*i]) {
-        let node = model
-            .nodes
-            .iter()
-            .find(|n| n.ix_rot.is_some_and(|r| (r..r + 4).contains(&i)))
-            .map_or("?", |n| n.name.as_str());
-        return Err(SolveError::NotForArcLength(format!(
-            "node `{node}` has a prescribed rotation, which the arc-length method does not drive (only prescribed translations and deformations); use load steps for this model"
-        )));
     }
     let steps = opts.steps.max(1);
     let max_steps = (STEPS_PER_LOAD_STEP * steps).min(super::MAX_STEPS);
@@ -359,6 +385,7 @@ fn run(
     let mut mu = vec![0.0; su.nk];
     let mut kkt = None;
     apply_prescribed(model, &su, &mut x, 0.0);
+    normalise_lambda(&su, &mut x);
     let (iterations, residual, a) =
         match newton(model, &su, opts, &mut x, &mut mu, 0.0, &mut kkt, None) {
             Newton::Converged {
@@ -376,16 +403,13 @@ fn run(
                 })
             }
         };
-    let st = record(model, &x, &mu, &a, 0.0, iterations, 1, residual);
+    let mut st = record(model, &x, &mu, &a, 0.0, iterations, 1, residual);
+    st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
     push_finite(out, st, 0, None)?;
-    let tangent0 =
-        tangent(model, &su, &x, &a, &mut kkt).map_err(|r| no_convergence(1, 0.0, 0.0, 0, r))?;
-    // the rate of the prescribed translations, in the norm of the constraint
-    let p2 = su
-        .x_targets
-        .iter()
-        .map(|&(_, v)| (v / su.l_ref).powi(2))
-        .sum::<f64>();
+    let tangent0 = tangent(model, &su, (&x, 0.0), &a, &mut kkt)
+        .map_err(|r| no_convergence(1, 0.0, 0.0, 0, r))?;
+    // the rate of the prescribed coordinates, in the norm of the constraint
+    let p2 = prescribed_rate2(&su);
     let dl0 = (norm2(&su, &tangent0.db) + p2).sqrt() / steps as f64;
     if !(dl0.is_finite() && dl0 > 0.0) {
         return Err(SolveError::NotForArcLength(
@@ -395,6 +419,7 @@ fn run(
     path.push(PathPoint {
         arc_length: 0.0,
         unstable_directions: tangent0.unstable,
+        level: Some(0),
     });
     progress(0, steps);
     let mut cur = State {
@@ -493,18 +518,93 @@ fn run(
             iterations,
             residual,
             end,
-        } = done;
-        let st = record(model, &x, &mu, &a, t, iterations, halvings + 1, residual);
-        push_finite(out, st, step, Some(cur.t))?;
-        let tangent = tangent(model, &su, &x, &a, &mut kkt)
-            .map_err(|r| no_convergence(step + 1, t, t, 0, r))?;
+        } = snap_to_level(model, &su, opts, done, (&cur, p2, steps), &mut kkt);
+        let mut st = record(model, &x, &mu, &a, t, iterations, halvings + 1, residual);
+        st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+        let tangent = match tangent(model, &su, (&x, t), &a, &mut kkt) {
+            Ok(tg) => tg,
+            Err(r) => {
+                push_finite(out, st, step, Some(cur.t))?;
+                return Err(no_convergence(step + 1, t, t, 0, r));
+            }
+        };
         // the increment of this step (reduced, at the old state's basis: for the direction)
         let inc: Vec<f64> = reduced_increment(&su, &cur.x, &x);
         let dt = t - cur.t;
-        s_total += (norm2(&su, &inc) + dt * dt * p2).sqrt();
+        let chord = (norm2(&su, &inc) + dt * dt * p2).sqrt();
+        // the states inside the step, in path order: a critical point (the number of
+        // unstable directions changes; the load factor turns there, a limit point, when the
+        // next step goes back in t) and the output levels crossed
+        let mut inside: Vec<Inside> = Vec::new();
+        if let (Some(u0), Some(u1)) = (cur.tangent.unstable, tangent.unstable) {
+            if u0 != u1 {
+                let bracket = Bracket {
+                    from: &cur,
+                    to: &a,
+                    sign,
+                    p2,
+                    chord,
+                    unstable: [u0, u1],
+                };
+                if let Some(c) = locate(model, &su, opts, &bracket, &mut kkt) {
+                    let mut cs = record(model, &c.x, &c.mu, &c.a, c.t, c.iterations, 1, c.residual);
+                    cs.tangent_eigenvalues = c.kappa;
+                    let turns = (dot(&su, &inc, &tangent.db) + dt * p2) * sign < 0.0;
+                    inside.push(Inside {
+                        s: c.s,
+                        level: level_of(c.t, steps),
+                        step: cs,
+                        unstable: c.unstable,
+                        critical: Some((turns, [u0, u1])),
+                    });
+                }
+            }
+        }
+        let crossed = level_states(
+            model,
+            &su,
+            opts,
+            &cur,
+            (&x, &mu, t),
+            (steps, p2, chord),
+            &mut kkt,
+        );
+        for l in crossed {
+            let mut ls = l.step;
+            ls.tangent_eigenvalues = tangent_eigenvalues(model, &su, &ls, &l.a);
+            let unstable = self::tangent(model, &su, (&ls.x, ls.load_factor), &l.a, &mut kkt)
+                .ok()
+                .and_then(|tg| tg.unstable);
+            inside.push(Inside {
+                s: l.s,
+                level: Some(l.level),
+                step: ls,
+                unstable,
+                critical: None,
+            });
+        }
+        inside.sort_by(|p, q| p.s.total_cmp(&q.s));
+        for p in inside {
+            push_finite(out, p.step, step, Some(cur.t))?;
+            path.push(PathPoint {
+                arc_length: s_total + p.s,
+                unstable_directions: p.unstable,
+                level: p.level,
+            });
+            if let Some((limit, unstable)) = p.critical {
+                located.push(Located {
+                    step: out.len() - 1,
+                    limit,
+                    unstable,
+                });
+            }
+        }
+        push_finite(out, st, step, Some(cur.t))?;
+        s_total += chord;
         path.push(PathPoint {
             arc_length: s_total,
             unstable_directions: tangent.unstable,
+            level: level_of(t, steps),
         });
         largest = largest.max(t);
         progress(((t.clamp(0.0, 1.0)) * steps as f64).floor() as usize, steps);
@@ -549,7 +649,7 @@ fn run(
 
 /// The reduced increment from `x0` to `x1` (free translations and other plain unknowns as
 /// differences; the rotation of a reduced node as Nᵀ(λ0) (λ1 − λ0)).
-fn reduced_increment(su: &Setup, x0: &[f64], x1: &[f64]) -> Vec<f64> {
+pub(super) fn reduced_increment(su: &Setup, x0: &[f64], x1: &[f64]) -> Vec<f64> {
     let red = &su.red;
     let mut v = vec![0.0; red.n];
     for (i, u) in su.unknown.iter().enumerate() {

@@ -161,6 +161,11 @@ pub struct StepResult {
     pub residual: f64,
     /// Lagrange multipliers μ (constrained deformations, then Euler normalisations).
     pub multipliers: Vec<f64>,
+    /// The smallest eigenvalues κ₁ ≤ κ₂ ≤ … of the tangent stiffness on the constraints
+    /// (translations in m, rotations in rad; negative: an unstable direction), at most
+    /// [`TANGENT_EIGENVALUES`] of them; `None` where not computed (a model with more than
+    /// [`TANGENT_EIGEN_MAX`] reduced coordinates, a state of a time simulation).
+    pub tangent_eigenvalues: Option<Vec<f64>>,
 }
 
 /// All load steps, the unloaded state first.
@@ -187,6 +192,10 @@ pub struct PathPoint {
     /// from the inertia of its factorisation; `None` when it was factored otherwise (applied
     /// moments make it unsymmetric).
     pub unstable_directions: Option<usize>,
+    /// The requested output level k of this state, whose load factor is exactly k/steps (the
+    /// unloaded state, the full load, and every crossing of a level between); `None` for the
+    /// other points of the path.
+    pub level: Option<usize>,
 }
 
 /// A critical point passed along an arc-length path.
@@ -200,16 +209,22 @@ pub enum PathEvent {
         step: usize,
         /// Its load factor.
         load_factor: f64,
+        /// Whether step `step` is the located critical state (the tangent singular there, to
+        /// the tolerance of `critical.rs`), not the sampled step nearest to it.
+        located: bool,
     },
-    /// The number of unstable directions changes between steps `step` − 1 and `step` while the
-    /// load factor goes on: a branch of other equilibria crosses the path there.
+    /// The number of unstable directions changes while the load factor goes on: a branch of
+    /// other equilibria crosses the path there.
     Bifurcation {
-        /// The first step after the bifurcation.
+        /// The located critical state, or (not `located`) the first step after the
+        /// bifurcation.
         step: usize,
         /// Its load factor.
         load_factor: f64,
         /// Unstable directions before and after.
         unstable: [usize; 2],
+        /// Whether step `step` is the located critical state (see `LimitPoint`).
+        located: bool,
     },
     /// Load steps only: the converged displacement increment of step `step` is `growth` times
     /// that of the step before (and at least 1e-3 of the model size): the path has probably
@@ -366,5 +381,9 @@ use newton::{newton, Newton};
 pub use path::{solve, solve_path, StaticAnalysis, Stopped};
 
 mod arc;
+mod critical;
+mod eigen;
+mod levels;
+pub use eigen::{TANGENT_EIGENVALUES, TANGENT_EIGEN_MAX};
 #[cfg(test)]
 pub(crate) use path::last_step;

@@ -6,6 +6,7 @@
 //! that converged before it, and with the last converged sub-step when that lies beyond the last
 //! full step (the state closest to where the path stopped, e.g. just below a limit point).
 
+use super::eigen::tangent_eigenvalues;
 use super::{
     apply_prescribed, assemble, inverted_element, linear, newton, non_finite_parts, setup,
     Assembled, Newton, PathMethod, SolveError, StaticOptions, StaticSolution, StepResult,
@@ -149,6 +150,7 @@ pub(super) fn record(
         substeps,
         residual,
         multipliers: mu.to_vec(),
+        tangent_eigenvalues: None,
     }
 }
 
@@ -201,7 +203,8 @@ fn follow(
             residual,
             state,
         } => {
-            let st = record(model, &x, &mu, &state, 0.0, iterations, 1, residual);
+            let mut st = record(model, &x, &mu, &state, 0.0, iterations, 1, residual);
+            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &state);
             let bad = non_finite_parts(&st);
             if !bad.is_empty() {
                 return Err(SolveError::NonFinite {
@@ -285,7 +288,9 @@ fn follow(
                         // the last converged sub-step, when it lies beyond the last full step
                         if substeps > 0 {
                             let a = assemble(model, &su, &x, &mu, t);
-                            let st = record(model, &x, &mu, &a, t, iterations, substeps, residual);
+                            let mut st =
+                                record(model, &x, &mu, &a, t, iterations, substeps, residual);
+                            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
                             if non_finite_parts(&st).is_empty() {
                                 out.push(st);
                             }
@@ -313,7 +318,8 @@ fn follow(
             Some(a) => a,
             None => Box::new(assemble(model, &su, &x, &mu, t_end)),
         };
-        let st = record(model, &x, &mu, &a, t_end, iterations, substeps, residual);
+        let mut st = record(model, &x, &mu, &a, t_end, iterations, substeps, residual);
+        st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
         let bad = non_finite_parts(&st);
         if !bad.is_empty() {
             return Err(SolveError::NonFinite {
