@@ -139,6 +139,11 @@ enum Command {
         /// Backtracking line search in Newton (off by default; step halving is always on).
         #[arg(long)]
         line_search: bool,
+        /// The smallest eigenvalues of the tangent stiffness at every step (column kappa1,
+        /// JSON tangent_eigenvalues); always computed with arc length; models up to 300
+        /// reduced coordinates.
+        #[arg(long)]
+        tangent_eigenvalues: bool,
         /// How the path is followed: load-steps (equal steps of the load factor) or arc-length
         /// (passes limit points and snap-backs); overrides [static] path.
         #[arg(long, value_enum)]
@@ -388,6 +393,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             csv,
             line_search,
+            tangent_eigenvalues,
             path,
         } => run_static(
             &model,
@@ -398,7 +404,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             tol_disp,
             json,
             csv,
-            line_search,
+            (line_search, tangent_eigenvalues),
         ),
         Command::Check {
             model,
@@ -567,7 +573,7 @@ fn run_static(
     tol_disp: Option<f64>,
     json: bool,
     csv: Option<PathBuf>,
-    line_search: bool,
+    (line_search, tangent_eigenvalues): (bool, bool),
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::linearized::LinearRequest;
     use flexmbd_io::static_report::{static_json, static_text, write_csv};
@@ -590,6 +596,7 @@ fn run_static(
         }
     }
     opts.line_search = line_search || settings.line_search;
+    opts.tangent_eigenvalues = tangent_eigenvalues || settings.tangent_eigenvalues;
     let mut nodes = settings.compliance.clone();
     nodes.extend(compliance);
     let node_ids = nodes

@@ -110,3 +110,50 @@ fn williams_toggle_path_method_from_the_flag_or_the_file() {
 fn text_with(text: &str, line: &str) -> String {
     text.replace("path = \"arc-length\"", line)
 }
+
+#[test]
+fn tangent_eigenvalues_at_load_steps_only_when_asked_for() {
+    // with load steps κ is off by default (`null` at every step); the flag, or the key in
+    // [static], turns it on: three values per step of the parallel-leaf guide
+    let ex = example();
+    let count = |args: &[&str]| -> Vec<Option<usize>> {
+        let (out, json) = run(args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        json.expect("JSON")["steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["tangent_eigenvalues"].as_array().map(Vec::len))
+            .collect()
+    };
+    let off = count(&["static", &ex, "--steps", "3", "--json", "--quiet"]);
+    assert!(off.iter().all(Option::is_none), "{off:?}");
+    let on = count(&[
+        "static",
+        &ex,
+        "--steps",
+        "3",
+        "--json",
+        "--quiet",
+        "--tangent-eigenvalues",
+    ]);
+    assert!(on.iter().all(|n| *n == Some(3)), "{on:?}");
+    let text = std::fs::read_to_string(&ex).unwrap();
+    let keyed = text.replacen("[static]", "[static]\ntangent_eigenvalues = true", 1);
+    assert_ne!(keyed, text, "the example has a [static] table");
+    let dir = common::Temp::new("static-kappa-key");
+    let file = dir.write("keyed.toml", keyed.as_bytes());
+    let from_key = count(&[
+        "static",
+        file.to_str().unwrap(),
+        "--steps",
+        "3",
+        "--json",
+        "--quiet",
+    ]);
+    assert_eq!(from_key, on);
+}

@@ -41,6 +41,7 @@ pub fn static_options(
     opts.tol_force = settings.tol_force.unwrap_or(opts.tol_force);
     opts.tol_disp = settings.tol_disp.unwrap_or(opts.tol_disp);
     opts.line_search = settings.line_search;
+    opts.tangent_eigenvalues = settings.tangent_eigenvalues;
     opts.path = path.unwrap_or(settings.path);
     Ok(opts)
 }

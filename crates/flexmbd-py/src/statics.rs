@@ -134,7 +134,8 @@ pub struct StaticResult {
 /// Nonlinear statics over load steps (or by arc length) with reactions, stress resultants,
 /// compliance, buckling.
 #[pyfunction]
-#[pyo3(signature = (model, steps=None, compliance=Vec::new(), buckling=None, tol_force=None, tol_disp=None, line_search=false, path=None))]
+#[pyo3(signature = (model, steps=None, compliance=Vec::new(), buckling=None, tol_force=None, tol_disp=None, line_search=false, path=None, tangent_eigenvalues=false))]
+#[allow(clippy::too_many_arguments)]
 pub fn static_(
     py: Python<'_>,
     model: &PyModel,
@@ -145,6 +146,7 @@ pub fn static_(
     tol_disp: Option<f64>,
     line_search: bool,
     path: Option<&str>,
+    tangent_eigenvalues: bool,
 ) -> PyResult<Py<StaticResult>> {
     let loaded = model.inner.clone();
     let prepared = (|| {
@@ -165,6 +167,7 @@ pub fn static_(
             }
         }
         opts.line_search = line_search || file.settings.line_search;
+        opts.tangent_eigenvalues = tangent_eigenvalues || file.settings.tangent_eigenvalues;
         let mut ids = Vec::new();
         for n in file.settings.compliance.iter().chain(&compliance) {
             ids.push(file.model.node_id(n).ok_or_else(|| {

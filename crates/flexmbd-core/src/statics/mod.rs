@@ -67,6 +67,11 @@ pub struct StaticOptions {
     /// (membrane locking), so every merit function rejects a step that pure Newton recovers
     /// from in a few iterations; step halving is the safeguard instead.
     pub line_search: bool,
+    /// The smallest eigenvalues κ of the tangent ([`StepResult::tangent_eigenvalues`]) at every
+    /// step of load steps and strokes: off by default there (a dense eigen solve per step, which
+    /// costs more than the step itself on small models); arc length always computes them, as it
+    /// locates limit points and bifurcations with them.
+    pub tangent_eigenvalues: bool,
     /// How the load factor moves along the path: fixed load steps (default) or arc length.
     pub path: PathMethod,
 }
@@ -94,6 +99,7 @@ impl Default for StaticOptions {
             tol_disp: 1e-9,
             max_halvings: 12,
             line_search: false,
+            tangent_eigenvalues: false,
             path: PathMethod::LoadSteps,
         }
     }

@@ -204,7 +204,9 @@ fn follow(
             state,
         } => {
             let mut st = record(model, &x, &mu, &state, 0.0, iterations, 1, residual);
-            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &state);
+            if opts.tangent_eigenvalues {
+                st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &state);
+            }
             let bad = non_finite_parts(&st);
             if !bad.is_empty() {
                 return Err(SolveError::NonFinite {
@@ -290,7 +292,9 @@ fn follow(
                             let a = assemble(model, &su, &x, &mu, t);
                             let mut st =
                                 record(model, &x, &mu, &a, t, iterations, substeps, residual);
-                            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+                            if opts.tangent_eigenvalues {
+                                st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+                            }
                             if non_finite_parts(&st).is_empty() {
                                 out.push(st);
                             }
@@ -319,7 +323,9 @@ fn follow(
             None => Box::new(assemble(model, &su, &x, &mu, t_end)),
         };
         let mut st = record(model, &x, &mu, &a, t_end, iterations, substeps, residual);
-        st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+        if opts.tangent_eigenvalues {
+            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+        }
         let bad = non_finite_parts(&st);
         if !bad.is_empty() {
             return Err(SolveError::NonFinite {

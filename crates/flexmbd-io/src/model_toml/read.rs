@@ -377,6 +377,7 @@ fn statics(
         compliance: s.compliance.clone(),
         buckling: s.buckling,
         line_search: s.line_search,
+        tangent_eigenvalues: s.tangent_eigenvalues,
         path,
         comments: Vec::new(),
         src: Src::default(),

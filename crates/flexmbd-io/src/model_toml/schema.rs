@@ -190,6 +190,8 @@ pub(super) struct StaticSpec {
     pub(super) buckling: usize,
     #[serde(default)]
     pub(super) line_search: bool,
+    #[serde(default)]
+    pub(super) tangent_eigenvalues: bool,
     pub(super) path: Option<String>,
 }
 

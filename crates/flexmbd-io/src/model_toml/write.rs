@@ -372,6 +372,9 @@ fn write_settings(out: &mut String, spec: &ModelSpec) -> Result<(), String> {
         if st.line_search {
             b.raw("line_search", "true".into());
         }
+        if st.tangent_eigenvalues {
+            b.raw("tangent_eigenvalues", "true".into());
+        }
         b.text(
             "path",
             st.path.map(|p| match p {

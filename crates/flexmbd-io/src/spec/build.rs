@@ -386,6 +386,7 @@ impl ModelSpec {
             compliance: st.compliance.clone(),
             buckling: st.buckling,
             line_search: st.line_search,
+            tangent_eigenvalues: st.tangent_eigenvalues,
             path: match st.path {
                 Some(PathSpec::ArcLength) => flexmbd_core::statics::PathMethod::ArcLength,
                 _ => flexmbd_core::statics::PathMethod::LoadSteps,

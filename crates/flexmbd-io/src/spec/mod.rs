@@ -581,6 +581,9 @@ pub struct StaticSpec {
     pub buckling: usize,
     /// Backtracking line search in Newton.
     pub line_search: bool,
+    /// The smallest eigenvalues of the tangent at every step of load steps and strokes.
+    #[serde(default)]
+    pub tangent_eigenvalues: bool,
     /// How the path is followed.
     pub path: Option<PathSpec>,
     /// Comment lines written above the section.

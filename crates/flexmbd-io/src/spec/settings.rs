@@ -22,6 +22,9 @@ pub struct Settings {
     pub buckling: usize,
     /// Backtracking line search in Newton.
     pub line_search: bool,
+    /// The smallest eigenvalues of the tangent at every step of load steps and strokes (always
+    /// with arc length).
+    pub tangent_eigenvalues: bool,
     /// How the path is followed (`path = "load-steps"` or `"arc-length"`).
     pub path: flexmbd_core::statics::PathMethod,
 }

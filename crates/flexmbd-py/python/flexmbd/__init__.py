@@ -293,6 +293,7 @@ class Model(_Editing):
         tol_disp=None,
         line_search=False,
         path=None,
+        tangent_eigenvalues=False,
     ):
         """Nonlinear statics (``flexmbd static``) over load steps or by arc length.
 
@@ -303,6 +304,9 @@ class Model(_Editing):
         tol_force, tol_disp: relative residual and increment tolerances (default 1e-9).
         line_search: backtracking line search in Newton.
         path: "load-steps" or "arc-length" (over the model's [static] path).
+        tangent_eigenvalues: the smallest eigenvalues of the tangent stiffness at every step
+            (``StaticResult.tangent_eigenvalues``; always with arc length; models up to 300
+            reduced coordinates).
         Returns a ``StaticResult``; a path that stops part-way raises ``PathStoppedError``
         whose ``result`` holds the converged steps.
         """
@@ -315,6 +319,7 @@ class Model(_Editing):
             tol_disp,
             line_search,
             path,
+            tangent_eigenvalues,
         )
 
     def modes(self, *, count=10, at_step=None, steps=None, solver="auto", path=None):

@@ -160,6 +160,7 @@ class Model:
         tol_disp: Optional[float] = None,
         line_search: bool = False,
         path: Optional[str] = None,
+        tangent_eigenvalues: bool = False,
     ) -> StaticResult: ...
     def modes(
         self,
