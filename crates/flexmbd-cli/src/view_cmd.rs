@@ -64,6 +64,8 @@ pub struct ViewArgs {
     sim: SimOptionArgs,
 }
 
+use flexmbd_core::kinematics::freedom::IntendedFreedom;
+
 /// The classification with its owned parts.
 struct Classified {
     analysis: flexmbd_core::kinematics::ConstraintAnalysis,
@@ -71,13 +73,18 @@ struct Classified {
     generalised: Vec<String>,
 }
 
-fn classify(model: &Model, opts: &CheckOptions, args: &ViewArgs) -> anyhow::Result<Classified> {
+fn classify(
+    model: &Model,
+    opts: &CheckOptions,
+    args: &ViewArgs,
+    freedom: &[IntendedFreedom],
+) -> anyhow::Result<Classified> {
     let opts = flexmbd_core::kinematics::classify::ClassifyOptions {
         check: *opts,
         auto: args.auto,
         max_suggestions: args.max_suggestions,
     };
-    let c = crate::classify_cli(model, &args.model, &opts)?;
+    let c = crate::classify_cli(model, &args.model, &opts, freedom)?;
     Ok(Classified {
         generalised: generalised_names(model, &c.partition.x, &c.partition.e),
         analysis: c.analysis,
@@ -112,6 +119,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         model,
         settings,
         simulate: sim_settings,
+        freedom,
     } = if matches!(args.analysis, Analysis::Simulate) {
         crate::load_sim_file(&args.model)?
     } else {
@@ -123,7 +131,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     // the classification: always for check; for static and modes when Dcc is of a size whose
     // dense SVD takes a moment
     let classified = match args.analysis {
-        Analysis::Check => Some(classify(&model, &opts, &args)?),
+        Analysis::Check => Some(classify(&model, &opts, &args, &freedom)?),
         Analysis::Static | Analysis::Modes | Analysis::Simulate => {
             let x = model.x0();
             let (m, n) = (
@@ -131,7 +139,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
                 columns(&model, &model.partition, &x).len(),
             );
             if m.saturating_mul(n) <= MAX_DCC_ENTRIES {
-                match classify(&model, &opts, &args) {
+                match classify(&model, &opts, &args, &freedom) {
                     Ok(c) => Some(c),
                     Err(e) => {
                         notes.push(format!("classification not shown: {e:#}"));

@@ -5,7 +5,7 @@
 
 use flexmbd_core::kinematics::advice::WireAdvice;
 use flexmbd_core::kinematics::freedom::{FreedomCheck, FreedomMotion};
-use flexmbd_core::kinematics::screw::{BodyTwist, ScrewAnalysis, ScrewKind, Screw};
+use flexmbd_core::kinematics::screw::{BodyTwist, Screw, ScrewAnalysis, ScrewKind};
 
 /// (x, y, z) with six decimals.
 fn v3(v: [f64; 3]) -> String {
@@ -38,11 +38,7 @@ pub fn describe_screw(s: &Screw) -> String {
             pitch(s.pitch),
             s.magnitude
         ),
-        ScrewKind::Couple => format!(
-            "couple about {} (|M| {:.3e})",
-            v3(s.direction),
-            s.magnitude
-        ),
+        ScrewKind::Couple => format!("couple about {} (|M| {:.3e})", v3(s.direction), s.magnitude),
     }
 }
 

@@ -87,14 +87,7 @@ fn documents(m: &Model, auto: bool, method: CheckMethod) -> (Vec<u8>, Option<Str
         max_suggestions: 6,
     };
     let c = classify(m, &opts).unwrap();
-    let report = CheckReport {
-        model: m,
-        file: "strip.toml",
-        rank_tol: opts.check.rank_tol,
-        analysis: &c.analysis,
-        advice: &c.advice,
-        auto: c.chosen.as_deref().map(|ch| (ch, &c.before)),
-    };
+    let report = CheckReport::of(m, "strip.toml", opts.check.rank_tol, &c);
     let names = generalised_names(m, &c.partition.x, &c.partition.e);
     let mut out = Vec::new();
     write_check_json(&mut out, &report, &names).unwrap();

@@ -289,14 +289,7 @@ impl CheckResult {
     /// The report as a dict: the structure of `flexmbd check --json`.
     fn to_dict(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         let l = &self.model;
-        let report = CheckReport {
-            model: &l.check,
-            file: &l.file,
-            rank_tol: self.rank_tol,
-            analysis: &self.c.analysis,
-            advice: &self.c.advice,
-            auto: self.c.chosen.as_deref().map(|c| (c, &self.c.before)),
-        };
+        let report = CheckReport::of(&l.check, &l.file, self.rank_tol, &self.c);
         let p = &self.c.partition;
         let names = generalised_names(&l.check, &p.x, &p.e);
         let mut buf = Vec::new();

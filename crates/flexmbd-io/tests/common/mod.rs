@@ -42,14 +42,7 @@ pub fn check_doc(path: &Path, auto: bool) -> Value {
     };
     let c = classify(&m, &opts).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let file = path.display().to_string();
-    let report = CheckReport {
-        model: &m,
-        file: &file,
-        rank_tol: opts.check.rank_tol,
-        analysis: &c.analysis,
-        advice: &c.advice,
-        auto: c.chosen.as_deref().map(|chosen| (chosen, &c.before)),
-    };
+    let report = CheckReport::of(&m, &file, opts.check.rank_tol, &c);
     let names = generalised_names(&m, &c.partition.x, &c.partition.e);
     let mut out = Vec::new();
     write_check_json(&mut out, &report, &names).expect("write to memory");
