@@ -42,6 +42,14 @@ fn reference(r: &CheckReport<'_>, generalised: &[String]) -> Value {
                         "n_mechanisms": before.n_motions(), "n_self_stresses": before.n_self_stresses() },
         });
     }
+    // the keys added with the designer's language (twists, wrenches, wires)
+    if let Some(sc) = r.screws {
+        doc["screws"] = json!(sc);
+    }
+    if let Some(f) = r.freedom {
+        doc["freedom"] = json!(f);
+    }
+    doc["wire_suggestions"] = json!(r.wires);
     doc
 }
 
