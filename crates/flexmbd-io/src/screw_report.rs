@@ -9,7 +9,9 @@ use flexmbd_core::kinematics::screw::{BodyTwist, Screw, ScrewAnalysis, ScrewKind
 
 /// (x, y, z) with six decimals.
 fn v3(v: [f64; 3]) -> String {
-    format!("({:.6}, {:.6}, {:.6})", v[0], v[1], v[2])
+    // no "-0.000000" for rounding noise
+    let z = |a: f64| if a.abs() < 5e-7 { 0.0 } else { a };
+    format!("({:.6}, {:.6}, {:.6})", z(v[0]), z(v[1]), z(v[2]))
 }
 
 /// One line for a screw: what it is and where.

@@ -543,6 +543,9 @@ pub struct WireAdvice {
 /// Candidate wires tried (verified) per motion, at most.
 const MAX_WIRE_TRIES: usize = 200;
 
+/// Node pairs looked at per motion, at most (the first ones in the order of bodies and nodes).
+const MAX_WIRE_PAIRS: usize = 200_000;
+
 /// The row of a rigid wire from node `a` to node `g` along the unit `d` over the columns:
 /// ė = d · (u_g − u_a) (the elongation rate of a rigid truss, paper eq. (1)).
 fn wire_row(model: &Model, cols: &[super::Column], a: usize, g: usize, d: [f64; 3]) -> SparseRow {
@@ -610,6 +613,7 @@ pub fn wire_advice(
         };
         // (intended change, reciprocal / unit, a, g, body a, body g, d, reciprocal)
         let mut cands = Vec::new();
+        let mut pairs = 0usize;
         for (ia, ba) in bodies.iter().enumerate() {
             if ba.ground || !ms.bodies.iter().any(|t| t.body == ba.name) {
                 continue;
@@ -628,6 +632,10 @@ pub fn wire_advice(
                 }
                 for &na in &ba.node_ids {
                     for &ng in &bg.node_ids {
+                        pairs += 1;
+                        if pairs > MAX_WIRE_PAIRS {
+                            break;
+                        }
                         let (pa, pg) = (position(model, x, na), position(model, x, ng));
                         let dv = sub(pg, pa);
                         if norm(dv) <= 1e-9 * l {

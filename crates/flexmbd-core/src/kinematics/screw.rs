@@ -188,7 +188,7 @@ fn held(model: &Model, partition: &Partition, id: NodeId) -> bool {
 
 /// True when an element makes its nodes one body: none of its deformations is free and its
 /// nodes carry a frame (module docs).
-fn is_body_element(model: &Model, partition: &Partition, x: &[f64], el: usize) -> bool {
+fn is_body_element(model: &Model, partition: &Partition, x: &[f64], el: usize, l: f64) -> bool {
     let entry = &model.elements[el];
     if (0..entry.element.ne()).any(|k| partition.e[entry.ie + k] == DefKind::Free) {
         return false;
@@ -202,20 +202,25 @@ fn is_body_element(model: &Model, partition: &Partition, x: &[f64], el: usize) -
     if !uses.is_empty() && uses.iter().all(|u| u.rot) {
         return uses.iter().all(|u| place(u) == place(&uses[0]));
     }
-    // three non-collinear points
+    // three points not on one line: the point farthest from the first, then any point off
+    // the line through both (O(k))
     let pts: Vec<V> = uses
         .iter()
         .filter(|u| u.pos)
         .map(|u| position(model, x, u.node))
         .collect();
-    let l = length_scale(model, x);
-    pts.iter().enumerate().any(|(i, &p)| {
-        pts[i + 1..].iter().enumerate().any(|(j, &q)| {
-            pts[i + j + 2..]
-                .iter()
-                .any(|&r| norm(cross(sub(q, p), sub(r, p))) > 1e-9 * l * l)
-        })
-    })
+    let Some(&p) = pts.first() else {
+        return false;
+    };
+    let far = pts
+        .iter()
+        .map(|&q| sub(q, p))
+        .fold([0.0; 3], |a, d| if norm(d) > norm(a) { d } else { a });
+    let nf = norm(far);
+    nf > 0.0
+        && pts
+            .iter()
+            .any(|&r| norm(cross(far, sub(r, p))) > 1e-9 * nf * l)
 }
 
 fn find(parent: &mut [usize], i: usize) -> usize {
@@ -236,10 +241,11 @@ fn find(parent: &mut [usize], i: usize) -> usize {
 /// others in the order of their first element (module docs).
 pub fn bodies(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Body> {
     let nn = model.nodes.len();
+    let l = length_scale(model, x);
     let mut parent: Vec<usize> = (0..nn).collect();
     let mut in_body = vec![false; nn];
     let body_elements: Vec<usize> = (0..model.elements.len())
-        .filter(|&el| is_body_element(model, partition, x, el))
+        .filter(|&el| is_body_element(model, partition, x, el, l))
         .collect();
     for &el in &body_elements {
         let uses = model.elements[el].element.node_uses();
@@ -267,21 +273,25 @@ pub fn bodies(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Body> {
             .fold([0.0; 3], |s, &id| add(s, position(model, x, id)));
         scale(1.0 / ids.len().max(1) as f64, s)
     };
+    // nodes and elements by their cluster (one pass each)
+    let root: Vec<usize> = (0..nn).map(|id| find(&mut parent, id)).collect();
+    let mut nodes_of: Vec<Vec<NodeId>> = vec![Vec::new(); nn];
+    for id in (0..nn).filter(|&id| in_body[id] && !ground_root[root[id]]) {
+        nodes_of[root[id]].push(id);
+    }
+    let mut elements_of: Vec<Vec<usize>> = vec![Vec::new(); nn];
+    for &el in &body_elements {
+        elements_of[root[model.elements[el].element.node_uses()[0].node]].push(el);
+    }
     let mut out = Vec::new();
     let ground_nodes: Vec<NodeId> = (0..nn)
-        .filter(|&id| {
-            let r = find(&mut parent, id);
-            ground_root[r] && (held_nodes[id] || in_body[id])
-        })
+        .filter(|&id| ground_root[root[id]] && (held_nodes[id] || in_body[id]))
         .collect();
     if !ground_nodes.is_empty() {
         let els: Vec<usize> = body_elements
             .iter()
             .copied()
-            .filter(|&el| {
-                let n0 = model.elements[el].element.node_uses()[0].node;
-                ground_root[find(&mut parent, n0)]
-            })
+            .filter(|&el| ground_root[root[model.elements[el].element.node_uses()[0].node]])
             .collect();
         out.push(Body {
             name: "ground".into(),
@@ -295,23 +305,13 @@ pub fn bodies(model: &Model, partition: &Partition, x: &[f64]) -> Vec<Body> {
     }
     let mut done = vec![false; nn];
     for &el in &body_elements {
-        let n0 = model.elements[el].element.node_uses()[0].node;
-        let r = find(&mut parent, n0);
+        let r = root[model.elements[el].element.node_uses()[0].node];
         if ground_root[r] || done[r] {
             continue;
         }
         done[r] = true;
-        let ids: Vec<NodeId> = (0..nn)
-            .filter(|&id| in_body[id] && find(&mut parent, id) == r)
-            .collect();
-        let els: Vec<usize> = body_elements
-            .iter()
-            .copied()
-            .filter(|&e| {
-                let m0 = model.elements[e].element.node_uses()[0].node;
-                find(&mut parent, m0) == r
-            })
-            .collect();
+        let ids = std::mem::take(&mut nodes_of[r]);
+        let els = std::mem::take(&mut elements_of[r]);
         let named = els
             .iter()
             .copied()
