@@ -71,6 +71,7 @@ struct Classified {
     analysis: flexmbd_core::kinematics::ConstraintAnalysis,
     advice: Vec<flexmbd_core::kinematics::advice::StateAdvice>,
     generalised: Vec<String>,
+    screws: flexmbd_core::kinematics::screw::ScrewAnalysis,
 }
 
 fn classify(
@@ -89,6 +90,7 @@ fn classify(
         generalised: generalised_names(model, &c.partition.x, &c.partition.e),
         analysis: c.analysis,
         advice: c.advice,
+        screws: c.screws,
     })
 }
 
@@ -159,6 +161,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         advice: &c.advice,
         generalised: &c.generalised,
         rank_tol: opts.rank_tol,
+        screws: Some(&c.screws),
     });
 
     // the simulation of a simulate view that stopped part-way
