@@ -312,3 +312,32 @@ fn cross_spring_pivot_rotates_about_the_crossing_line() {
         1
     );
 }
+
+#[test]
+fn a_freedom_must_name_a_moving_body() {
+    use flexmbd_core::kinematics::KinematicsError;
+    // a wire alone is a flexure, not a body; the ground does not move; a zero direction
+    for (body, direction) in [
+        ("w1", [1.0, 0.0, 0.0]),
+        ("g1", [1.0, 0.0, 0.0]),
+        ("platform", [0.0; 3]),
+    ] {
+        let f = IntendedFreedom {
+            body: body.into(),
+            motion: FreedomMotion::Translation { direction },
+        };
+        let e = classify_intended(
+            &wire_guide(&[1, 2, 3, 4, 5], true),
+            &ClassifyOptions::default(),
+            &[f],
+            |_| {},
+        )
+        .expect_err("refused");
+        let expected = if body == "platform" {
+            matches!(e.source, KinematicsError::BadFreedom(_))
+        } else {
+            e.source == KinematicsError::UnknownBody(body.into())
+        };
+        assert!(expected, "{body}: {e:?}");
+    }
+}
