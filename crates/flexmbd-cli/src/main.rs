@@ -415,7 +415,14 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             require_exact,
             method,
         } => {
-            let m = load(&model)?;
+            // the intended freedom is a part of the TOML format
+            let (m, freedom) = match extension(&model).as_deref() {
+                Some("toml") => {
+                    let f = params::read_toml(&model)?;
+                    (f.model, f.freedom)
+                }
+                _ => (load(&model)?, Vec::new()),
+            };
             let opts = CheckOptions {
                 rank_tol: rank_tol.unwrap_or(CheckOptions::default().rank_tol),
                 method: method.into(),
@@ -436,20 +443,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     auto,
                     max_suggestions,
                 },
+                &freedom,
             )?;
-            let (partition, analysis, advice, before) =
-                (&c.partition, &c.analysis, &c.advice, &c.before);
-            let chosen = c.chosen.as_deref();
             let file = model.display().to_string();
-            let report = CheckReport {
-                model: &m,
-                file: &file,
-                rank_tol: opts.rank_tol,
-                analysis,
-                advice,
-                auto: chosen.map(|c| (c, before)),
-            };
-            let names = generalised_names(&m, &partition.x, &partition.e);
+            let report = CheckReport::of(&m, &file, opts.rank_tol, &c);
+            let names = generalised_names(&m, &c.partition.x, &c.partition.e);
             if json {
                 let mut out = Vec::new();
                 write_check_json(&mut out, &report, &names)?;
@@ -472,11 +470,12 @@ pub(crate) fn classify_cli(
     model: &flexmbd_core::Model,
     path: &Path,
     opts: &ClassifyOptions,
+    intended: &[flexmbd_core::kinematics::freedom::IntendedFreedom],
 ) -> anyhow::Result<flexmbd_core::kinematics::classify::Classification> {
-    use flexmbd_core::kinematics::classify::{classify_with, Stage};
+    use flexmbd_core::kinematics::classify::{classify_intended, Stage};
     use flexmbd_core::kinematics::KinematicsError;
     let mut spinner: Option<indicatif::ProgressBar> = None;
-    let r = classify_with(model, opts, |stage| {
+    let r = classify_intended(model, opts, intended, |stage| {
         if let Some(s) = spinner.take() {
             s.finish_and_clear();
         }
@@ -496,6 +495,9 @@ pub(crate) fn classify_cli(
             e.source
         ))
         .into(),
+        KinematicsError::UnknownBody(_) | KinematicsError::BadFreedom(_) => {
+            BadInput(format!("{}: [[freedom]]: {}", path.display(), e.source)).into()
+        }
         _ => anyhow::Error::new(e),
     })
 }

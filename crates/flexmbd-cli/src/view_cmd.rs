@@ -64,24 +64,33 @@ pub struct ViewArgs {
     sim: SimOptionArgs,
 }
 
+use flexmbd_core::kinematics::freedom::IntendedFreedom;
+
 /// The classification with its owned parts.
 struct Classified {
     analysis: flexmbd_core::kinematics::ConstraintAnalysis,
     advice: Vec<flexmbd_core::kinematics::advice::StateAdvice>,
     generalised: Vec<String>,
+    screws: flexmbd_core::kinematics::screw::ScrewAnalysis,
 }
 
-fn classify(model: &Model, opts: &CheckOptions, args: &ViewArgs) -> anyhow::Result<Classified> {
+fn classify(
+    model: &Model,
+    opts: &CheckOptions,
+    args: &ViewArgs,
+    freedom: &[IntendedFreedom],
+) -> anyhow::Result<Classified> {
     let opts = flexmbd_core::kinematics::classify::ClassifyOptions {
         check: *opts,
         auto: args.auto,
         max_suggestions: args.max_suggestions,
     };
-    let c = crate::classify_cli(model, &args.model, &opts)?;
+    let c = crate::classify_cli(model, &args.model, &opts, freedom)?;
     Ok(Classified {
         generalised: generalised_names(model, &c.partition.x, &c.partition.e),
         analysis: c.analysis,
         advice: c.advice,
+        screws: c.screws,
     })
 }
 
@@ -112,6 +121,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         model,
         settings,
         simulate: sim_settings,
+        freedom,
     } = if matches!(args.analysis, Analysis::Simulate) {
         crate::load_sim_file(&args.model)?
     } else {
@@ -123,7 +133,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
     // the classification: always for check; for static and modes when Dcc is of a size whose
     // dense SVD takes a moment
     let classified = match args.analysis {
-        Analysis::Check => Some(classify(&model, &opts, &args)?),
+        Analysis::Check => Some(classify(&model, &opts, &args, &freedom)?),
         Analysis::Static | Analysis::Modes | Analysis::Simulate => {
             let x = model.x0();
             let (m, n) = (
@@ -131,7 +141,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
                 columns(&model, &model.partition, &x).len(),
             );
             if m.saturating_mul(n) <= MAX_DCC_ENTRIES {
-                match classify(&model, &opts, &args) {
+                match classify(&model, &opts, &args, &freedom) {
                     Ok(c) => Some(c),
                     Err(e) => {
                         notes.push(format!("classification not shown: {e:#}"));
@@ -151,6 +161,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         advice: &c.advice,
         generalised: &c.generalised,
         rank_tol: opts.rank_tol,
+        screws: Some(&c.screws),
     });
 
     // the simulation of a simulate view that stopped part-way

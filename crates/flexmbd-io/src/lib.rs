@@ -18,6 +18,7 @@ pub mod modes_report;
 pub mod plots;
 pub mod report;
 pub mod requests;
+pub mod screw_report;
 pub mod sim_report;
 pub mod spacar;
 pub mod spec;

@@ -1,6 +1,9 @@
 //! Reports of the kinematic analysis: JSON (`flexmbd check --json`) and aligned text tables.
 
-use flexmbd_core::kinematics::advice::{Action, StateAdvice};
+use flexmbd_core::kinematics::advice::{Action, StateAdvice, WireAdvice};
+use flexmbd_core::kinematics::classify::Classification;
+use flexmbd_core::kinematics::freedom::FreedomCheck;
+use flexmbd_core::kinematics::screw::ScrewAnalysis;
 use flexmbd_core::kinematics::sparse::SparseDecision;
 use flexmbd_core::kinematics::{ConstraintAnalysis, Motion, SelfStress};
 use flexmbd_core::model::{CoordKind, DefKind};
@@ -21,6 +24,29 @@ pub struct CheckReport<'a> {
     pub advice: &'a [StateAdvice],
     /// `--auto`: the generalised coordinates chosen, and the analysis before the choice.
     pub auto: Option<(&'a [Action], &'a ConstraintAnalysis)>,
+    /// The motions and self-stresses as twists and wrenches of the bodies.
+    pub screws: Option<&'a ScrewAnalysis>,
+    /// The comparison with the intended freedom, when the model states one.
+    pub freedom: Option<&'a FreedomCheck>,
+    /// Verified wires that remove each motion.
+    pub wires: &'a [WireAdvice],
+}
+
+impl<'a> CheckReport<'a> {
+    /// The report of a whole check ([`Classification`]) of `model` read from `file`.
+    pub fn of(model: &'a Model, file: &'a str, rank_tol: f64, c: &'a Classification) -> Self {
+        Self {
+            model,
+            file,
+            rank_tol,
+            analysis: &c.analysis,
+            advice: &c.advice,
+            auto: c.chosen.as_deref().map(|chosen| (chosen, &c.before)),
+            screws: Some(&c.screws),
+            freedom: c.freedom.as_ref(),
+            wires: &c.wires,
+        }
+    }
 }
 
 /// A value serialised through [`serde_json::Value`], whose objects have their keys sorted: the
@@ -97,6 +123,8 @@ struct CheckDoc<'a> {
     euler_parameter_form: Shape,
     exactly_constrained: bool,
     file: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    freedom: Option<Sorted<'a, FreedomCheck>>,
     generalised_coordinates: &'a [String],
     input_deformations: usize,
     kinematically_determinate: bool,
@@ -109,6 +137,8 @@ struct CheckDoc<'a> {
     rank_threshold: f64,
     rank_tol: f64,
     rows: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    screws: Option<Sorted<'a, ScrewAnalysis>>,
     self_stresses: SortedList<'a, SelfStress>,
     singular_values: &'a [f64],
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -116,6 +146,7 @@ struct CheckDoc<'a> {
     statically_determinate: bool,
     suggestions: SortedList<'a, StateAdvice>,
     table1_row: usize,
+    wire_suggestions: SortedList<'a, WireAdvice>,
 }
 
 /// "node.dof" of a column, "element.e<mode>" of a row (the names of `generalised_names`).
@@ -176,6 +207,7 @@ pub fn write_check_json(
         },
         exactly_constrained: a.n_motions() == 0 && a.n_self_stresses() == 0,
         file: r.file,
+        freedom: r.freedom.map(Sorted),
         generalised_coordinates: generalised,
         input_deformations: a.rows.iter().filter(|r| r.kind == DefKind::Input).count(),
         kinematically_determinate: a.n_motions() == 0,
@@ -188,12 +220,14 @@ pub fn write_check_json(
         rank_threshold: a.tol,
         rank_tol: r.rank_tol,
         rows: a.m(),
+        screws: r.screws.map(Sorted),
         self_stresses: SortedList(&a.self_stresses),
         singular_values: &a.singular_values,
         sparse,
         statically_determinate: a.n_self_stresses() == 0,
         suggestions: SortedList(r.advice),
         table1_row: a.case.row(),
+        wire_suggestions: SortedList(r.wires),
     };
     let mut w = std::io::BufWriter::new(w);
     // an I/O error (a closed pipe) comes back as itself
@@ -530,6 +564,12 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
         s += &table(&["element", "mode", "name", "value"], &rows);
         s += rest.as_deref().unwrap_or("");
     }
+    if let Some(sc) = r.screws {
+        s += &crate::screw_report::screws_text(sc);
+    }
+    if let Some(f) = r.freedom {
+        s += &crate::screw_report::freedom_text(f);
+    }
     if !r.advice.is_empty() {
         s += if a.sparse.is_some() {
             "\nRepair advice (each verified: the change keeps the pivot rows and basic columns, so \
@@ -557,5 +597,6 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
             }
         }
     }
+    s += &crate::screw_report::wires_text(r.wires);
     s
 }

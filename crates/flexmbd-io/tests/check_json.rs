@@ -42,6 +42,14 @@ fn reference(r: &CheckReport<'_>, generalised: &[String]) -> Value {
                         "n_mechanisms": before.n_motions(), "n_self_stresses": before.n_self_stresses() },
         });
     }
+    // the keys added with the designer's language (twists, wrenches, wires)
+    if let Some(sc) = r.screws {
+        doc["screws"] = json!(sc);
+    }
+    if let Some(f) = r.freedom {
+        doc["freedom"] = json!(f);
+    }
+    doc["wire_suggestions"] = json!(r.wires);
     doc
 }
 
@@ -87,14 +95,7 @@ fn documents(m: &Model, auto: bool, method: CheckMethod) -> (Vec<u8>, Option<Str
         max_suggestions: 6,
     };
     let c = classify(m, &opts).unwrap();
-    let report = CheckReport {
-        model: m,
-        file: "strip.toml",
-        rank_tol: opts.check.rank_tol,
-        analysis: &c.analysis,
-        advice: &c.advice,
-        auto: c.chosen.as_deref().map(|ch| (ch, &c.before)),
-    };
+    let report = CheckReport::of(m, "strip.toml", opts.check.rank_tol, &c);
     let names = generalised_names(m, &c.partition.x, &c.partition.e);
     let mut out = Vec::new();
     write_check_json(&mut out, &report, &names).unwrap();

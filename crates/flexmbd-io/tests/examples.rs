@@ -357,6 +357,17 @@ fn wire_guide_is_exactly_constrained() {
     let v = check_json("wire_guide_5.toml", &[]);
     assert_counts(&v, "wire_guide_5", 1, (35, 35), 0, 0);
     assert_line_counts(&v, "wire_guide_5", &wire_lines(), 5);
+    // released, the one motion is the translation x (every wire line is perpendicular to
+    // x), the file's intended freedom
+    assert_freedom_matches(&v, 1);
+}
+
+/// The file's `[[freedom]]` equals the design's freedom space of dimension `dim`.
+fn assert_freedom_matches(v: &Value, dim: usize) {
+    let f = &v["freedom"];
+    assert_eq!(f["matches"], Value::Bool(true), "{f:#}");
+    assert_eq!(uint(f, "design_dimension"), dim, "{f:#}");
+    assert_eq!(uint(f, "intended_dimension"), dim, "{f:#}");
 }
 
 #[test]
@@ -428,6 +439,7 @@ fn six_folded_sheets_are_over_constrained_in_in_plane_bending() {
 fn parallel_leaf_guide_k03() {
     let v = check_json("parallel_leaf_guide.toml", &[]);
     assert_counts(&v, "parallel_leaf_guide", 2, (12, 12), 1, 1);
+    assert_freedom_matches(&v, 1);
     // the motion: both top nodes translate along x (the leaves' thickness normal), nothing else
     let m = motion_entries(&v, 0);
     let s = 0.5f64.sqrt();
@@ -457,6 +469,7 @@ fn parallel_leaf_guide_k03() {
 fn cross_spring_pivot_k04() {
     let v = check_json("cross_spring_pivot.toml", &[]);
     assert_counts(&v, "cross_spring_pivot", 2, (12, 12), 1, 1);
+    assert_freedom_matches(&v, 1);
     // the motion: rotation about the y axis: ω = (0, ω_y, 0) at both nodes, v = ω × r
     let m = motion_entries(&v, 0);
     let wy = motion_value(&m, "t1", "ry");

@@ -5,7 +5,7 @@ use crate::convert::{json, mat, vec1};
 use crate::errors::{self, Failure};
 use crate::model::{Loaded, PyModel};
 use flexmbd_core::elements::ElementKind;
-use flexmbd_core::kinematics::classify::{classify, Classification, ClassifyOptions};
+use flexmbd_core::kinematics::classify::{classify_intended, Classification, ClassifyOptions};
 use flexmbd_core::kinematics::{CheckMethod, CheckOptions, ConstraintAnalysis};
 use flexmbd_io::report::{generalised_names, write_check_json, CheckReport};
 use pyo3::prelude::*;
@@ -67,7 +67,7 @@ pub fn check(
     };
     let l = loaded.clone();
     let c = py
-        .detach(move || classify(&l.check, &classify_opts))
+        .detach(move || classify_intended(&l.check, &classify_opts, &l.freedom(), |_| {}))
         .map_err(|e| errors::classify(&e).into_py(py))?;
     Ok(CheckResult {
         model: loaded,
@@ -289,14 +289,7 @@ impl CheckResult {
     /// The report as a dict: the structure of `flexmbd check --json`.
     fn to_dict(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         let l = &self.model;
-        let report = CheckReport {
-            model: &l.check,
-            file: &l.file,
-            rank_tol: self.rank_tol,
-            analysis: &self.c.analysis,
-            advice: &self.c.advice,
-            auto: self.c.chosen.as_deref().map(|c| (c, &self.c.before)),
-        };
+        let report = CheckReport::of(&l.check, &l.file, self.rank_tol, &self.c);
         let p = &self.c.partition;
         let names = generalised_names(&l.check, &p.x, &p.e);
         let mut buf = Vec::new();

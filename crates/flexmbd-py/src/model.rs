@@ -84,6 +84,15 @@ fn warning_lines(m: &SpacarModel, w: &[flexmbd_io::spacar::Warning]) -> Vec<Stri
 }
 
 impl Loaded {
+    /// The intended freedom of the kinematic check (`[[freedom]]` of a TOML model; none for a
+    /// `.dat` file).
+    pub fn freedom(&self) -> Vec<flexmbd_core::kinematics::freedom::IntendedFreedom> {
+        match (&self.format, &self.static_file) {
+            (Format::Toml, Ok(f)) => f.freedom.clone(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Read `text` (named `file` in messages) in `format`.
     pub fn parse(text: String, file: String, format: Format) -> Result<Loaded, Failure> {
         match format {

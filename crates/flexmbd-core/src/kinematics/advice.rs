@@ -18,6 +18,8 @@
 //! threshold, by a rank-one update of the SVD), and a candidate whose verified counts differ is
 //! dropped. [`counts`] is the full re-analysis of a changed partition.
 
+use super::freedom::{intended_power, resolve_body, IntendedFreedom};
+use super::screw::{position, ScrewAnalysis, VelocityField, PURE_TOL};
 use super::update::{Change, Prediction, Updater};
 use super::{
     check, columns, coordinate_constraint, rate_rows, CheckOptions, ConstraintAnalysis,
@@ -25,6 +27,7 @@ use super::{
 };
 use crate::elements::ElementKind;
 use crate::linalg::{numerical_rank, pivot_columns};
+use crate::math::{add, cross, dot, norm, normalize, sub};
 use crate::model::{CoordKind, DefKind, Dof, Model, Partition};
 use faer::Mat;
 use serde::Serialize;
@@ -494,4 +497,204 @@ pub fn auto_generalised(
         partition: p,
         analysis,
     })
+}
+
+/// A wire (a rigid constraint line between a node of a moving body and a node of another body
+/// or of the ground, Blanding's constraint line) that removes a motion without adding a
+/// self-stress: verified like every suggestion ([`Updater::counts_after`] of its row).
+#[derive(Clone, Debug, Serialize)]
+pub struct WireSuggestion {
+    /// The node on the moving body.
+    pub from: String,
+    /// The node on the other body or the ground.
+    pub to: String,
+    /// The moving body.
+    pub body: String,
+    /// The other body ("ground" for the ground).
+    pub other: String,
+    /// A point of the wire's line: the node `from`.
+    pub point: [f64; 3],
+    /// The unit direction of the line, from `from` to `to`.
+    pub direction: [f64; 3],
+    /// |reciprocal product| of the unit wire with the relative twist of the two bodies in the
+    /// motion, the twist of unit |ω| (a rotation: the wire's moment arm about the axis [m]) or
+    /// of unit |v| (a translation: the cosine between wire and motion).
+    pub reciprocal: f64,
+    /// The largest reciprocal product of the unit wire with an intended freedom of unit |ω|
+    /// (times L) or unit |v| ([`super::freedom::intended_power`]); 0 when the wire leaves every
+    /// intended freedom alone, or when none is stated.
+    pub intended_change: f64,
+    /// Motions after adding the wire (verified).
+    pub motions_after: usize,
+    /// Self-stress states after adding the wire (verified).
+    pub self_stresses_after: usize,
+}
+
+/// The wires that remove one motion.
+#[derive(Clone, Debug, Serialize)]
+pub struct WireAdvice {
+    /// Index of the motion (0-based) in the analysis' list.
+    pub motion: usize,
+    /// Verified wires, least change of the intended freedom first, then the largest
+    /// reciprocal product.
+    pub wires: Vec<WireSuggestion>,
+}
+
+/// Candidate wires tried (verified) per motion, at most.
+const MAX_WIRE_TRIES: usize = 200;
+
+/// Node pairs looked at per motion, at most (the first ones in the order of bodies and nodes).
+const MAX_WIRE_PAIRS: usize = 200_000;
+
+/// The row of a rigid wire from node `a` to node `g` along the unit `d` over the columns:
+/// ė = d · (u_g − u_a) (the elongation rate of a rigid truss, paper eq. (1)).
+fn wire_row(model: &Model, cols: &[super::Column], a: usize, g: usize, d: [f64; 3]) -> SparseRow {
+    let (pa, pg) = (
+        model.nodes[a].host.unwrap_or(a),
+        model.nodes[g].host.unwrap_or(g),
+    );
+    cols.iter()
+        .enumerate()
+        .filter(|(_, c)| !c.dof.is_rotation())
+        .filter_map(|(j, c)| {
+            let k = c.dof.index();
+            if c.node == pg {
+                Some((j, d[k]))
+            } else if c.node == pa {
+                Some((j, -d[k]))
+            } else {
+                None
+            }
+        })
+        .filter(|e| e.1 != 0.0)
+        .collect()
+}
+
+/// For every listed motion of a dense analysis: wires between existing nodes of a moving body
+/// and of another body or the ground whose reciprocal product with the bodies' relative twist
+/// is not zero (the wire stops the motion), each verified to remove exactly that motion and
+/// add no self-stress (its row raises the rank of Dcc), ranked by how little they act on the
+/// intended freedoms, then by their reciprocal product (docs/kinematic-analysis.md "Repair
+/// in the designer's language"). Nothing on the sparse path.
+pub fn wire_advice(
+    model: &Model,
+    x: &[f64],
+    a: &ConstraintAnalysis,
+    screws: &ScrewAnalysis,
+    intended: &[IntendedFreedom],
+    opts: &CheckOptions,
+    max_per_state: usize,
+) -> Result<Vec<WireAdvice>, KinematicsError> {
+    if a.sparse.is_some() || max_per_state == 0 || a.n_motions() == 0 {
+        return Ok(Vec::new());
+    }
+    let upd = Updater::new(a, opts.rank_tol)?;
+    let bodies = &screws.bodies;
+    let l = screws.length_scale;
+    let resolved: Vec<(usize, &IntendedFreedom)> = intended
+        .iter()
+        .filter_map(|f| resolve_body(model, bodies, &f.body).map(|b| (b, f)))
+        .collect();
+    let want = (a.n_motions() - 1, a.n_self_stresses());
+    let mut out = Vec::new();
+    for (k, ms) in screws.motions.iter().enumerate() {
+        let mut v: Vec<f64> = (0..a.n()).map(|j| a.null_v[(j, k)]).collect();
+        super::normalize_signed(&mut v);
+        let field = VelocityField::new(model, &a.cols, &v);
+        // the twist of body i at the point p (zero for a body at rest)
+        let twist = |i: usize, p: [f64; 3]| {
+            ms.bodies
+                .iter()
+                .find(|t| t.body == bodies[i].name)
+                .map_or(([0.0; 3], [0.0; 3]), |t| {
+                    let w = t.angular_velocity;
+                    (w, add(t.velocity, cross(w, sub(p, t.screw.point))))
+                })
+        };
+        // (intended change, reciprocal / unit, a, g, body a, body g, d, reciprocal)
+        let mut cands = Vec::new();
+        let mut pairs = 0usize;
+        for (ia, ba) in bodies.iter().enumerate() {
+            if ba.ground || !ms.bodies.iter().any(|t| t.body == ba.name) {
+                continue;
+            }
+            for (ig, bg) in bodies.iter().enumerate() {
+                if ig == ia {
+                    continue;
+                }
+                let (wa, va) = twist(ia, ba.centre);
+                let (wg, vg) = twist(ig, ba.centre);
+                let (wr, vr) = (sub(wa, wg), sub(va, vg));
+                let rotation = norm(wr) * l > PURE_TOL * (norm(wr) * l + norm(vr));
+                let unit = if rotation { norm(wr) } else { norm(vr) };
+                if unit == 0.0 {
+                    continue;
+                }
+                for &na in &ba.node_ids {
+                    for &ng in &bg.node_ids {
+                        pairs += 1;
+                        if pairs > MAX_WIRE_PAIRS {
+                            break;
+                        }
+                        let (pa, pg) = (position(model, x, na), position(model, x, ng));
+                        let dv = sub(pg, pa);
+                        if norm(dv) <= 1e-9 * l {
+                            continue;
+                        }
+                        let d = normalize(dv);
+                        let power = dot(d, sub(field.u[na], field.u[ng])).abs() / unit;
+                        let rel = if rotation { power / l } else { power };
+                        if rel <= 1e-6 {
+                            continue;
+                        }
+                        let change = intended_power(&resolved, bodies, (ia, pa), (ig, pg), d, l);
+                        cands.push((change, rel, na, ng, ia, ig, d, power));
+                    }
+                }
+            }
+        }
+        cands.sort_by_key(|c| {
+            (
+                (c.0 * 1e6).round() as u64,
+                std::cmp::Reverse((c.1 * 1e9).round() as u64),
+            )
+        });
+        let mut wires: Vec<WireSuggestion> = Vec::new();
+        for (change, _, na, ng, ia, ig, d, power) in cands.into_iter().take(MAX_WIRE_TRIES) {
+            if wires.len() >= max_per_state {
+                break;
+            }
+            let pa = position(model, x, na);
+            // one wire per line
+            let same_line = |w: &WireSuggestion| {
+                norm(cross(w.direction, d)) <= 1e-9
+                    && norm(cross(sub(pa, w.point), w.direction)) <= 1e-9 * l
+            };
+            if wires.iter().any(same_line) {
+                continue;
+            }
+            let change_row = Change::AddRow(wire_row(model, &a.cols, na, ng, d));
+            if matches!(upd.predict(&change_row), Prediction::Certain(c) if c != want) {
+                continue;
+            }
+            let (motions_after, self_stresses_after) = upd.counts_after(&change_row);
+            if (motions_after, self_stresses_after) != want {
+                continue;
+            }
+            wires.push(WireSuggestion {
+                from: model.nodes[na].name.clone(),
+                to: model.nodes[ng].name.clone(),
+                body: bodies[ia].name.clone(),
+                other: bodies[ig].name.clone(),
+                point: pa,
+                direction: d,
+                reciprocal: power,
+                intended_change: change,
+                motions_after,
+                self_stresses_after,
+            });
+        }
+        out.push(WireAdvice { motion: k, wires });
+    }
+    Ok(out)
 }

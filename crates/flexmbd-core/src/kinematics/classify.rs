@@ -2,9 +2,13 @@
 //! (later) Python and design studies use it: Dcc with its SVD, the Table 1 class, motions and
 //! self-stresses ([`check`]); optionally the automatic choice of as many generalised
 //! coordinates as there are motions ([`auto_generalised`]); then the verified repair advice
-//! ([`advise`]).
+//! ([`advise`]); in the designer's language, the twists and wrenches of the bodies
+//! ([`super::screw`]), the comparison with an intended freedom ([`super::freedom`]) and the
+//! wires that remove a motion ([`super::advice::wire_advice`]).
 
-use super::advice::{advise, auto_generalised, Action, StateAdvice};
+use super::advice::{advise, auto_generalised, wire_advice, Action, StateAdvice, WireAdvice};
+use super::freedom::{compare_freedom, FreedomCheck, IntendedFreedom};
+use super::screw::{screws, ScrewAnalysis};
 use super::{check, CheckOptions, ConstraintAnalysis, KinematicsError};
 use crate::model::{Model, Partition};
 
@@ -68,6 +72,12 @@ pub struct Classification {
     pub analysis: ConstraintAnalysis,
     /// Verified suggestions per motion and self-stress state of `analysis`.
     pub advice: Vec<StateAdvice>,
+    /// The motions and self-stresses of `analysis` as twists and wrenches of the bodies.
+    pub screws: ScrewAnalysis,
+    /// The design's freedom against the intended freedom, when one is stated.
+    pub freedom: Option<FreedomCheck>,
+    /// Verified wires that remove each motion of `analysis` (dense path).
+    pub wires: Vec<WireAdvice>,
 }
 
 impl Classification {
@@ -86,6 +96,17 @@ pub fn classify(model: &Model, opts: &ClassifyOptions) -> Result<Classification,
 pub fn classify_with(
     model: &Model,
     opts: &ClassifyOptions,
+    stage: impl FnMut(Stage),
+) -> Result<Classification, ClassifyError> {
+    classify_intended(model, opts, &[], stage)
+}
+
+/// [`classify_with`] against the intended freedom `intended` (none: no comparison): the wire
+/// suggestions are ranked by how little they change it.
+pub fn classify_intended(
+    model: &Model,
+    opts: &ClassifyOptions,
+    intended: &[IntendedFreedom],
     mut stage: impl FnMut(Stage),
 ) -> Result<Classification, ClassifyError> {
     let at = |stage| move |source| ClassifyError { stage, source };
@@ -103,6 +124,15 @@ pub fn classify_with(
     } else {
         (model.partition.clone(), before.clone(), None)
     };
+    let screws = screws(model, &partition, &x, &analysis).map_err(at(Stage::Check))?;
+    let freedom = if intended.is_empty() {
+        None
+    } else {
+        Some(
+            compare_freedom(model, &model.partition, &x, intended, &opts.check)
+                .map_err(at(Stage::Check))?,
+        )
+    };
     stage(Stage::Advice);
     let advice = advise(
         model,
@@ -113,11 +143,24 @@ pub fn classify_with(
         opts.max_suggestions,
     )
     .map_err(at(Stage::Advice))?;
+    let wires = wire_advice(
+        model,
+        &x,
+        &analysis,
+        &screws,
+        intended,
+        &opts.check,
+        opts.max_suggestions,
+    )
+    .map_err(at(Stage::Advice))?;
     Ok(Classification {
         before,
         chosen,
         partition,
         analysis,
         advice,
+        screws,
+        freedom,
+        wires,
     })
 }

@@ -16,7 +16,9 @@
 
 pub mod advice;
 pub mod classify;
+pub mod freedom;
 mod present;
+pub mod screw;
 pub mod sparse;
 pub mod update;
 
@@ -329,6 +331,12 @@ pub enum KinematicsError {
     /// and there is nothing to classify (such a model is not "exactly constrained").
     #[error("the model has no constraint rows (Dcc has 0 rows: no rigid or input deformation mode), so there is nothing to classify; keep a deformation mode of an element rigid")]
     NoConstraintRows,
+    /// An intended freedom names a body the model does not have (or the ground).
+    #[error("the intended freedom names `{0}`, which is no moving body of the model (a rigid element, a set of elements with every deformation rigid, or one of their nodes)")]
+    UnknownBody(String),
+    /// An intended freedom has a zero or non-finite direction, axis, point or pitch.
+    #[error("{0}")]
+    BadFreedom(String),
     /// A repair action names an element, a mode, a node or a coordinate the model does not have
     /// (an action of another model).
     #[error("the action names {0}, which this model does not have")]

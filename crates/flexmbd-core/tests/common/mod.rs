@@ -3,6 +3,8 @@
 
 #![allow(dead_code)]
 
+pub mod flexures;
+
 use flexmbd_core::model::{Dof, ModelBuilder, Spin};
 use flexmbd_core::section::{BeamProps, Material, Shape};
 use flexmbd_core::simulation::{simulate, Excitation, Frame, SimOptions, Simulation};

@@ -549,6 +549,43 @@ async function main() {
   const axes = new THREE.AxesHelper(0.15 * SIZE);
   axes.position.copy(box.min).addScalar(-0.05 * SIZE);
   scene.add(axes);
+
+  // --- the lines of the designer's language (check): the axis of every body's twist, drawn
+  // with its motion, and the line of action of every wrench, drawn with its self-stress field
+  const screwColors = { rotation: 0xe07b00, translation: 0x1f9e4a, force: 0xc62828, couple: 0x7b1fa2 };
+  const screwLines = (DATA.screw_lines || []).map((s) => {
+    const a = add3(s.point, scale3(-0.6 * SIZE, s.direction));
+    const b = add3(s.point, scale3(0.6 * SIZE, s.direction));
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(new Float32Array([...a, ...b]), 3));
+    const line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: screwColors[s.kind] || 0x000000 }));
+    line.visible = false;
+    scene.add(line);
+    return { s, line };
+  });
+  function updateScrewLines() {
+    for (const { s, line } of screwLines) {
+      line.visible = (s.item !== null && s.item !== undefined && s.item === state.item)
+        || (s.field !== null && s.field !== undefined && s.field === state.color);
+    }
+    const shown = screwLines.filter((l) => l.line.visible);
+    const el = document.getElementById('status');
+    if (el) el.setAttribute('data-screw-lines', String(shown.length));
+    // their labels, in their colours, below the heading
+    let info = document.getElementById('screw-info');
+    if (!info && screwLines.length > 0) {
+      info = document.createElement('div');
+      info.id = 'screw-info';
+      info.style.cssText = 'position:absolute;left:10px;top:56px;font-size:12px;background:rgba(255,255,255,0.8);padding:2px 6px;pointer-events:none';
+      renderer.domElement.parentElement.appendChild(info);
+    }
+    if (info) {
+      info.innerHTML = shown
+        .map((l) => '<div style="color:#' + (screwColors[l.s.kind] || 0).toString(16).padStart(6, '0') + '">' + esc(l.s.label) + '</div>')
+        .join('');
+    }
+    requestRender();
+  }
   sun.position.set(centre.x + radius, centre.y - 2 * radius, centre.z + 3 * radius);
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.target.copy(centre);
@@ -659,6 +696,7 @@ async function main() {
   function onChange(what) {
     if (what.geometry) needGeometry = true;
     if (what.color) needColor = true;
+    updateScrewLines();
     updateHeading();
     syncPanel();
   }
@@ -719,6 +757,7 @@ async function main() {
   updateHeading();
   updateGeometry();
   updateColors();
+  updateScrewLines();
   renderer.render(scene, camera);
   needRender = false;
   const status = document.getElementById('status');

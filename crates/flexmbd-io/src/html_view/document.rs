@@ -56,6 +56,28 @@ pub struct ViewData {
     /// The time history of a simulation (its frames are the output times).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub simulation: Option<super::ViewSimulation>,
+    /// The axes of the bodies' twists in the motions and the lines of action of the wrenches
+    /// in the self-stresses (check), each drawn with its motion or self-stress field.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub screw_lines: Vec<ViewScrewLine>,
+}
+
+/// A line of the designer's language: a twist axis (rotation), a translation direction, a
+/// wrench's line of action (force) or a couple's axis, drawn through `point` along `direction`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ViewScrewLine {
+    /// The animation (motion) it belongs to.
+    pub item: Option<usize>,
+    /// The field (self-stress state) it belongs to.
+    pub field: Option<String>,
+    /// `rotation`, `translation`, `force` or `couple`.
+    pub kind: String,
+    /// A point of the line [m].
+    pub point: [f64; 3],
+    /// Unit direction.
+    pub direction: [f64; 3],
+    /// What it is, e.g. `platform: rotation, pitch 0`.
+    pub label: String,
 }
 
 /// A node.
@@ -259,6 +281,8 @@ pub struct Classification<'a> {
     pub generalised: &'a [String],
     /// The relative rank tolerance used.
     pub rank_tol: f64,
+    /// The motions and self-stresses as twists and wrenches, when computed.
+    pub screws: Option<&'a flexmbd_core::kinematics::screw::ScrewAnalysis>,
 }
 
 /// The results to show.

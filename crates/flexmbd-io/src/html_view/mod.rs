@@ -68,6 +68,7 @@ pub fn view_data(
         info: Vec::new(),
         notes: Vec::new(),
         simulation: None,
+        screw_lines: Vec::new(),
     };
     match results {
         ViewResults::Check => {
@@ -76,6 +77,9 @@ pub fn view_data(
             if let Some(c) = classification {
                 data.animations = motion_animations(model, c.analysis, size);
                 data.fields = self_stress_fields(model, c.analysis);
+                if let Some(sc) = c.screws {
+                    data.screw_lines = screw_lines(sc);
+                }
             }
         }
         ViewResults::Static(sol) => {

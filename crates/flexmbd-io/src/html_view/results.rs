@@ -367,3 +367,68 @@ pub(super) fn summary(c: &Classification<'_>) -> ViewSummary {
             .collect(),
     }
 }
+
+/// The lines of the designer's language: per motion (animation k) the axis or direction of
+/// every moving body's twist, per self-stress (field `self_stress_k`) the line of action of
+/// every wrench on a body that is not the ground.
+pub(super) fn screw_lines(
+    sc: &flexmbd_core::kinematics::screw::ScrewAnalysis,
+) -> Vec<ViewScrewLine> {
+    use flexmbd_core::kinematics::screw::{Screw, ScrewKind};
+    let kind = |s: &Screw| {
+        match s.kind {
+            ScrewKind::Rotation => "rotation",
+            ScrewKind::Translation => "translation",
+            ScrewKind::Force => "force",
+            ScrewKind::Couple => "couple",
+        }
+        .to_string()
+    };
+    let pitch = |s: &Screw| match s.pitch {
+        Some(h) if h.abs() > 1e-12 => format!(", pitch {}", crate::report::fmt_num(h)),
+        Some(_) => ", pitch 0".to_string(),
+        None => String::new(),
+    };
+    let mut out = Vec::new();
+    for (k, m) in sc.motions.iter().enumerate() {
+        for t in &m.bodies {
+            out.push(ViewScrewLine {
+                item: Some(k),
+                field: None,
+                kind: kind(&t.screw),
+                point: t.screw.point,
+                direction: t.screw.direction,
+                label: format!("{}: {}{}", t.body, kind(&t.screw), pitch(&t.screw)),
+            });
+        }
+    }
+    let ground: Vec<&str> = sc
+        .bodies
+        .iter()
+        .filter(|b| b.ground)
+        .map(|b| b.name.as_str())
+        .collect();
+    for (k, st) in sc.self_stresses.iter().enumerate() {
+        for w in st
+            .wrenches
+            .iter()
+            .filter(|w| !ground.contains(&w.body.as_str()))
+        {
+            out.push(ViewScrewLine {
+                item: None,
+                field: Some(format!("self_stress_{}", k + 1)),
+                kind: kind(&w.screw),
+                point: w.screw.point,
+                direction: w.screw.direction,
+                label: format!(
+                    "{} on {}: {}{}",
+                    w.by,
+                    w.body,
+                    kind(&w.screw),
+                    pitch(&w.screw)
+                ),
+            });
+        }
+    }
+    out
+}

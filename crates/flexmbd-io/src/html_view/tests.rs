@@ -25,6 +25,7 @@ fn check_data(text: &str, name: &str) -> ViewData {
         advice: &advice,
         generalised: &names,
         rank_tol: opts.rank_tol,
+        screws: None,
     };
     view_data(&m, name, Some(&c), &ViewResults::Check)
 }
@@ -514,4 +515,40 @@ fn inconsistent_data_is_refused() {
     let mut d = check_data(TWELVE, "twelve_truss.toml");
     d.elements[3].nodes[1] = 99;
     assert!(view_html(&d).is_err());
+}
+
+#[test]
+fn check_data_draws_the_twist_axis_and_the_fighting_lines() {
+    // The cross-spring pivot (K04): its motion is the rotation about the y axis, where the leaf
+    // planes cross, and its self-stress a pair of opposite forces on that line (every line of
+    // both planes meets the y axis; the two spans of plane forces share only the forces on it).
+    let text = include_str!("../../../../examples/cross_spring_pivot.toml");
+    let f = crate::parse_model_file(text, "cross_spring_pivot.toml").expect("model");
+    let m = &f.model;
+    let c = flexmbd_core::kinematics::classify::classify(m, &Default::default()).expect("check");
+    let names = crate::report::generalised_names(m, &c.partition.x, &c.partition.e);
+    let cl = Classification {
+        analysis: &c.analysis,
+        advice: &c.advice,
+        generalised: &names,
+        rank_tol: 1.5e-8,
+        screws: Some(&c.screws),
+    };
+    let d = view_data(m, "cross_spring_pivot.toml", Some(&cl), &ViewResults::Check);
+    let on_y = |l: &ViewScrewLine| {
+        l.direction[1].abs() > 1.0 - 1e-12 && l.point[0].abs() < 1e-12 && l.point[2].abs() < 1e-12
+    };
+    let axes: Vec<&ViewScrewLine> = d.screw_lines.iter().filter(|l| l.item == Some(0)).collect();
+    assert_eq!(axes.len(), 1, "{:?}", d.screw_lines);
+    assert!(axes[0].kind == "rotation" && on_y(axes[0]), "{:?}", axes[0]);
+    let fights: Vec<&ViewScrewLine> = d
+        .screw_lines
+        .iter()
+        .filter(|l| l.field.as_deref() == Some("self_stress_1"))
+        .collect();
+    assert_eq!(fights.len(), 2, "{:?}", d.screw_lines);
+    assert!(
+        fights.iter().all(|l| l.kind == "force" && on_y(l)),
+        "{fights:?}"
+    );
 }

@@ -253,6 +253,24 @@ pub(super) fn parse_spec(
             src: src(&v.span()),
         });
     }
+    for fr in &f.freedom {
+        let s = fr.get_ref();
+        let rotation = match &s.rotation {
+            Some(r) => Some(RotationEntry {
+                point: p.arr(&r.point)?,
+                axis: p.arr(&r.axis)?,
+                pitch: p.real(&r.pitch)?,
+            }),
+            None => None,
+        };
+        spec.freedoms.push(FreedomEntry {
+            body: s.body.clone(),
+            translation: s.translation.as_ref().map(|t| p.arr(t)).transpose()?,
+            rotation,
+            comments: Vec::new(),
+            src: src(&fr.span()),
+        });
+    }
     Ok(spec)
 }
 

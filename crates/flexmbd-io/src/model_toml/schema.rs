@@ -84,6 +84,8 @@ pub(super) struct FileSpec {
     pub(super) simulate: Option<Spanned<SimulateSpec>>,
     #[serde(default)]
     pub(super) velocity: Vec<Spanned<VelocitySpec>>,
+    #[serde(default)]
+    pub(super) freedom: Vec<Spanned<FreedomSpec>>,
 }
 
 /// `[[material]]`: E and G (or ν), density.
@@ -295,4 +297,23 @@ pub(super) struct VelocitySpec {
     pub(super) v: [Real; 3],
     #[serde(default)]
     pub(super) omega: [Real; 3],
+}
+
+/// `[[freedom]]`: a motion a body should have.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FreedomSpec {
+    pub(super) body: String,
+    pub(super) translation: Option<[Real; 3]>,
+    pub(super) rotation: Option<RotationSpec>,
+}
+
+/// `rotation = { point, axis, pitch }` of a `[[freedom]]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RotationSpec {
+    pub(super) point: [Real; 3],
+    pub(super) axis: [Real; 3],
+    #[serde(default)]
+    pub(super) pitch: Real,
 }

@@ -304,7 +304,7 @@ fn nonzero(v: &[f64; 3]) -> Option<&[f64]> {
     (*v != [0.0; 3]).then_some(&v[..])
 }
 
-/// `[[load]]`, `[[mass]]`, `[[inertia]]`, `[[prescribe]]` and `[[velocity]]`.
+/// `[[load]]`, `[[mass]]`, `[[inertia]]`, `[[prescribe]]`, `[[velocity]]` and `[[freedom]]`.
 fn write_data(out: &mut String, spec: &ModelSpec) -> Result<(), String> {
     for l in &spec.loads {
         let mut b = Body::default();
@@ -348,6 +348,23 @@ fn write_data(out: &mut String, spec: &ModelSpec) -> Result<(), String> {
         b.vec("v", nonzero(&v.v));
         b.vec("omega", nonzero(&v.omega));
         table(out, "[[velocity]]", &[], b);
+    }
+    for f in &spec.freedoms {
+        let mut b = Body::default();
+        b.text("body", Some(&f.body));
+        b.vec("translation", f.translation.as_ref().map(|t| &t[..]));
+        if let Some(r) = &f.rotation {
+            b.raw(
+                "rotation",
+                format!(
+                    "{{ point = {}, axis = {}, pitch = {} }}",
+                    vec_n(&r.point),
+                    vec_n(&r.axis),
+                    num(r.pitch)
+                ),
+            );
+        }
+        table(out, "[[freedom]]", &f.comments, b);
     }
     Ok(())
 }

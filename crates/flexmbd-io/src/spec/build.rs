@@ -193,10 +193,20 @@ impl ModelSpec {
             });
         }
         let simulate = self.simulation(&model)?;
+        let freedom = self
+            .freedoms
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                intended(&model, f)
+                    .map_err(|m| invalid(f.src.at, format!("[[freedom]] {}: {m}", k + 1)))
+            })
+            .collect::<Result<_, _>>()?;
         Ok(ModelFile {
             model,
             settings,
             simulate,
+            freedom,
         })
     }
 
@@ -450,4 +460,49 @@ impl ModelSpec {
         }
         Ok(sim)
     }
+}
+
+/// The core's intended freedom of a `[[freedom]]` entry: exactly one of `translation` and
+/// `rotation`, finite values, a non-zero direction, a body that names an element or a node.
+fn intended(
+    model: &Model,
+    f: &super::FreedomEntry,
+) -> Result<flexmbd_core::kinematics::freedom::IntendedFreedom, String> {
+    use flexmbd_core::kinematics::freedom::{FreedomMotion, IntendedFreedom};
+    let known = model.elements.iter().any(|e| e.name == f.body) || model.node_id(&f.body).is_some();
+    if !known {
+        return Err(format!(
+            "body `{}` is not an element or a node of the model",
+            f.body
+        ));
+    }
+    let direction = |v: &[f64; 3], what: &str| {
+        if v.iter().any(|a| !a.is_finite()) || v.iter().all(|a| *a == 0.0) {
+            Err(format!(
+                "`{what}` must be a non-zero vector of finite numbers"
+            ))
+        } else {
+            Ok(*v)
+        }
+    };
+    let motion = match (&f.translation, &f.rotation) {
+        (Some(t), None) => FreedomMotion::Translation {
+            direction: direction(t, "translation")?,
+        },
+        (None, Some(r)) => {
+            if r.point.iter().any(|a| !a.is_finite()) || !r.pitch.is_finite() {
+                return Err("`rotation`: `point` and `pitch` must be finite numbers".into());
+            }
+            FreedomMotion::Rotation {
+                point: r.point,
+                axis: direction(&r.axis, "rotation.axis")?,
+                pitch: r.pitch,
+            }
+        }
+        _ => return Err("give exactly one of `translation` and `rotation`".into()),
+    };
+    Ok(IntendedFreedom {
+        body: f.body.clone(),
+        motion,
+    })
 }

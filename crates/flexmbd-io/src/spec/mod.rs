@@ -547,6 +547,40 @@ pub struct VelocityEntry {
     pub src: Src,
 }
 
+/// A motion a body should have (`[[freedom]]`; docs/kinematic-analysis.md "Intended
+/// freedom"): exactly one of `translation` and `rotation`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FreedomEntry {
+    /// The body: the name of one of its elements (a `[[rigid]]`) or nodes.
+    pub body: String,
+    /// A translation along this direction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub translation: Option<[f64; 3]>,
+    /// A rotation about an axis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationEntry>,
+    /// Comment lines written above the entry.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub comments: Vec<String>,
+    /// Where it was written.
+    #[serde(skip)]
+    pub src: Src,
+}
+
+/// The axis of an intended rotation (`rotation = { point, axis, pitch }`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationEntry {
+    /// A point of the axis [m].
+    pub point: [f64; 3],
+    /// The axis direction.
+    pub axis: [f64; 3],
+    /// Pitch [m/rad] (0: a pure rotation).
+    #[serde(default)]
+    pub pitch: f64,
+}
+
 /// How a static path is followed (`[static] path`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -706,6 +740,9 @@ pub struct ModelSpec {
     pub prescribed: Vec<PrescribeEntry>,
     /// Initial velocities.
     pub velocities: Vec<VelocityEntry>,
+    /// The intended freedom (`[[freedom]]`), compared by the kinematic check.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub freedoms: Vec<FreedomEntry>,
     /// `[static]`.
     #[serde(rename = "static")]
     pub statics: StaticSpec,
@@ -749,6 +786,7 @@ impl ModelSpec {
         s.masses.iter_mut().for_each(|l| l.comments.clear());
         s.inertias.iter_mut().for_each(|l| l.comments.clear());
         s.prescribed.iter_mut().for_each(|l| l.comments.clear());
+        s.freedoms.iter_mut().for_each(|l| l.comments.clear());
         s
     }
 }

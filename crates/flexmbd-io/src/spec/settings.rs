@@ -38,6 +38,8 @@ pub struct ModelFile {
     pub settings: Settings,
     /// Settings from `[simulate]`, the histories and `[[velocity]]`.
     pub simulate: SimulateSettings,
+    /// The intended freedom (`[[freedom]]`) of the kinematic check.
+    pub freedom: Vec<flexmbd_core::kinematics::freedom::IntendedFreedom>,
 }
 
 /// The simulation settings of a model file: options the file sets (the rest default or come

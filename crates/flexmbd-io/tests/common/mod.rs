@@ -7,7 +7,7 @@
 #![allow(dead_code)]
 
 use flexmbd_core::dynamics::{modes_with, ModalOptions};
-use flexmbd_core::kinematics::classify::{classify, ClassifyOptions};
+use flexmbd_core::kinematics::classify::{classify_intended, ClassifyOptions};
 use flexmbd_core::linearized::{analyse, LinearRequest};
 use flexmbd_core::simulation::simulate;
 use flexmbd_core::statics::{solve_path, PathMethod};
@@ -35,21 +35,16 @@ pub fn read(path: &Path) -> ModelFile {
 /// The `check --json` document of a model file: the kinematic check with the command's
 /// defaults (`--auto` when `auto`).
 pub fn check_doc(path: &Path, auto: bool) -> Value {
-    let m = read(path).model;
+    let f = read(path);
+    let m = f.model;
     let opts = ClassifyOptions {
         auto,
         ..Default::default()
     };
-    let c = classify(&m, &opts).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let c = classify_intended(&m, &opts, &f.freedom, |_| {})
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let file = path.display().to_string();
-    let report = CheckReport {
-        model: &m,
-        file: &file,
-        rank_tol: opts.check.rank_tol,
-        analysis: &c.analysis,
-        advice: &c.advice,
-        auto: c.chosen.as_deref().map(|chosen| (chosen, &c.before)),
-    };
+    let report = CheckReport::of(&m, &file, opts.check.rank_tol, &c);
     let names = generalised_names(&m, &c.partition.x, &c.partition.e);
     let mut out = Vec::new();
     write_check_json(&mut out, &report, &names).expect("write to memory");
