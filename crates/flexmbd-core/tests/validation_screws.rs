@@ -11,12 +11,13 @@
 
 mod common;
 
-use common::flexures::{leaf_mechanism, wire_guide, wire_nodes};
+use common::flexures::{leaf_mechanism, wire_guide, wire_guide_with, wire_nodes};
 use flexmbd_core::kinematics::classify::{
     classify, classify_intended, Classification, ClassifyOptions,
 };
 use flexmbd_core::kinematics::freedom::{FreedomMotion, IntendedFreedom};
 use flexmbd_core::kinematics::screw::{BodyTwist, BodyWrench, ScrewKind};
+use flexmbd_core::kinematics::CheckMethod;
 use flexmbd_core::Model;
 
 fn run(m: &Model, intended: &[IntendedFreedom]) -> Classification {
@@ -115,6 +116,47 @@ fn four_wires_leave_a_rotation_about_a_vertical_axis_and_the_fifth_wire_restores
     assert!(f.matches, "{f:?}");
     assert_eq!((f.design_dimension, f.intended_dimension), (1, 1));
     assert!(f.principal_angles[0] < 1e-6);
+}
+
+#[test]
+fn four_wires_on_the_sparse_path_get_the_same_twist_and_a_verified_wire() {
+    // The model of the test above, checked by the sparse rank-revealing LU: the same motion
+    // (a rotation about the vertical axis through (−0.05, 0), pitch 0, derived there from the
+    // wire lines) and wire suggestions verified by the bound for an added row. The fifth wire
+    // a5–g5 (reciprocal product 0.1 m, derived above) is among them, and every suggested wire,
+    // built and checked again by the dense SVD, leaves the guide exactly constrained.
+    let m = wire_guide(&[1, 2, 3, 4], true);
+    let mut opts = ClassifyOptions::default();
+    opts.check.method = CheckMethod::Sparse;
+    let c = classify_intended(&m, &opts, &[translation_x()], |_| {}).unwrap();
+    assert!(c.analysis.sparse.as_ref().expect("sparse path").certain);
+    assert_eq!(
+        (c.analysis.n_motions(), c.analysis.n_self_stresses()),
+        (1, 0)
+    );
+    let t = platform(&c.screws.motions[0].bodies);
+    assert_eq!(t.screw.kind, ScrewKind::Rotation);
+    assert!(sin_between(t.screw.direction, [0.0, 0.0, 1.0]) < 1e-9);
+    assert!(near(t.screw.point[0], -0.05, 1e-9) && near(t.screw.point[1], 0.0, 1e-9));
+    let wires = &c.wires[0].wires;
+    assert!(!wires.is_empty());
+    let w = wires
+        .iter()
+        .find(|w| (w.from.as_str(), w.to.as_str()) == ("a5", "g5"))
+        .unwrap_or_else(|| panic!("the fifth wire among {wires:?}"));
+    assert!(near(w.reciprocal, 0.1, 1e-9), "{w:?}");
+    for w in wires {
+        assert_eq!((w.motions_after, w.self_stresses_after), (0, 0));
+        let built = wire_guide_with(&[1, 2, 3, 4], true, &[(w.from.as_str(), w.to.as_str())]);
+        let again = classify(&built, &ClassifyOptions::default()).unwrap();
+        assert!(
+            again.is_exact(),
+            "{} to {}: {:?}",
+            w.from,
+            w.to,
+            again.analysis.case
+        );
+    }
 }
 
 #[test]

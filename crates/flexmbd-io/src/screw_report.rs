@@ -173,16 +173,22 @@ pub fn wires_text(wires: &[WireAdvice]) -> String {
     for w in wires {
         s += &format!("  motion {}: any one of\n", w.motion + 1);
         if w.wires.is_empty() {
-            s += "    (no wire between existing nodes does)\n";
+            s += "    (none found among the wires between existing nodes)\n";
         }
         for x in &w.wires {
+            // the body in brackets, unless the node is in none (then it is its own name)
+            let end = |node: &str, body: &str| {
+                if node == body {
+                    node.to_string()
+                } else {
+                    format!("{node} ({body})")
+                }
+            };
             s += &format!(
-                "    - a wire from {} ({}) to {} ({}): line through {} along {}; reciprocal \
-                 product {:.4e}, intended change {:.1e}  -> {} motion(s), {} self-stress(es)\n",
-                x.from,
-                x.body,
-                x.to,
-                x.other,
+                "    - a wire from {} to {}: line through {} along {}; reciprocal product \
+                 {:.4e}, intended change {:.1e}  -> {} motion(s), {} self-stress(es)\n",
+                end(&x.from, &x.body),
+                end(&x.to, &x.other),
                 v3(x.point),
                 v3(x.direction),
                 x.reciprocal,

@@ -389,3 +389,85 @@ pub fn advise_sparse(
     }
     out
 }
+
+/// The sparse path's verification that a row w added to Dcc raises its rank by one (one motion
+/// fewer, the self-stresses unchanged), without a new factorisation.
+///
+/// With N the listed motions (a subspace of the null space of Dcc), q = ‖P_N w‖ and
+/// s_r ≥ `s_r_lower`: on the r + 1 dimensional space of the row space of Dcc plus P_N w,
+/// ‖[Dcc; wᵀ] z‖² ≥ s_r² q² / (s_r² + ‖w‖²) ‖z‖² (the smallest eigenvalue of the 2 × 2 form
+/// [[s_r² + c², c q], [c q, q²]], |c| ≤ ‖P_R w‖, has the determinant s_r² q² and a trace at
+/// most s_r² + ‖w‖²), so by Courant–Fischer σ_(r+1)([Dcc; wᵀ]) ≥ s_r q / √(s_r² + ‖w‖²);
+/// σ_(r+2) ≤ s_(r+1) (interlacing) stays below the threshold, which rises at most to
+/// rank_tol √(s₁² + ‖w‖²). The rank is r + 1 for certain when the lower bound clears that by
+/// [`MARGIN`].
+pub struct AddedRowBound {
+    /// The listed motions, n × k.
+    null: Mat<f64>,
+    /// Cholesky factor of NᵀN (lower), k × k.
+    chol: Mat<f64>,
+    s_r: f64,
+    s1: f64,
+    rank_tol: f64,
+}
+
+impl AddedRowBound {
+    /// `None` when the decision of `a` is not certain, its rank is zero or no motion is listed:
+    /// then no added row is verified.
+    pub fn new(a: &ConstraintAnalysis, sp: &SparseDecision, rank_tol: f64) -> Option<Self> {
+        let s_r = sp.s_r_lower?;
+        let k = a.null_v.ncols();
+        if !sp.certain || k == 0 {
+            return None;
+        }
+        let null = a.null_v.clone();
+        let gram = null.transpose() * &null;
+        // Cholesky of the small k × k Gram matrix (the listed motions are independent)
+        let mut chol = Mat::<f64>::zeros(k, k);
+        for j in 0..k {
+            let d = gram[(j, j)] - (0..j).map(|p| chol[(j, p)] * chol[(j, p)]).sum::<f64>();
+            if d.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                return None;
+            }
+            let d = d.sqrt();
+            chol[(j, j)] = d;
+            for i in j + 1..k {
+                let s = gram[(i, j)] - (0..j).map(|p| chol[(i, p)] * chol[(j, p)]).sum::<f64>();
+                chol[(i, j)] = s / d;
+            }
+        }
+        Some(Self {
+            null,
+            chol,
+            s_r,
+            s1: sp.s1,
+            rank_tol,
+        })
+    }
+
+    /// q = ‖P_N w‖ of the row w.
+    pub fn null_part(&self, w: &SparseRow) -> f64 {
+        let k = self.null.ncols();
+        // b = Nᵀ w; q² = bᵀ (NᵀN)⁻¹ b = ‖L⁻¹ b‖²
+        let mut y: Vec<f64> = (0..k)
+            .map(|i| w.iter().map(|&(j, v)| v * self.null[(j, i)]).sum())
+            .collect();
+        for i in 0..k {
+            let s: f64 = (0..i).map(|p| self.chol[(i, p)] * y[p]).sum();
+            y[i] = (y[i] - s) / self.chol[(i, i)];
+        }
+        y.iter().map(|v| v * v).sum::<f64>().sqrt()
+    }
+
+    /// The lower bound s_r q / √(s_r² + ‖w‖²) of σ_(r+1)([Dcc; wᵀ]).
+    pub fn lower_bound(&self, w: &SparseRow) -> f64 {
+        let w2: f64 = w.iter().map(|e| e.1 * e.1).sum();
+        self.s_r * self.null_part(w) / (self.s_r * self.s_r + w2).sqrt()
+    }
+
+    /// True when adding the row w certainly raises the rank by one.
+    pub fn raises_rank(&self, w: &SparseRow) -> bool {
+        let w2: f64 = w.iter().map(|e| e.1 * e.1).sum();
+        self.lower_bound(w) > MARGIN * self.rank_tol * (self.s1 * self.s1 + w2).sqrt()
+    }
+}

@@ -1,5 +1,6 @@
 //! Tests of the sparse path against the dense SVD and against closed-form counts.
 
+use super::sparse::AddedRowBound;
 use super::test_models::{lattice, lattice_with_pendants, pendant_node, strip};
 use super::*;
 
@@ -217,4 +218,163 @@ fn automatic_method_is_sparse_above_the_size_limit() {
         CheckMethod::Dense.resolve(10_000, 10_000, l),
         CheckMethod::Dense
     );
+}
+
+#[test]
+fn added_row_bound_is_below_the_dense_singular_value_and_decides_only_rank_raising_rows() {
+    // For rows w (pseudo-random, and random rows projected into the row space of Dcc) the
+    // bound of AddedRowBound is at most σ_(r+1) of [Dcc; wᵀ] from a dense SVD, a row it
+    // passes raises the dense rank by one, and a row with σ_(r+1) a hundred times above the
+    // rank threshold is passed.
+    let models = [
+        strip(12, &[4, 5], &[]),
+        lattice_with_pendants(3, 3),
+        strip(8, &[4], &[Dof::X, Dof::Y]),
+    ];
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for m in &models {
+        let (d, s) = both(m);
+        let name = &m.name;
+        let o = opts(CheckMethod::Sparse);
+        let bound = AddedRowBound::new(&s, s.sparse.as_ref().unwrap(), o.rank_tol)
+            .unwrap_or_else(|| panic!("{name}: no bound"));
+        let n = d.n();
+        let (mut passed, mut refused) = (0, 0);
+        for trial in 0..40 {
+            // a few nonzeros, like a wire's row; every fourth row lies in the row space
+            let mut w: Vec<f64> = vec![0.0; n];
+            for _ in 0..4 {
+                let j = ((next() + 1.0) * 0.5 * n as f64) as usize % n;
+                w[j] += next();
+            }
+            if trial % 4 == 3 {
+                // w − N (NᵀN)⁻¹ Nᵀ w with the dense orthonormal null basis
+                let q = orthonormal(&d.null_v);
+                let c = q.transpose() * faer::col::ColRef::from_slice(&w);
+                for (i, wi) in w.iter_mut().enumerate() {
+                    *wi -= (0..q.ncols()).map(|k| q[(i, k)] * c[k]).sum::<f64>();
+                }
+            }
+            let row: SparseRow = w
+                .iter()
+                .enumerate()
+                .filter(|e| *e.1 != 0.0)
+                .map(|(j, &v)| (j, v))
+                .collect();
+            let mut a = Mat::<f64>::zeros(d.m() + 1, n);
+            for i in 0..d.m() {
+                for j in 0..n {
+                    a[(i, j)] = d.Dcc[(i, j)];
+                }
+            }
+            for &(j, v) in &row {
+                a[(d.m(), j)] = v;
+            }
+            let sv = a.singular_values().unwrap();
+            let r = d.rank;
+            let lower = bound.lower_bound(&row);
+            assert!(
+                lower <= sv[r] * (1.0 + 1e-9),
+                "{name}: {lower:e} > {:e}",
+                sv[r]
+            );
+            let tol = o.rank_tol * sv[0];
+            let rank_after = sv.iter().filter(|&&x| x > tol).count();
+            if bound.raises_rank(&row) {
+                assert_eq!(rank_after, r + 1, "{name}");
+                passed += 1;
+            } else if sv[r] > 100.0 * tol {
+                // clearly rank-raising, yet refused: how conservative the bound is
+                refused += 1;
+            }
+        }
+        // the bound is not idle, and no row the dense SVD finds clearly rank-raising is refused
+        assert!(passed >= 5 && refused == 0, "{name}: {passed} / {refused}");
+    }
+}
+
+#[test]
+fn a_pendant_joint_of_trusses_gets_wires_on_both_paths() {
+    // A pendant (a node in no body, held by two bars) moves along n = (0, 1, 1)/√2 alone
+    // (test_models::lattice_with_pendants). A wire from it to node g along the unit d stops
+    // that motion with the reciprocal product |d · n| (the cosine between wire and motion); the
+    // best is the largest over all nodes of the model, computed here from the node positions.
+    // Every wire, on both paths, is confirmed by the dense SVD of Dcc with the wire's row
+    // (d on the pendant's translations, −d on g's) added: one motion fewer.
+    let (k, p) = (3, 1);
+    let m = lattice_with_pendants(k, p);
+    let x = m.x0();
+    let pendant = m.node_id(&pendant_node(0)).unwrap();
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let n = [0.0, h, h];
+    let pos = |id: usize| m.nodes[id].x0;
+    let cosine = |g: usize| {
+        let (a, b) = (pos(pendant), pos(g));
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]).abs() / len
+    };
+    let best = (0..m.nodes.len())
+        .filter(|&g| g != pendant)
+        .map(cosine)
+        .fold(0.0, f64::max);
+    for method in [CheckMethod::Dense, CheckMethod::Sparse] {
+        let o = opts(method);
+        let a = check(&m, &m.partition, &x, &o).unwrap();
+        assert_eq!(a.n_motions(), 1);
+        let sc = screw::screws(&m, &m.partition, &x, &a).unwrap();
+        let adv = advice::wire_advice(&m, &x, &a, &sc, &[], &o, 5).unwrap();
+        assert_eq!(adv.len(), 1, "{method:?}");
+        let wires = &adv[0].wires;
+        assert_eq!(wires.len(), 5, "{method:?}");
+        assert!(
+            (wires[0].reciprocal - best).abs() < 1e-12,
+            "{method:?}: {wires:?}"
+        );
+        for w in wires {
+            assert_eq!((w.from.as_str(), w.body.as_str()), ("p0", "p0"));
+            let g = m.node_id(&w.to).unwrap();
+            assert!((w.reciprocal - cosine(g)).abs() < 1e-12, "{w:?}");
+            assert_eq!(
+                (w.motions_after, w.self_stresses_after),
+                (0, a.n_self_stresses())
+            );
+            let (pa, pg) = (pos(pendant), pos(g));
+            let dv = [pg[0] - pa[0], pg[1] - pa[1], pg[2] - pa[2]];
+            let len = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
+            // Dcc assembled densely (the sparse path keeps none), and the wire's row
+            let (_, _, full) = assemble_dcc(&m, &m.partition, &x);
+            let mut dcc = Mat::<f64>::zeros(a.m() + 1, a.n());
+            for i in 0..a.m() {
+                for j in 0..a.n() {
+                    dcc[(i, j)] = full[(i, j)];
+                }
+            }
+            for (j, c) in a.cols.iter().enumerate() {
+                let k = match c.dof {
+                    Dof::X => 0,
+                    Dof::Y => 1,
+                    Dof::Z => 2,
+                    _ => continue,
+                };
+                let sign = if c.node == pendant {
+                    1.0
+                } else if c.node == g {
+                    -1.0
+                } else {
+                    0.0
+                };
+                dcc[(a.m(), j)] = sign * dv[k] / len;
+            }
+            let sv = dcc.singular_values().unwrap();
+            let rank = sv.iter().filter(|&&s| s > o.rank_tol * sv[0]).count();
+            assert_eq!(rank, a.n(), "{method:?}: {w:?}");
+        }
+    }
 }

@@ -25,6 +25,11 @@ pub fn wire_nodes(i: usize) -> ([f64; 3], [f64; 3]) {
 /// out (the places where a wire could go). With `input_x` the platform's x (c.x) is the
 /// generalised coordinate, as in examples/wire_guide_5.toml.
 pub fn wire_guide(wires: &[usize], input_x: bool) -> Model {
+    wire_guide_with(wires, input_x, &[])
+}
+
+/// [`wire_guide`] with rigid trusses (`extra1`, `extra2`, …) between the node pairs `extra`.
+pub fn wire_guide_with(wires: &[usize], input_x: bool, extra: &[(&str, &str)]) -> Model {
     let mut b = ModelBuilder::new("wire guide");
     b.add_node("c", [0.0; 3], true).unwrap();
     for i in 1..=6 {
@@ -45,6 +50,11 @@ pub fn wire_guide(wires: &[usize], input_x: bool) -> Model {
             &[],
         )
         .unwrap();
+    }
+    for (k, (p, q)) in extra.iter().enumerate() {
+        let truss = ElementSpec::Truss { ea: 1.0 };
+        b.add_element(&format!("extra{}", k + 1), &[p, q], truss, &[], &[])
+            .unwrap();
     }
     let platform = ["c", "a1", "a2", "a3", "a4", "a5", "a6"];
     b.add_element("platform", &platform, ElementSpec::Rigid, &[], &[])
