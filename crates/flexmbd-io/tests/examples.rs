@@ -420,6 +420,61 @@ fn folded_sheet_guide_5a_is_under_and_over_constrained() {
         (e[2] + 0.1 * e[4]).abs() < 1e-12 && e[4].abs() > 0.5,
         "{e:?}"
     );
+    // In the designer's language: the platform's twist is that rotation, axis along y through
+    // (−0.1, ·, 0), pitch 0.
+    let t = &v["screws"]["motions"][0]["bodies"];
+    let t = t
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|t| t["body"] == "platform")
+        .expect("the platform moves");
+    let sc = &t["screw"];
+    assert_eq!(sc["kind"], "rotation");
+    let num = |x: &Value| x.as_f64().unwrap();
+    let (pt, dir) = (&sc["point"], &sc["direction"]);
+    assert!((num(&dir[1]).abs() - 1.0).abs() < 1e-9, "{sc}");
+    assert!((num(&pt[0]) + 0.1).abs() < 1e-9 && num(&pt[2]).abs() < 1e-9, "{sc}");
+    assert!(num(&sc["pitch"]).abs() < 1e-9, "{sc}");
+
+    // The self-stress: the dependency Σ cᵢ ℓᵢ = 0 of the five lines (the null vector of the
+    // 6 × 5 matrix of their Plücker coordinates); sheet i pushes on the platform with the
+    // wrench cᵢ ℓᵢ up to one common factor: a pure force (pitch 0) on its own line.
+    let cols: Vec<Vec<f64>> = (0..6)
+        .map(|k| lines.iter().map(|l| l.plucker()[k]).collect())
+        .collect();
+    let (r, dep) = rank_and_null(&cols, 5);
+    assert_eq!((r, dep.len()), (4, 1));
+    let c = &dep[0];
+    let wrenches = v["screws"]["self_stresses"][0]["wrenches"].as_array().unwrap();
+    let mut factor: Option<f64> = None;
+    for (i, line) in lines.iter().enumerate() {
+        let by = format!("s{}b", i + 1);
+        let w = wrenches
+            .iter()
+            .find(|w| w["body"] == "platform" && w["by"] == by)
+            .unwrap_or_else(|| panic!("the wrench of {by} on the platform"));
+        assert_eq!(w["screw"]["kind"], "force", "{by}");
+        assert!(num(&w["screw"]["pitch"]).abs() < 1e-9, "{by}");
+        // (F, M about the origin) = (F, p × F + M_p)
+        let f: V3 = std::array::from_fn(|k| num(&w["force"][k]));
+        let p: V3 = std::array::from_fn(|k| num(&w["screw"]["point"][k]));
+        let m: V3 = std::array::from_fn(|k| num(&w["moment"][k]));
+        let pf = cross(p, f);
+        let got = [f[0], f[1], f[2], pf[0] + m[0], pf[1] + m[1], pf[2] + m[2]];
+        let want: Vec<f64> = line.plucker().iter().map(|a| c[i] * a).collect();
+        let k = *factor.get_or_insert_with(|| {
+            let (g, h) = (got[1], want[1]);
+            assert!(h.abs() > 1e-6, "{by}: line {want:?}");
+            g / h
+        });
+        for j in 0..6 {
+            assert!(
+                (got[j] - k * want[j]).abs() < 1e-9 * (1.0 + k.abs()),
+                "{by}: wrench {got:?} vs {k} × {want:?}"
+            );
+        }
+    }
 
     assert_sheets_in_plane_bending(&v, name, 5);
 }
