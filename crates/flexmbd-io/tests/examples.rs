@@ -434,7 +434,10 @@ fn folded_sheet_guide_5a_is_under_and_over_constrained() {
     let num = |x: &Value| x.as_f64().unwrap();
     let (pt, dir) = (&sc["point"], &sc["direction"]);
     assert!((num(&dir[1]).abs() - 1.0).abs() < 1e-9, "{sc}");
-    assert!((num(&pt[0]) + 0.1).abs() < 1e-9 && num(&pt[2]).abs() < 1e-9, "{sc}");
+    assert!(
+        (num(&pt[0]) + 0.1).abs() < 1e-9 && num(&pt[2]).abs() < 1e-9,
+        "{sc}"
+    );
     assert!(num(&sc["pitch"]).abs() < 1e-9, "{sc}");
 
     // The self-stress: the dependency Σ cᵢ ℓᵢ = 0 of the five lines (the null vector of the
@@ -446,7 +449,9 @@ fn folded_sheet_guide_5a_is_under_and_over_constrained() {
     let (r, dep) = rank_and_null(&cols, 5);
     assert_eq!((r, dep.len()), (4, 1));
     let c = &dep[0];
-    let wrenches = v["screws"]["self_stresses"][0]["wrenches"].as_array().unwrap();
+    let wrenches = v["screws"]["self_stresses"][0]["wrenches"]
+        .as_array()
+        .unwrap();
     let mut factor: Option<f64> = None;
     for (i, line) in lines.iter().enumerate() {
         let by = format!("s{}b", i + 1);

@@ -11,8 +11,8 @@
 use crate::errors::{self, Failure, Kind};
 use crate::model::{Format, Loaded, PyModel};
 use flexmbd_io::spec::{
-    DofEntry, EditError, ElementEntrySpec, InertiaEntry, LoadEntry, MassEntry, MaterialSpec,
-    NodeSpec, PrescribeEntry, PrescribeTarget, SectionSpec, VelocityEntry,
+    DofEntry, EditError, ElementEntrySpec, FreedomEntry, InertiaEntry, LoadEntry, MassEntry,
+    MaterialSpec, NodeSpec, PrescribeEntry, PrescribeTarget, SectionSpec, VelocityEntry,
 };
 use flexmbd_io::{ModelSpec, SpecError};
 use pyo3::prelude::*;
@@ -238,7 +238,7 @@ impl Document {
         self.edit(|s| s.set(path, v).map_err(edit_error))
     }
 
-    /// Add an item (`node`, `element`, `material`, `section`, `load`) given as JSON.
+    /// Add an item (`node`, `element`, `material`, `section`, `load`, `freedom`) given as JSON.
     fn add(&self, kind: &str, name: &str, json: &str) -> PyResult<()> {
         self.edit(|s| {
             match kind {
@@ -248,6 +248,10 @@ impl Document {
                 "section" => s.add_section(item::<SectionSpec>(json, kind, name)?),
                 "load" => {
                     s.add_load(item::<LoadEntry>(json, kind, name)?);
+                    Ok(())
+                }
+                "freedom" => {
+                    s.add_freedom(item::<FreedomEntry>(json, kind, name)?);
                     Ok(())
                 }
                 _ => return Err(Failure::option("kind", format!("no item kind `{kind}`"))),
@@ -318,6 +322,7 @@ impl Document {
                 "mass" => s.remove_mass(name).map(drop),
                 "inertia" => s.remove_inertia(name).map(drop),
                 "velocity" => s.remove_velocity(name).map(drop),
+                "freedom" => s.remove_freedoms(name).map(drop),
                 _ => return Err(Failure::option("kind", format!("no item kind `{kind}`"))),
             }
             .map_err(edit_error)

@@ -128,6 +128,26 @@ fn remove<T>(
     }
 }
 
+/// Remove every entry of `key` from `list`; an error when there is none.
+fn remove_all<T>(
+    list: &mut Vec<T>,
+    key: &str,
+    what: &'static str,
+    name: impl Fn(&T) -> &str,
+) -> Result<Vec<T>, EditError> {
+    let (gone, kept): (Vec<T>, Vec<T>) = std::mem::take(list)
+        .into_iter()
+        .partition(|x| name(x) == key);
+    *list = kept;
+    if gone.is_empty() {
+        return Err(EditError::NotFound {
+            what,
+            name: key.into(),
+        });
+    }
+    Ok(gone)
+}
+
 /// Set the entry for `node` (replacing it, or added at the end).
 fn upsert<T>(list: &mut Vec<T>, node: &str, item: T, key: impl Fn(&T) -> &str) {
     match list.iter_mut().find(|x| key(x) == node) {
@@ -254,17 +274,15 @@ impl ModelSpec {
     }
     /// Remove every load of `node`; the removed ones.
     pub fn remove_loads(&mut self, node: &str) -> Result<Vec<LoadEntry>, EditError> {
-        let (gone, kept) = std::mem::take(&mut self.loads)
-            .into_iter()
-            .partition(|l| l.node == node);
-        self.loads = kept;
-        if gone.is_empty() {
-            return Err(EditError::NotFound {
-                what: "load on node",
-                name: node.into(),
-            });
-        }
-        Ok(gone)
+        remove_all(&mut self.loads, node, "load on node", |l| &l.node)
+    }
+    /// Add an intended freedom (`[[freedom]]`; a body may have several).
+    pub fn add_freedom(&mut self, freedom: FreedomEntry) {
+        self.freedoms.push(freedom);
+    }
+    /// Remove every intended freedom of `body` (as named in its `[[freedom]]` tables).
+    pub fn remove_freedoms(&mut self, body: &str) -> Result<Vec<FreedomEntry>, EditError> {
+        remove_all(&mut self.freedoms, body, "freedom of body", |f| &f.body)
     }
     /// Set the point mass [kg] of `node` (replacing its `[[mass]]`).
     pub fn set_mass(&mut self, node: &str, m: f64) {

@@ -294,6 +294,32 @@ class _Editing:
         item["value"] = float(value)
         self._put("stroke", target, item)
 
+    def add_freedom(self, body, translation=None, *, axis=None, point=(0.0, 0.0, 0.0), pitch=0.0):
+        """State a motion the design should allow (``[[freedom]]``; ``check()`` compares the
+        freedom space with it): ``add_freedom("platform", translation=(1, 0, 0))``, or
+        ``add_freedom("platform", axis=(0, 1, 0), point=(0, 0, 0))`` a rotation about that axis
+        (``pitch`` [m/rad], 0 a pure rotation). ``body`` names an element or node of the body;
+        a body may have several."""
+        body = str(body)
+        if (translation is None) == (axis is None):
+            raise _error(
+                f"freedom of `{body}`: give exactly one of translation and axis", body
+            )
+        item = {"body": body}
+        if translation is not None:
+            item["translation"] = _vector(translation, f"freedom of `{body}`: translation", body)
+        else:
+            item["rotation"] = {
+                "point": _vector(point, f"freedom of `{body}`: point", body),
+                "axis": _vector(axis, f"freedom of `{body}`: axis", body),
+                "pitch": float(pitch),
+            }
+        self._document().add("freedom", body, _json.dumps(item))
+
+    def remove_freedom(self, body):
+        """Remove every intended freedom of ``body`` (as named in ``add_freedom``)."""
+        self._document().remove("freedom", str(body))
+
     def remove_fix(self, node):
         """Remove the support of ``node``."""
         self._document().remove("fix", str(node))
