@@ -72,6 +72,7 @@ struct Classified {
     advice: Vec<flexmbd_core::kinematics::advice::StateAdvice>,
     generalised: Vec<String>,
     screws: flexmbd_core::kinematics::screw::ScrewAnalysis,
+    wires: Vec<flexmbd_core::kinematics::advice::WireAdvice>,
 }
 
 fn classify(
@@ -91,6 +92,7 @@ fn classify(
         analysis: c.analysis,
         advice: c.advice,
         screws: c.screws,
+        wires: c.wires,
     })
 }
 
@@ -162,6 +164,7 @@ pub fn run_view(args: ViewArgs) -> anyhow::Result<ExitCode> {
         generalised: &c.generalised,
         rank_tol: opts.rank_tol,
         screws: Some(&c.screws),
+        wires: &c.wires,
     });
 
     // the simulation of a simulate view that stopped part-way

@@ -10,7 +10,9 @@ the first of chromium, chromium-browser, google-chrome on PATH) from a file:// U
 - the page reaches its ready state with no JavaScript error: the page's own record (window
   errors, unhandled rejections and console.error, counted in <body data-errors>) read with
   --dump-dom, and no console message at all in Chromium's log (--enable-logging=stderr);
-- the expected content (motions, modes, fields, load steps, Table 1 row) in the status element;
+- the expected content (motions, modes, fields, load steps, Table 1 row, the lines of the
+  designer's language: for the 12-truss's motion the wires `flexmbd check --json` suggests) in
+  the status element;
 - a screenshot: the canvas is not blank (enough pixels off the background, enough colours);
 - animation: the motion of the 12-truss at phase 0.25 and 0.75 (opposite extremes) gives
   different pictures, while phase 0 and 0.5 (both the reference configuration) give the same
@@ -571,10 +573,16 @@ def run(out, profile):
     sim = view(out, "pendulum_simulate", "pendulum", "--analysis", "simulate", "--t-end", "0.5",
                "--output-step", "0.01")
 
-    # 12-truss: one motion, one self-stress, Table 1 row 2; the motion animates
+    # 12-truss: one motion, one self-stress, Table 1 row 2; the motion animates, drawn with
+    # the wires `flexmbd check` suggests to remove it (its top joint is in no body: no twist)
+    r = subprocess.run(flexmbd() + ["check", os.path.join(ROOT, "examples", "twelve_truss.toml"), "--json"],
+                       cwd=ROOT, capture_output=True, text=True, timeout=900)
+    wires = len(json.loads(r.stdout)["wire_suggestions"][0]["wires"])
+    if wires == 0:
+        fail("twelve_truss: `flexmbd check` suggests no wire for its motion")
     a = open_page(twelve, "item=0&phase=0.25&paused=1", out, profile, {
         "data-animations": "1", "data-fields": "self_stress_1", "data-table1-row": "2",
-        "data-elements": "12", "data-item": "0"})
+        "data-elements": "12", "data-item": "0", "data-screw-lines": str(wires)})
     rect = canvas_rect(a)
     p25 = shot(twelve, "item=0&phase=0.25&paused=1", out, profile, "twelve_phase025", rect)
     p75 = shot(twelve, "item=0&phase=0.75&paused=1", out, profile, "twelve_phase075", rect)

@@ -517,6 +517,8 @@ pub struct WireSuggestion {
     pub point: [f64; 3],
     /// The unit direction of the line, from `from` to `to`.
     pub direction: [f64; 3],
+    /// The wire's length, the distance between the nodes [m].
+    pub length: f64,
     /// |reciprocal product| of the unit wire with the relative twist of the two bodies in the
     /// motion, the twist of unit |ω| (a rotation: the wire's moment arm about the axis [m]) or
     /// of unit |v| (a translation: the cosine between wire and motion).
@@ -798,6 +800,7 @@ pub fn wire_advice(
                 other: anchor(ng),
                 point: pa,
                 direction: d,
+                length: norm(sub(position(model, x, ng), pa)),
                 reciprocal: c.power,
                 intended_change: c.change,
                 motions_after,

@@ -552,10 +552,12 @@ async function main() {
 
   // --- the lines of the designer's language (check): the axis of every body's twist, drawn
   // with its motion, and the line of action of every wrench, drawn with its self-stress field
-  const screwColors = { rotation: 0xe07b00, translation: 0x1f9e4a, force: 0xc62828, couple: 0x7b1fa2 };
+  // and the suggested wires that would remove the motion, each drawn as the wire itself
+  const screwColors = { rotation: 0xe07b00, translation: 0x1f9e4a, force: 0xc62828, couple: 0x7b1fa2, wire: 0x1565c0 };
   const screwLines = (DATA.screw_lines || []).map((s) => {
-    const a = add3(s.point, scale3(-0.6 * SIZE, s.direction));
-    const b = add3(s.point, scale3(0.6 * SIZE, s.direction));
+    const wire = typeof s.length === 'number';
+    const a = wire ? s.point : add3(s.point, scale3(-0.6 * SIZE, s.direction));
+    const b = wire ? add3(s.point, scale3(s.length, s.direction)) : add3(s.point, scale3(0.6 * SIZE, s.direction));
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(new Float32Array([...a, ...b]), 3));
     const line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: screwColors[s.kind] || 0x000000 }));

@@ -63,14 +63,15 @@ pub struct ViewData {
 }
 
 /// A line of the designer's language: a twist axis (rotation), a translation direction, a
-/// wrench's line of action (force) or a couple's axis, drawn through `point` along `direction`.
+/// wrench's line of action (force) or a couple's axis, drawn through `point` along `direction`;
+/// or a suggested wire (`wire`), the segment from `point` of `length`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ViewScrewLine {
     /// The animation (motion) it belongs to.
     pub item: Option<usize>,
     /// The field (self-stress state) it belongs to.
     pub field: Option<String>,
-    /// `rotation`, `translation`, `force` or `couple`.
+    /// `rotation`, `translation`, `force`, `couple` or `wire`.
     pub kind: String,
     /// A point of the line [m].
     pub point: [f64; 3],
@@ -78,6 +79,9 @@ pub struct ViewScrewLine {
     pub direction: [f64; 3],
     /// What it is, e.g. `platform: rotation, pitch 0`.
     pub label: String,
+    /// A segment of this length from `point` (a suggested wire) instead of a line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
 }
 
 /// A node.
@@ -283,6 +287,8 @@ pub struct Classification<'a> {
     pub rank_tol: f64,
     /// The motions and self-stresses as twists and wrenches, when computed.
     pub screws: Option<&'a flexmbd_core::kinematics::screw::ScrewAnalysis>,
+    /// The verified wires that remove each motion (drawn with the motion).
+    pub wires: &'a [flexmbd_core::kinematics::advice::WireAdvice],
 }
 
 /// The results to show.

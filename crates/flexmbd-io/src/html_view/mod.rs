@@ -78,7 +78,7 @@ pub fn view_data(
                 data.animations = motion_animations(model, c.analysis, size);
                 data.fields = self_stress_fields(model, c.analysis);
                 if let Some(sc) = c.screws {
-                    data.screw_lines = screw_lines(sc);
+                    data.screw_lines = screw_lines(sc, c.wires);
                 }
             }
         }

@@ -369,10 +369,11 @@ pub(super) fn summary(c: &Classification<'_>) -> ViewSummary {
 }
 
 /// The lines of the designer's language: per motion (animation k) the axis or direction of
-/// every moving body's twist, per self-stress (field `self_stress_k`) the line of action of
-/// every wrench on a body that is not the ground.
+/// every moving body's twist and the suggested wires that remove it, per self-stress (field
+/// `self_stress_k`) the line of action of every wrench on a body that is not the ground.
 pub(super) fn screw_lines(
     sc: &flexmbd_core::kinematics::screw::ScrewAnalysis,
+    wires: &[flexmbd_core::kinematics::advice::WireAdvice],
 ) -> Vec<ViewScrewLine> {
     use flexmbd_core::kinematics::screw::{Screw, ScrewKind};
     let kind = |s: &Screw| {
@@ -399,6 +400,26 @@ pub(super) fn screw_lines(
                 point: t.screw.point,
                 direction: t.screw.direction,
                 label: format!("{}: {}{}", t.body, kind(&t.screw), pitch(&t.screw)),
+                length: None,
+            });
+        }
+    }
+    for wa in wires {
+        for w in &wa.wires {
+            out.push(ViewScrewLine {
+                item: Some(wa.motion),
+                field: None,
+                kind: "wire".into(),
+                point: w.point,
+                direction: w.direction,
+                label: format!(
+                    "suggested wire {} to {}: reciprocal {}, intended change {}",
+                    w.from,
+                    w.to,
+                    crate::report::fmt_num(w.reciprocal),
+                    crate::report::fmt_num(w.intended_change)
+                ),
+                length: Some(w.length),
             });
         }
     }
@@ -427,6 +448,7 @@ pub(super) fn screw_lines(
                     kind(&w.screw),
                     pitch(&w.screw)
                 ),
+                length: None,
             });
         }
     }

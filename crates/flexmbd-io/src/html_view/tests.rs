@@ -26,6 +26,7 @@ fn check_data(text: &str, name: &str) -> ViewData {
         generalised: &names,
         rank_tol: opts.rank_tol,
         screws: None,
+        wires: &[],
     };
     view_data(&m, name, Some(&c), &ViewResults::Check)
 }
@@ -533,12 +534,17 @@ fn check_data_draws_the_twist_axis_and_the_fighting_lines() {
         generalised: &names,
         rank_tol: 1.5e-8,
         screws: Some(&c.screws),
+        wires: &c.wires,
     };
     let d = view_data(m, "cross_spring_pivot.toml", Some(&cl), &ViewResults::Check);
     let on_y = |l: &ViewScrewLine| {
         l.direction[1].abs() > 1.0 - 1e-12 && l.point[0].abs() < 1e-12 && l.point[2].abs() < 1e-12
     };
-    let axes: Vec<&ViewScrewLine> = d.screw_lines.iter().filter(|l| l.item == Some(0)).collect();
+    let axes: Vec<&ViewScrewLine> = d
+        .screw_lines
+        .iter()
+        .filter(|l| l.item == Some(0) && l.kind != "wire")
+        .collect();
     assert_eq!(axes.len(), 1, "{:?}", d.screw_lines);
     assert!(axes[0].kind == "rotation" && on_y(axes[0]), "{:?}", axes[0]);
     let fights: Vec<&ViewScrewLine> = d
@@ -551,4 +557,52 @@ fn check_data_draws_the_twist_axis_and_the_fighting_lines() {
         fights.iter().all(|l| l.kind == "force" && on_y(l)),
         "{fights:?}"
     );
+}
+
+#[test]
+fn check_data_draws_the_suggested_wires_with_their_motion() {
+    // The five-wire guide without wire 5 (docs/kinematic-analysis.md, "A worked example"): one
+    // motion, a rotation about the vertical line through (−0.05, 0); the wire with the largest
+    // moment arm about it, 0.1 m, is wire 5 itself, from a5 = (0.05, 0.03, 0.01) to
+    // g5 = (0.05, 0.08, 0.01): drawn as that segment (length 0.05 along y) with the motion.
+    let text = include_str!("../../../../examples/wire_guide_5.toml");
+    let mut spec = crate::parse_spec(text, "wire_guide_5.toml").expect("spec");
+    spec.remove_element("w5").expect("w5");
+    let f = spec.build_file().expect("model");
+    let m = &f.model;
+    let c = flexmbd_core::kinematics::classify::classify_intended(
+        m,
+        &Default::default(),
+        &f.freedom,
+        |_| {},
+    )
+    .expect("check");
+    let names = crate::report::generalised_names(m, &c.partition.x, &c.partition.e);
+    let cl = Classification {
+        analysis: &c.analysis,
+        advice: &c.advice,
+        generalised: &names,
+        rank_tol: 1.5e-8,
+        screws: Some(&c.screws),
+        wires: &c.wires,
+    };
+    let d = view_data(m, "wire_guide_5.toml", Some(&cl), &ViewResults::Check);
+    let wires: Vec<&ViewScrewLine> = d.screw_lines.iter().filter(|l| l.kind == "wire").collect();
+    assert!(!wires.is_empty(), "{:?}", d.screw_lines);
+    assert!(wires
+        .iter()
+        .all(|l| l.item == Some(0) && l.length.is_some()));
+    let w = wires[0];
+    let end: Vec<f64> = (0..3)
+        .map(|k| w.point[k] + w.length.unwrap() * w.direction[k])
+        .collect();
+    let near = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12);
+    assert!(near(&w.point, &[0.05, 0.03, 0.01]), "{w:?}");
+    assert!(near(&end, &[0.05, 0.08, 0.01]), "{w:?}");
+    assert!(w.label.contains("a5 to g5"), "{}", w.label);
+    // and the twist axis of the same motion
+    assert!(d
+        .screw_lines
+        .iter()
+        .any(|l| l.item == Some(0) && l.kind == "rotation"));
 }
