@@ -589,8 +589,9 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
             }
             for sg in &st.suggestions {
                 s += &format!(
-                    "    - {}  -> {} motion(s), {} self-stress(es)\n",
+                    "    - {}{}  -> {} motion(s), {} self-stress(es)\n",
                     sg.action.describe(),
+                    crate::screw_report::designer_release(sg),
                     sg.motions_after,
                     sg.self_stresses_after
                 );

@@ -3,7 +3,7 @@
 //! freedom and the wire suggestions, as text. (The JSON document holds the same data as the
 //! core types, `report::write_check_json`.)
 
-use flexmbd_core::kinematics::advice::WireAdvice;
+use flexmbd_core::kinematics::advice::{Suggestion, WireAdvice};
 use flexmbd_core::kinematics::freedom::{FreedomCheck, FreedomMotion};
 use flexmbd_core::kinematics::screw::{BodyTwist, Screw, ScrewAnalysis, ScrewKind};
 
@@ -12,6 +12,22 @@ fn v3(v: [f64; 3]) -> String {
     // no "-0.000000" for rounding noise
     let z = |a: f64| if a.abs() < 5e-7 { 0.0 } else { a };
     format!("({:.6}, {:.6}, {:.6})", z(v[0]), z(v[1]), z(v[2]))
+}
+
+/// The designer's words for a suggested release (after the action's own description): " = a
+/// hinge at p about (…)", " = a slide along (…)", " = leave s1 out (…)"; empty otherwise.
+pub fn designer_release(sg: &Suggestion) -> String {
+    let Some(d) = &sg.designer else {
+        return String::new();
+    };
+    let axis = d.axis.map(v3).unwrap_or_default();
+    match (d.kind, &d.node) {
+        ("remove", _) => " = leave the element out (it then constrains nothing)".into(),
+        ("hinge", Some(n)) => format!(" = a hinge at {n} about {axis}"),
+        ("hinge", None) => format!(" = a torsion hinge about the element's axis {axis}"),
+        ("slide", _) => format!(" = a slide along {axis}"),
+        _ => String::new(),
+    }
 }
 
 /// One line for a screw: what it is and where.

@@ -329,6 +329,15 @@ fn twelve_truss_matches_the_paper() {
         assert!((e.2.abs() - s).abs() < 1e-9, "bar {} carries {}", e.0, e.2);
     }
     assert_eq!(st.iter().filter(|e| e.2 > 0.0).count(), 6);
+    // releasing a bar's elongation (its one deformation) leaves it constraining nothing: for a
+    // designer, leave the bar out
+    for sg in v["suggestions"][0]["suggestions"].as_array().unwrap() {
+        assert_eq!(
+            (&sg["action"], &sg["mode"]),
+            (&Value::from("release"), &Value::from(1))
+        );
+        assert_eq!(sg["designer"]["kind"], "remove", "{sg}");
+    }
     // motion: paper eq. (16), up to the overall sign
     let m = motion_entries(&v, 0);
     let eq16 = [
@@ -484,6 +493,62 @@ fn folded_sheet_guide_5a_is_under_and_over_constrained() {
     assert_sheets_in_plane_bending(&v, name, 5);
 }
 
+/// Every release of a beam's bending in `v`'s advice is, for the designer, a hinge at that end
+/// (p for modes 3, 5; q for 4, 6) about the bending axis of the beam's reference frame: local
+/// z = chord × orient (modes 5, 6) or local y = orient made normal to the chord (modes 3, 4),
+/// from the model file's nodes and `orient`. Returns how many were checked.
+fn assert_bending_releases_are_hinges(v: &Value, file: &str) -> usize {
+    let text = std::fs::read_to_string(examples_dir().join(file)).unwrap();
+    let spec = flexmbd_io::parse_spec(&text, file).unwrap();
+    let node = |n: &str| -> V3 {
+        let c = ["x", "y", "z"];
+        std::array::from_fn(|k| {
+            spec.get(&format!("nodes.{n}.{}", c[k]))
+                .unwrap()
+                .as_f64()
+                .unwrap()
+        })
+    };
+    let unit = |a: V3| {
+        let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        a.map(|x| x / n)
+    };
+    let mut checked = 0;
+    for st in v["suggestions"].as_array().unwrap() {
+        for sg in st["suggestions"].as_array().unwrap() {
+            let mode = sg["mode"].as_u64().unwrap_or(0);
+            if sg["action"] != "release" || !(3..=6).contains(&mode) {
+                continue;
+            }
+            let el = sg["element"].as_str().unwrap();
+            let e = spec.get(&format!("elements.{el}")).unwrap();
+            if e["type"] != "beam" {
+                continue;
+            }
+            let ends: Vec<&str> = e["nodes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|n| n.as_str().unwrap())
+                .collect();
+            let (p, q) = (node(ends[0]), node(ends[1]));
+            let ex = unit([q[0] - p[0], q[1] - p[1], q[2] - p[2]]);
+            let o: V3 = std::array::from_fn(|k| e["orient"][k].as_f64().unwrap());
+            let ez = unit(cross(ex, o));
+            let ey = cross(ez, ex);
+            let axis = if mode >= 5 { ez } else { ey };
+            let d = &sg["designer"];
+            assert_eq!(d["kind"], "hinge", "{sg}");
+            assert_eq!(d["node"], ends[if mode % 2 == 1 { 0 } else { 1 }], "{sg}");
+            let got: V3 = std::array::from_fn(|k| d["axis"][k].as_f64().unwrap());
+            let c = cross(got, axis);
+            assert!(c.iter().all(|a| a.abs() < 1e-9), "{sg}: axis {axis:?}");
+            checked += 1;
+        }
+    }
+    checked
+}
+
 #[test]
 fn six_folded_sheets_are_over_constrained_in_in_plane_bending() {
     let name = "folded_sheet_guide_6";
@@ -491,6 +556,8 @@ fn six_folded_sheets_are_over_constrained_in_in_plane_bending() {
     assert_counts(&v, name, 3, (78, 77), 0, 1);
     assert_line_counts(&v, name, &fold_lines(&FOLDED_6), 5);
     assert_sheets_in_plane_bending(&v, name, 6);
+    // the repair for a designer: a hinge about the sheet's normal at the released end
+    assert!(assert_bending_releases_are_hinges(&v, "folded_sheet_guide_6.toml") >= 5);
     // the rigid cylinder is loaded too (paper: release a torsion of the rigid body)
     assert!(stress_entries(&v, 0).iter().any(|e| e.0 == "platform"));
 }

@@ -95,6 +95,26 @@ impl AccelerationField {
     }
 }
 
+/// What releasing one deformation mode makes of an element, in a designer's words
+/// ([`ElementKind::release`]; docs/kinematic-analysis.md "Repair in the designer's language").
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Release {
+    /// A hinge: a free rotation about the unit `axis` (global) at node use `at` (an index into
+    /// [`ElementKind::node_uses`]), or along the whole element for `None` (a torsion release).
+    Hinge {
+        /// The unit axis.
+        axis: [f64; 3],
+        /// The node use it sits at.
+        at: Option<usize>,
+    },
+    /// A slide: a free relative translation along the unit `axis`.
+    Slide {
+        /// The unit axis.
+        axis: [f64; 3],
+    },
+}
+
 /// The element contract: deformations, their first and second derivatives, stiffness, and the
 /// element's mass (mass matrix and the loads of acceleration fields on it).
 ///
@@ -124,6 +144,13 @@ pub trait ElementKind {
     /// given stiffness or driven.
     fn is_rigid_body(&self) -> bool {
         false
+    }
+    /// What releasing deformation mode `k` (0-based) makes of the element at the local
+    /// coordinates `xk`: a hinge or a slide, to first order. `None` (the default) when the
+    /// mode's name says it best.
+    fn release(&self, k: usize, xk: &[f64]) -> Option<Release> {
+        let _ = (k, xk);
+        None
     }
     /// The largest normal stress [Pa] in the element's section for the stress resultants
     /// `sigma`, when the element has a section (`None`, the default, otherwise).
@@ -263,6 +290,9 @@ impl ElementKind for Element {
     }
     fn is_rigid_body(&self) -> bool {
         self.kind().is_rigid_body()
+    }
+    fn release(&self, k: usize, xk: &[f64]) -> Option<Release> {
+        self.kind().release(k, xk)
     }
     fn max_stress(&self, sigma: &[f64]) -> Option<f64> {
         self.kind().max_stress(sigma)

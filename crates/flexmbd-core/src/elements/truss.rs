@@ -46,6 +46,14 @@ impl ElementKind for Truss {
     fn mode_name(&self, _k: usize, _node_names: &[String]) -> String {
         "elongation".into()
     }
+    /// A slide along the chord.
+    fn release(&self, _k: usize, xk: &[f64]) -> Option<super::Release> {
+        let d = sub([xk[3], xk[4], xk[5]], [xk[0], xk[1], xk[2]]);
+        let n = dot(d, d).sqrt();
+        (n > 0.0).then(|| super::Release::Slide {
+            axis: [d[0] / n, d[1] / n, d[2] / n],
+        })
+    }
     smooth_map_derivatives!();
     /// The chord has passed through zero length since `prev`: it points against the previous
     /// chord and the straight path between the two chords passes within l₀/10 of zero (a

@@ -177,6 +177,63 @@ pub struct Suggestion {
     pub motions_after: usize,
     /// Self-stress states after the change (verified).
     pub self_stresses_after: usize,
+    /// A release in the designer's words, when the action releases a deformation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub designer: Option<DesignerRelease>,
+}
+
+/// What a released deformation makes of its element, for a designer (docs/kinematic-analysis.md
+/// "Repair in the designer's language").
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DesignerRelease {
+    /// `remove`: the element constrains nothing after the release (leave it out, or make it
+    /// compliant in every mode); `hinge` or `slide` ([`crate::elements::Release`]).
+    pub kind: &'static str,
+    /// The node a hinge sits at (`None` for a torsion hinge along the element, a slide or a
+    /// removal).
+    pub node: Option<String>,
+    /// The unit axis of a hinge or slide, global, at the analysed configuration.
+    pub axis: Option<[f64; 3]>,
+}
+
+/// The designer's words for every release in `advice` (a partition of `model` at x).
+fn designer_releases(model: &Model, partition: &Partition, x: &[f64], advice: &mut [StateAdvice]) {
+    use crate::elements::Release;
+    for sg in advice.iter_mut().flat_map(|a| a.suggestions.iter_mut()) {
+        let Action::Release { element, mode, .. } = &sg.action else {
+            continue;
+        };
+        let Some(entry) = model.elements.iter().find(|e| &e.name == element) else {
+            continue;
+        };
+        let ne = entry.element.ne();
+        let rest_free = (0..ne)
+            .filter(|&k| k + 1 != *mode)
+            .all(|k| partition.e[entry.ie + k] == DefKind::Free);
+        sg.designer = if rest_free {
+            Some(DesignerRelease {
+                kind: "remove",
+                node: None,
+                axis: None,
+            })
+        } else {
+            let xk = crate::assembly::gather(entry, x);
+            let uses = entry.element.node_uses();
+            match entry.element.release(mode - 1, &xk) {
+                Some(Release::Hinge { axis, at }) => Some(DesignerRelease {
+                    kind: "hinge",
+                    node: at.map(|i| model.nodes[uses[i].node].name.clone()),
+                    axis: Some(axis),
+                }),
+                Some(Release::Slide { axis }) => Some(DesignerRelease {
+                    kind: "slide",
+                    node: None,
+                    axis: Some(axis),
+                }),
+                None => None,
+            }
+        };
+    }
 }
 
 /// Suggestions for one state.
@@ -222,9 +279,23 @@ pub fn advise(
     opts: &CheckOptions,
     max_per_state: usize,
 ) -> Result<Vec<StateAdvice>, KinematicsError> {
-    if let Some(sp) = &a.sparse {
-        return Ok(super::sparse::advise_sparse(model, x, a, sp, max_per_state));
-    }
+    let mut out = match &a.sparse {
+        Some(sp) => super::sparse::advise_sparse(model, x, a, sp, max_per_state),
+        None => advise_dense(model, partition, x, a, opts, max_per_state)?,
+    };
+    designer_releases(model, partition, x, &mut out);
+    Ok(out)
+}
+
+/// [`advise`] on the dense path.
+fn advise_dense(
+    model: &Model,
+    partition: &Partition,
+    x: &[f64],
+    a: &ConstraintAnalysis,
+    opts: &CheckOptions,
+    max_per_state: usize,
+) -> Result<Vec<StateAdvice>, KinematicsError> {
     let names = model.node_names();
     let before = (a.n_motions(), a.n_self_stresses());
     let mut out = Vec::new();
@@ -407,6 +478,7 @@ fn verify(
                 weight,
                 motions_after,
                 self_stresses_after,
+                designer: None,
             });
         }
     }

@@ -357,6 +357,7 @@ pub fn advise_sparse(
                 weight: weight(&u, i),
                 motions_after: mot,
                 self_stresses_after: ss - 1,
+                designer: None,
             });
         }
         out.push(StateAdvice {
@@ -379,6 +380,7 @@ pub fn advise_sparse(
                 weight: weight(&v, j),
                 motions_after: mot - 1,
                 self_stresses_after: ss,
+                designer: None,
             });
         }
         out.push(StateAdvice {

@@ -356,8 +356,9 @@ pub(super) fn summary(c: &Classification<'_>) -> ViewSummary {
                     .iter()
                     .map(|g| {
                         format!(
-                            "{} → {} motion(s), {} self-stress(es)",
+                            "{}{} → {} motion(s), {} self-stress(es)",
                             g.action.describe(),
+                            crate::screw_report::designer_release(g),
                             g.motions_after,
                             g.self_stresses_after
                         )

@@ -186,6 +186,34 @@ impl ElementKind for Beam {
     fn mode_name(&self, k: usize, _node_names: &[String]) -> String {
         BEAM_MODES[k].into()
     }
+    /// Elongation: a slide along the chord; torsion: a hinge about the beam axis (along the
+    /// element); bending about y or z at p or q: a hinge about that axis of the end's triad.
+    fn release(&self, k: usize, xk: &[f64]) -> Option<super::Release> {
+        if xk.len() < 14 || k >= 6 {
+            return None;
+        }
+        let unit = |v: V3<f64>| {
+            let n = norm(v);
+            (n > 0.0).then(|| [v[0] / n, v[1] / n, v[2] / n])
+        };
+        let lp = [xk[3], xk[4], xk[5], xk[6]];
+        let lq = [xk[10], xk[11], xk[12], xk[13]];
+        match k {
+            0 => unit(sub([xk[7], xk[8], xk[9]], [xk[0], xk[1], xk[2]]))
+                .map(|axis| super::Release::Slide { axis }),
+            1 => unit(rotate(&lp, self.frame[0]))
+                .map(|axis| super::Release::Hinge { axis, at: None }),
+            _ => {
+                let (l, at) = if k.is_multiple_of(2) {
+                    (lp, 0)
+                } else {
+                    (lq, 1)
+                };
+                let axis = if k < 4 { self.frame[1] } else { self.frame[2] };
+                unit(rotate(&l, axis)).map(|axis| super::Release::Hinge { axis, at: Some(at) })
+            }
+        }
+    }
     fn deformations(&self, xk: &[f64]) -> Vec<f64> {
         fixed_values(self, xk)
     }
