@@ -707,6 +707,65 @@ fn a_large_model_locates_its_bifurcation_on_the_inertia() {
 }
 
 #[test]
+fn a_large_model_reports_the_eigenvalues_nearest_zero_when_asked() {
+    // the same 60-element column (360 reduced coordinates) with κ asked for: by Lanczos on
+    // the inverse tangent (statics/eigen.rs), κ₁ at every state; it passes through zero at
+    // the Euler load P_cr = π² EI/(4 L²) (t = 1/2 under 2 P_cr), where the count of unstable
+    // directions turns to 1, and is positive before, negative after
+    let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+    let model = column_of(60, 2.0 * p_cr, 0.0);
+    let opts = StaticOptions {
+        steps: 10,
+        path: PathMethod::ArcLength,
+        tangent_eigenvalues: true,
+        ..Default::default()
+    };
+    let sol = solve_path(&model, &opts, |_, _| {}).expect("the path reaches the full load");
+    let k1: Vec<(f64, f64)> = sol
+        .steps
+        .iter()
+        .map(|s| {
+            (
+                s.load_factor,
+                s.tangent_eigenvalues.as_ref().expect("κ asked for")[0],
+            )
+        })
+        .collect();
+    for &(t, k) in &k1 {
+        if (2.0 * t - 1.0).abs() > 1e-3 {
+            assert_eq!(k < 0.0, 2.0 * t > 1.0, "t = {t}: κ₁ = {k}");
+        }
+    }
+    // the zero crossing by linear interpolation between the steps around it: within 1 % of
+    // the Euler load (κ₁ is not linear in the load: the steps are 0.2 P_cr apart)
+    let w = k1
+        .windows(2)
+        .find(|w| w[0].1 > 0.0 && w[1].1 <= 0.0)
+        .expect("κ₁ changes sign");
+    let t0 = w[0].0 + (w[1].0 - w[0].0) * w[0].1 / (w[0].1 - w[1].1);
+    assert!((2.0 * t0 - 1.0).abs() < 1e-2, "P/P_cr = {}", 2.0 * t0);
+    // the located bifurcation itself has κ₁ ≈ 0 against κ₁ of the unloaded column
+    let scale = k1[0].1;
+    let located = sol.events.iter().find_map(|e| match *e {
+        PathEvent::Bifurcation {
+            step,
+            located: true,
+            ..
+        } => Some(step),
+        _ => None,
+    });
+    let step = located.expect("the bifurcation is located");
+    let k = sol.steps[step]
+        .tangent_eigenvalues
+        .as_ref()
+        .expect("κ at the critical state")[0];
+    assert!(
+        k.abs() < 1e-3 * scale,
+        "κ₁ = {k} at the bifurcation, κ₁(0) = {scale}"
+    );
+}
+
+#[test]
 fn a_bifurcation_in_the_last_step_is_located() {
     // the perfect column under 1.05 P_cr with steps = 1: the first tangent step passes t = 1,
     // so the path is one step solved at the full load, and the bifurcation inside it is

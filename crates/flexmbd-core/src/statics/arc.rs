@@ -404,7 +404,7 @@ fn run(
             }
         };
     let mut st = record(model, &x, &mu, &a, 0.0, iterations, 1, residual);
-    st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+    st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a, opts.tangent_eigenvalues);
     push_finite(out, st, 0, None)?;
     let tangent0 = tangent(model, &su, (&x, 0.0), &a, &mut kkt)
         .map_err(|r| no_convergence(1, 0.0, 0.0, 0, r))?;
@@ -520,7 +520,7 @@ fn run(
             end,
         } = snap_to_level(model, &su, opts, done, (&cur, p2, steps), &mut kkt);
         let mut st = record(model, &x, &mu, &a, t, iterations, halvings + 1, residual);
-        st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+        st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a, opts.tangent_eigenvalues);
         let tangent = match tangent(model, &su, (&x, t), &a, &mut kkt) {
             Ok(tg) => tg,
             Err(r) => {
@@ -571,7 +571,8 @@ fn run(
         );
         for l in crossed {
             let mut ls = l.step;
-            ls.tangent_eigenvalues = tangent_eigenvalues(model, &su, &ls, &l.a);
+            ls.tangent_eigenvalues =
+                tangent_eigenvalues(model, &su, &ls, &l.a, opts.tangent_eigenvalues);
             let unstable = self::tangent(model, &su, (&ls.x, ls.load_factor), &l.a, &mut kkt)
                 .ok()
                 .and_then(|tg| tg.unstable);

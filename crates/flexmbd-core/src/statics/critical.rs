@@ -18,7 +18,7 @@
 //! step keeps its sampled critical point.
 
 use super::arc::{arc_step, tangent, State};
-use super::eigen::{smallest_eigenvalues, TANGENT_EIGENVALUES};
+use super::eigen::{kappa, smallest_eigenvalues};
 use super::{
     inverted_element, Assembled, KktSolver, PathEvent, PathPoint, Setup, StaticOptions, StepResult,
 };
@@ -140,7 +140,7 @@ pub(super) fn locate(
         }
     }
     let (st, s, _) = best?;
-    let kappa = smallest_eigenvalues(su, &st.a, TANGENT_EIGENVALUES);
+    let kappa = kappa(su, &st.a, opts.tangent_eigenvalues);
     let unstable = tangent(model, su, (&st.x, st.t), &st.a, kkt)
         .ok()
         .and_then(|t| t.unstable);

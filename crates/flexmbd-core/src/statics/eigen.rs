@@ -12,7 +12,7 @@
 //! inertia count of `arc.rs`). With applied moments, whose load stiffness is unsymmetric,
 //! κ is that of the symmetric part.
 
-use super::{assemble_values, Assembled, Part, Setup, StepResult};
+use super::{assemble_values, Assembled, KktSolver, Part, Setup, StepResult};
 use crate::model::Model;
 use faer::Mat;
 
@@ -72,28 +72,200 @@ pub(crate) fn smallest_eigenvalues(su: &Setup, a: &Assembled, count: usize) -> O
 }
 
 /// The [`TANGENT_EIGENVALUES`] smallest κ at the converged step `st`, from its assembly `a`
-/// (assembled again in the reduced unknowns when `a` is not).
+/// (assembled again in the reduced unknowns when `a` is not): dense for models with at most
+/// [`TANGENT_EIGEN_MAX`] reduced coordinates; for larger ones, when `asked`, the eigenvalues
+/// nearest zero ([`nearest_zero_eigenvalues`]), which are the smallest at a stable state.
 pub(super) fn tangent_eigenvalues(
     model: &Model,
     su: &Setup,
     st: &StepResult,
     a: &Assembled,
+    asked: bool,
 ) -> Option<Vec<f64>> {
-    if su.red.nfr > TANGENT_EIGEN_MAX {
+    let large = su.red.nfr > TANGENT_EIGEN_MAX;
+    if large && !asked {
         return None;
     }
-    if a.reduced {
-        return smallest_eigenvalues(su, a, TANGENT_EIGENVALUES);
+    let reassembled;
+    let a = if a.reduced {
+        a
+    } else {
+        reassembled = assemble_values(
+            model,
+            su,
+            &st.x,
+            &st.multipliers,
+            st.load_factor,
+            Part::Full,
+            true,
+            Vec::new(),
+        );
+        &reassembled
+    };
+    kappa(su, a, asked)
+}
+
+/// The κ that [`tangent_eigenvalues`] reports, from a reduced assembly `a`.
+pub(super) fn kappa(su: &Setup, a: &Assembled, asked: bool) -> Option<Vec<f64>> {
+    if su.red.nfr <= TANGENT_EIGEN_MAX {
+        smallest_eigenvalues(su, a, TANGENT_EIGENVALUES)
+    } else if asked {
+        nearest_zero_eigenvalues(su, a, TANGENT_EIGENVALUES)
+    } else {
+        None
     }
-    let r = assemble_values(
-        model,
-        su,
-        &st.x,
-        &st.multipliers,
-        st.load_factor,
-        Part::Full,
-        true,
-        Vec::new(),
-    );
-    smallest_eigenvalues(su, &r, TANGENT_EIGENVALUES)
+}
+
+/// Lanczos steps at most for [`nearest_zero_eigenvalues`].
+const NEAREST_ZERO_STEPS: usize = 120;
+
+/// Relative residual of a Ritz value of [`nearest_zero_eigenvalues`]: converged below
+/// [`NEAREST_ZERO_TOL`], reported up to [`NEAREST_ZERO_KEEP`].
+const NEAREST_ZERO_TOL: f64 = 1e-10;
+const NEAREST_ZERO_KEEP: f64 = 1e-6;
+
+/// The `count` eigenvalues κ of Zᵀ S K S Z (module docs) nearest zero, ascending, for models
+/// too large for the dense eigenvalues: Lanczos on the inverse, whose largest eigenvalues in
+/// magnitude are 1/κ. The inverse is applied by the sparse factorisation of the saddle-point
+/// matrix [K Gᵀ; G 0] of `a`: y = S⁻¹ x for [K Gᵀ; G 0] [x; λ] = [S⁻¹ b; 0] is y = Z̃ (Z̃ᵀ K̃ Z̃)⁻¹
+/// Z̃ᵀ b with K̃ = S K S and Z̃ an orthonormal basis of the null space of G S, so no basis Z is
+/// formed. At a stable state (every κ > 0) these are the smallest κ; next to a critical point
+/// the one that passes through zero is among them. `None` with applied moments (K is not
+/// symmetric there), for a singular tangent, or when Lanczos does not converge.
+pub(crate) fn nearest_zero_eigenvalues(
+    su: &Setup,
+    a: &Assembled,
+    count: usize,
+) -> Option<Vec<f64>> {
+    let red = &su.red;
+    let (n, nfr) = (red.n, red.nfr);
+    if !a.reduced || !su.moments.is_empty() || nfr == 0 || count == 0 {
+        return None;
+    }
+    let s_inv = |i: usize| if red.is_trans[i] { 1.0 } else { 2.0 };
+    let mut kkt = KktSolver::new(su, &a.tail).ok()?;
+    let (mut factored, mut failed) = (false, false);
+    let mut rhs = vec![0.0; n];
+    let mut apply = |x: &[f64], y: &mut [f64]| {
+        rhs.fill(0.0);
+        for (i, (r, xi)) in rhs.iter_mut().zip(x).enumerate() {
+            *r = s_inv(i) * xi;
+        }
+        let ok = if factored {
+            kkt.solve_again(&mut rhs).is_ok()
+        } else {
+            factored = true;
+            kkt.solve(&a.vals, &mut rhs).is_ok() && kkt.reusable()
+        };
+        if !ok || rhs.iter().any(|v| !v.is_finite()) {
+            failed = true;
+            y.fill(0.0);
+            return;
+        }
+        for (i, (yi, r)) in y.iter_mut().zip(&rhs).enumerate() {
+            *yi = s_inv(i) * r;
+        }
+    };
+    // the start in the range of the inverse (its null space: the directions G S forbids)
+    let mut start = vec![0.0; nfr];
+    apply(&crate::math::lanczos::start_vector(nfr), &mut start);
+    let ritz = crate::math::lanczos::largest_magnitude_eigenvalues(
+        start,
+        &mut apply,
+        count,
+        NEAREST_ZERO_STEPS,
+        NEAREST_ZERO_TOL,
+    )?;
+    if failed {
+        return None;
+    }
+    let mut kappa: Vec<f64> = ritz
+        .iter()
+        .filter(|e| e.value != 0.0 && e.residual <= NEAREST_ZERO_KEEP * e.value.abs())
+        .map(|e| 1.0 / e.value)
+        .collect();
+    kappa.sort_by(f64::total_cmp);
+    (!kappa.is_empty()).then_some(kappa)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::ModelBuilder;
+    use crate::statics::{setup, solve_path, StaticOptions};
+
+    /// A cantilever column of `n` inextensible beams (elongation rigid: constraints G) along
+    /// x, L = 1, EI_y = 1 (weak), EI_z = 4, under the axial load `p` at its end.
+    fn column(n: usize, p: f64) -> Model {
+        let props = crate::section::BeamProps {
+            ea: 1e7,
+            gj: 1.0,
+            eiy: 1.0,
+            eiz: 4.0,
+            ..Default::default()
+        };
+        let mut b = ModelBuilder::new("column");
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            n,
+            Some([0.0, 1.0, 0.0]),
+            Some(props),
+        )
+        .unwrap();
+        for i in 0..n {
+            b.set_rigid_modes(&format!("b{i}"), &[1]).unwrap();
+        }
+        b.fix("n0", None).unwrap();
+        b.add_load(&format!("n{n}"), [-p, 0.0, 0.0], [0.0; 3])
+            .unwrap();
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn the_eigenvalues_nearest_zero_by_lanczos_are_those_of_the_dense_spectrum() {
+        // below the Euler load (stable: the smallest), above it (one negative κ) and in
+        // between, against every eigenvalue of the dense Zᵀ S K S Z
+        let p_cr = std::f64::consts::PI.powi(2) / 4.0;
+        for (n, f) in [(20, 0.5), (20, 1.5), (40, 0.99)] {
+            let model = column(n, f * p_cr);
+            let opts = StaticOptions {
+                steps: 4,
+                ..Default::default()
+            };
+            let sol = solve_path(&model, &opts, |_, _| {}).unwrap();
+            let st = sol.steps.last().unwrap();
+            let su = setup(&model);
+            assert!(
+                su.red.n > su.red.nfr,
+                "the rigid elongations are constraints"
+            );
+            let a = assemble_values(
+                &model,
+                &su,
+                &st.x,
+                &st.multipliers,
+                st.load_factor,
+                Part::Full,
+                true,
+                Vec::new(),
+            );
+            let all = smallest_eigenvalues(&su, &a, usize::MAX).unwrap();
+            let scale = all.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+            let mut want = all.clone();
+            want.sort_by(|x, y| x.abs().total_cmp(&y.abs()));
+            want.truncate(3);
+            want.sort_by(f64::total_cmp);
+            let got = nearest_zero_eigenvalues(&su, &a, 3).unwrap();
+            assert_eq!(got.len(), 3);
+            for (g, w) in got.iter().zip(&want) {
+                assert!(
+                    (g - w).abs() <= 1e-8 * w.abs() + 1e-13 * scale,
+                    "n = {n}, P = {f} P_cr: {got:?} vs {want:?}"
+                );
+            }
+            assert_eq!(got[0] < 0.0, f > 1.0, "{got:?}");
+        }
+    }
 }

@@ -205,7 +205,7 @@ fn follow(
         } => {
             let mut st = record(model, &x, &mu, &state, 0.0, iterations, 1, residual);
             if opts.tangent_eigenvalues {
-                st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &state);
+                st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &state, true);
             }
             let bad = non_finite_parts(&st);
             if !bad.is_empty() {
@@ -293,7 +293,8 @@ fn follow(
                             let mut st =
                                 record(model, &x, &mu, &a, t, iterations, substeps, residual);
                             if opts.tangent_eigenvalues {
-                                st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+                                st.tangent_eigenvalues =
+                                    tangent_eigenvalues(model, &su, &st, &a, true);
                             }
                             if non_finite_parts(&st).is_empty() {
                                 out.push(st);
@@ -324,7 +325,7 @@ fn follow(
         };
         let mut st = record(model, &x, &mu, &a, t_end, iterations, substeps, residual);
         if opts.tangent_eigenvalues {
-            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a);
+            st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a, true);
         }
         let bad = non_finite_parts(&st);
         if !bad.is_empty() {

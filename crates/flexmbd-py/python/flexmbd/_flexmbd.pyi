@@ -173,6 +173,9 @@ class StaticResult:
     def buckling(self) -> Optional[Array]:
         """(steps, count) positive multipliers, NaN-padded."""
     @property
+    def tangent_eigenvalues(self) -> Array:
+        """(steps, 3) smallest eigenvalues of the tangent on the constraints, ascending, NaN-padded."""
+    @property
     def unstable_directions(self) -> List[Optional[int]]: ...
     @property
     def stopped(self) -> Optional[Dict[str, Any]]: ...
