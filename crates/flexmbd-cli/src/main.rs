@@ -140,8 +140,8 @@ enum Command {
         #[arg(long)]
         line_search: bool,
         /// The smallest eigenvalues of the tangent stiffness at every step (column kappa1,
-        /// JSON tangent_eigenvalues); always computed with arc length on models up to 300
-        /// reduced coordinates; larger models, when asked, the three nearest zero.
+        /// JSON tangent_eigenvalues), for every path method; above 300 reduced coordinates the
+        /// three nearest zero.
         #[arg(long)]
         tangent_eigenvalues: bool,
         /// How the path is followed: load-steps (equal steps of the load factor) or arc-length

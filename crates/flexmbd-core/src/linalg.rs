@@ -334,6 +334,36 @@ pub fn sym_eigen_seq(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), EigenEr
     Ok(((0..n).map(|i| d[i]).collect(), u))
 }
 
+/// The eigenvalues (ascending) of a small symmetric matrix (its lower triangle is read) on the
+/// calling thread, without eigenvectors.
+pub fn sym_eigenvalues_seq(a: MatRef<'_, f64>) -> Result<Vec<f64>, EigenError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
+    let n = a.nrows();
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    let par = faer::Par::Seq;
+    let mut mem = MemBuffer::try_new(self_adjoint_evd_scratch::<f64>(
+        n,
+        ComputeEigenvectors::No,
+        par,
+        Default::default(),
+    ))
+    .map_err(|_| EigenError::NoConvergence)?;
+    self_adjoint_evd(
+        a,
+        s.as_mut(),
+        None,
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .map_err(|_| EigenError::NoConvergence)?;
+    let d = s.column_vector();
+    let mut v: Vec<f64> = (0..n).map(|i| d[i]).collect();
+    v.sort_by(f64::total_cmp);
+    Ok(v)
+}
+
 /// True when every entry of `m` is finite (faer's `norm_max` skips NaN, so it cannot tell).
 pub fn all_finite(m: &Mat<f64>) -> bool {
     (0..m.ncols()).all(|j| (0..m.nrows()).all(|i| m[(i, j)].is_finite()))

@@ -116,17 +116,20 @@ fn williams_toggle_by_arc_length_through_both_limit_points() {
         }
         assert_eq!(doc["stopped"], Value::Null);
     };
-    // the method asked for (`--path arc-length`)
-    let file = common::read(&ex);
+    // the method asked for (`--path arc-length`), with κ at every step
+    let text = std::fs::read_to_string(&ex).unwrap();
+    let kappa = text.replace("[static]\n", "[static]\ntangent_eigenvalues = true\n");
+    assert_ne!(kappa, text);
+    let file = flexmbd_io::parse_model_file(&kappa, "williams_toggle.toml")
+        .unwrap_or_else(|e| panic!("{e}"));
     check(common::static_doc(
         &file,
         "williams_toggle.toml",
         Some(PathMethod::ArcLength),
     ));
     // the same from the model's [static] table
-    let text = std::fs::read_to_string(&ex).unwrap();
-    let with = text.replace("[static]\n", "[static]\npath = \"arc-length\"\n");
-    assert_ne!(with, text);
+    let with = kappa.replace("[static]\n", "[static]\npath = \"arc-length\"\n");
+    assert_ne!(with, kappa);
     let file = flexmbd_io::parse_model_file(&with, "toggle.toml").unwrap_or_else(|e| panic!("{e}"));
     check(common::static_doc(&file, "toggle.toml", None));
 }

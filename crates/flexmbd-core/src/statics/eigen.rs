@@ -61,19 +61,44 @@ pub(crate) fn smallest_eigenvalues(su: &Setup, a: &Assembled, count: usize) -> O
     if z.ncols() == 0 || !crate::linalg::all_finite(&k) {
         return None;
     }
-    let kz = z.transpose() * &k * &z;
+    // on this thread: the matrices are small and this runs at every step of a path
+    let kz = if g.nrows() == 0 {
+        k
+    } else {
+        use faer::linalg::matmul::matmul;
+        use faer::{Accum, Par};
+        let mut kz1 = Mat::<f64>::zeros(nfr, z.ncols());
+        matmul(
+            kz1.as_mut(),
+            Accum::Replace,
+            k.as_ref(),
+            z.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        let mut kz = Mat::<f64>::zeros(z.ncols(), z.ncols());
+        matmul(
+            kz.as_mut(),
+            Accum::Replace,
+            z.transpose(),
+            kz1.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        kz
+    };
     let kr = Mat::from_fn(kz.nrows(), kz.ncols(), |i, j| {
         0.5 * (kz[(i, j)] + kz[(j, i)])
     });
-    let mut ev = kr.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+    let mut ev = crate::linalg::sym_eigenvalues_seq(kr.as_ref()).ok()?;
     ev.sort_by(f64::total_cmp);
     ev.truncate(count);
     Some(ev)
 }
 
 /// The [`TANGENT_EIGENVALUES`] smallest κ at the converged step `st`, from its assembly `a`
-/// (assembled again in the reduced unknowns when `a` is not): dense for models with at most
-/// [`TANGENT_EIGEN_MAX`] reduced coordinates; for larger ones, when `asked`, the eigenvalues
+/// (assembled again in the reduced unknowns when `a` is not), when `asked`: dense for models
+/// with at most [`TANGENT_EIGEN_MAX`] reduced coordinates; for larger ones the eigenvalues
 /// nearest zero ([`nearest_zero_eigenvalues`]), which are the smallest at a stable state.
 pub(super) fn tangent_eigenvalues(
     model: &Model,
@@ -82,8 +107,7 @@ pub(super) fn tangent_eigenvalues(
     a: &Assembled,
     asked: bool,
 ) -> Option<Vec<f64>> {
-    let large = su.red.nfr > TANGENT_EIGEN_MAX;
-    if large && !asked {
+    if !asked {
         return None;
     }
     let reassembled;
@@ -105,14 +129,14 @@ pub(super) fn tangent_eigenvalues(
     kappa(su, a, asked)
 }
 
-/// The κ that [`tangent_eigenvalues`] reports, from a reduced assembly `a`.
+/// The κ that [`tangent_eigenvalues`] reports, from a reduced assembly `a`, when `asked`.
 pub(super) fn kappa(su: &Setup, a: &Assembled, asked: bool) -> Option<Vec<f64>> {
-    if su.red.nfr <= TANGENT_EIGEN_MAX {
-        smallest_eigenvalues(su, a, TANGENT_EIGENVALUES)
-    } else if asked {
-        nearest_zero_eigenvalues(su, a, TANGENT_EIGENVALUES)
-    } else {
+    if !asked {
         None
+    } else if su.red.nfr <= TANGENT_EIGEN_MAX {
+        smallest_eigenvalues(su, a, TANGENT_EIGENVALUES)
+    } else {
+        nearest_zero_eigenvalues(su, a, TANGENT_EIGENVALUES)
     }
 }
 

@@ -305,8 +305,8 @@ class Model(_Editing):
         line_search: backtracking line search in Newton.
         path: "load-steps" or "arc-length" (over the model's [static] path).
         tangent_eigenvalues: the smallest eigenvalues of the tangent stiffness at every step
-            (``StaticResult.tangent_eigenvalues``; always with arc length; models up to 300
-            reduced coordinates).
+            (``StaticResult.tangent_eigenvalues``); above 300 reduced coordinates the three
+            nearest zero.
         Returns a ``StaticResult``; a path that stops part-way raises ``PathStoppedError``
         whose ``result`` holds the converged steps.
         """
