@@ -44,6 +44,8 @@ struct PendingElement {
     input: Vec<usize>,
     /// Section data of a beam ([`ModelBuilder::set_beam_props`]).
     props: Option<crate::section::BeamProps>,
+    /// Retardation time τ [s] of its material damping ([`ModelBuilder::set_damping`]).
+    damping: f64,
 }
 
 /// Builds a [`Model`] item by item; each `add_*` validates what it can at once.
@@ -255,6 +257,7 @@ impl ModelBuilder {
             free,
             input,
             props: None,
+            damping: 0.0,
         });
         Ok(())
     }
@@ -338,6 +341,27 @@ impl ModelBuilder {
                 kind: "beam",
             }),
         }
+    }
+
+    /// Material damping of an element added before (Kelvin–Voigt): its stress resultants
+    /// become σ = S (e + τ ė) in a time simulation, with the retardation time `tau` [s] ≥ 0.
+    pub fn set_damping(&mut self, element: &str, tau: f64) -> Result<(), ModelError> {
+        let Some(&index) = self.element_names.get(element) else {
+            return Err(ModelError::NotA {
+                element: element.to_string(),
+                kind: "element",
+            });
+        };
+        if !(tau.is_finite() && tau >= 0.0) {
+            return Err(ModelError::BadValue {
+                item: Item::Element(element.to_string()),
+                field: "damping (retardation time τ [s])",
+                requirement: "finite and ≥ 0",
+                value: tau,
+            });
+        }
+        self.elements[index].damping = tau;
+        Ok(())
     }
 
     /// Declare deformation modes (1-based) rigid in statics even if they have stiffness.
@@ -651,6 +675,7 @@ impl ModelBuilder {
                 element,
                 ie: ne,
                 xmap,
+                damping: p.damping,
             });
             ne += n_modes;
         }

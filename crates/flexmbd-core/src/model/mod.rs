@@ -136,6 +136,9 @@ pub struct ElementEntry {
     pub ie: usize,
     /// Global index in x of each local coordinate (SPACAR `lnp`).
     pub xmap: Vec<usize>,
+    /// Retardation time τ [s] of the element's material damping (Kelvin–Voigt: σ = S (e + τ ė)
+    /// in a time simulation; 0: none).
+    pub damping: f64,
 }
 
 /// Partition of x and e into fixed, dependent and independent parts.

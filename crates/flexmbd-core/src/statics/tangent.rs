@@ -245,6 +245,19 @@ pub(super) fn split_at_starts<'a>(mut v: &'a mut [f64], starts: &[usize]) -> Vec
     out
 }
 
+/// Multiply the entries that element `el` wrote into `vals` (the full, unreduced system of
+/// [`assemble_values`]) by `factor(el)`: a damping matrix Σₑ cₑ Dₑᵀ Sₑ Dₑ from the material
+/// part.
+pub(crate) fn scale_elements(su: &Setup, vals: &mut [f64], factor: impl Fn(usize) -> f64) {
+    let layout = su.pattern.layout();
+    for (el, w) in layout.elem_start.windows(2).enumerate() {
+        let c = factor(el);
+        if c != 1.0 {
+            vals[w[0]..w[1]].iter_mut().for_each(|v| *v *= c);
+        }
+    }
+}
+
 /// Assemble at (x, μ, t): the KKT entries of the full system (order of [`Pattern`]) or, with
 /// `reduced`, of the reduced one ([`Reduction`]); `spare` is a buffer to reuse for them.
 #[allow(clippy::too_many_arguments)]

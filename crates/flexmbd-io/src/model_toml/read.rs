@@ -85,24 +85,29 @@ pub(super) fn parse_spec(
 
     // elements, in file order over all types
     let mut elements: Vec<(Range<usize>, ElementEntrySpec)> = Vec::new();
-    let mut push =
-        |span: Range<usize>, id: &str, nodes: &[String], kind, free: &[i64], input: &[i64]| {
-            let keys: &[&str] = if matches!(kind, ElementKind::Beam(_)) {
-                &["segments"]
-            } else {
-                &[]
-            };
-            let e = ElementEntrySpec {
-                name: id.to_string(),
-                nodes: nodes.to_vec(),
-                kind,
-                free: free.to_vec(),
-                input: input.to_vec(),
-                comments: Vec::new(),
-                src: src_keys(&span, keys),
-            };
-            elements.push((span, e));
+    let mut push = |span: Range<usize>,
+                    id: &str,
+                    nodes: &[String],
+                    kind,
+                    (free, input): (&[i64], &[i64]),
+                    damping: Option<f64>| {
+        let keys: &[&str] = if matches!(kind, ElementKind::Beam(_)) {
+            &["segments"]
+        } else {
+            &[]
         };
+        let e = ElementEntrySpec {
+            name: id.to_string(),
+            nodes: nodes.to_vec(),
+            kind,
+            free: free.to_vec(),
+            input: input.to_vec(),
+            damping,
+            comments: Vec::new(),
+            src: src_keys(&span, keys),
+        };
+        elements.push((span, e));
+    };
     for t in &f.truss {
         let s = t.get_ref();
         push(
@@ -110,8 +115,8 @@ pub(super) fn parse_spec(
             &s.id,
             &s.nodes,
             ElementKind::Truss { ea: p.real(&s.ea)? },
-            &s.free,
-            &s.input,
+            (&s.free, &s.input),
+            p.opt(&s.damping)?,
         );
     }
     for t in &f.beam {
@@ -136,8 +141,8 @@ pub(super) fn parse_spec(
             &s.id,
             &s.nodes,
             ElementKind::Beam(beam),
-            &s.free,
-            &s.input,
+            (&s.free, &s.input),
+            p.opt(&s.damping)?,
         );
     }
     for t in &f.hinge {
@@ -146,11 +151,25 @@ pub(super) fn parse_spec(
             axis: p.arr(&s.axis)?,
             k: p.real(&s.k)?,
         };
-        push(t.span(), &s.id, &s.nodes, kind, &s.free, &s.input);
+        push(
+            t.span(),
+            &s.id,
+            &s.nodes,
+            kind,
+            (&s.free, &s.input),
+            p.opt(&s.damping)?,
+        );
     }
     for t in &f.rigid {
         let s = t.get_ref();
-        push(t.span(), &s.id, &s.nodes, ElementKind::Rigid, &[], &[]);
+        push(
+            t.span(),
+            &s.id,
+            &s.nodes,
+            ElementKind::Rigid,
+            (&[], &[]),
+            None,
+        );
     }
     elements.sort_by_key(|e| e.0.start);
     spec.elements = elements.into_iter().map(|e| e.1).collect();
@@ -163,6 +182,7 @@ pub(super) fn parse_spec(
             g: p.opt(&s.g)?,
             nu: p.opt(&s.nu)?,
             rho: p.real(&s.rho)?,
+            damping: p.opt(&s.damping)?,
             src: src(&m.span()),
         });
     }

@@ -100,6 +100,8 @@ pub(super) struct MaterialSpec {
     pub(super) nu: Option<Real>,
     #[serde(default)]
     pub(super) rho: Real,
+    /// Retardation time τ [s] of the material damping.
+    pub(super) damping: Option<Real>,
 }
 
 /// `[[section]]`: a shape with its dimensions [m], or properties given directly.
@@ -216,6 +218,8 @@ pub(super) struct TrussSpec {
     pub(super) free: Vec<i64>,
     #[serde(default)]
     pub(super) input: Vec<i64>,
+    /// Retardation time τ [s] of the material damping.
+    pub(super) damping: Option<Real>,
 }
 
 #[derive(Deserialize)]
@@ -229,6 +233,8 @@ pub(super) struct BeamSpec {
     pub(super) free: Vec<i64>,
     #[serde(default)]
     pub(super) input: Vec<i64>,
+    /// Retardation time τ [s] of the material damping.
+    pub(super) damping: Option<Real>,
     /// Modes rigid in statics although they have stiffness.
     #[serde(default)]
     pub(super) fixed: Vec<i64>,
@@ -260,6 +266,8 @@ pub(super) struct HingeSpec {
     pub(super) free: Vec<i64>,
     #[serde(default)]
     pub(super) input: Vec<i64>,
+    /// Retardation time τ [s] of the material damping.
+    pub(super) damping: Option<Real>,
 }
 
 #[derive(Deserialize)]

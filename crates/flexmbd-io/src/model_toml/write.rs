@@ -216,6 +216,7 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
         b.num("G", m.g);
         b.num("nu", m.nu);
         b.num("rho", Some(m.rho).filter(|r| *r != 0.0));
+        b.num("damping", m.damping);
         table(&mut out, "[[material]]", &[], b);
     }
     for s in &spec.sections {
@@ -273,6 +274,12 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
                 b.num("k", Some(*k).filter(|v| *v != 0.0));
             }
             ElementKind::Rigid => {
+                if e.damping.is_some() {
+                    return Err(format!(
+                        "element `{}`: a rigid body has no material damping",
+                        e.name
+                    ));
+                }
                 if !e.free.is_empty() || !e.input.is_empty() {
                     return Err(format!(
                         "element `{}`: the TOML format has no free or input modes for a rigid body",
@@ -286,6 +293,7 @@ pub fn write_toml(spec: &ModelSpec) -> Result<String, String> {
         if let Some(s) = e.beam() {
             b.ints("fixed", &s.fixed);
         }
+        b.num("damping", e.damping);
         table(&mut out, &format!("[[{}]]", e.kind.table()), &e.comments, b);
     }
     write_data(&mut out, spec)?;

@@ -12,8 +12,8 @@
 //! express: an error).
 //!
 //! **What changes the motion is an error** (file:line): user routines (the loads or motions
-//! they compute would be missing), element damping (`EDAMP`/`ED`: flexmbd has Rayleigh damping
-//! of the whole model only), pre-stress (`ESIG`), initial values or rates of the dynamic
+//! they compute would be missing), element damping (`EDAMP`/`ED`: how SPACAR scales its constants
+//! into the damping matrix is not documented), pre-stress (`ESIG`), initial values or rates of the dynamic
 //! degrees of freedom other than the reference at rest (`STARTDE`, `STARTDX`, `INPUTX` values of
 //! `DYNX` coordinates), an input that does not start at its reference, an input acceleration,
 //! the product of inertia `EM` Jyz/L, and a flexible truss with mass (flexmbd's truss has no
@@ -241,7 +241,7 @@ fn damping_and_start(m: &SpacarModel, dofs: &Dofs, p: &mut Problems) {
         .iter()
         .filter(|v| v.values.iter().any(|d| *d != 0.0))
     {
-        p.fatal(v.line, format!("EDAMP {}: element damping ({}) is not available in flexmbd, whose damping is Rayleigh damping α M + β K of the whole model; convert the model and set `rayleigh = [α, β]` in [simulate] instead", v.element, fmt_values(&v.values)));
+        p.fatal(v.line, format!("EDAMP {}: element damping ({}) cannot be mapped: how SPACAR turns these constants into its damping matrix is not documented; convert the model and give the element's material damping as a retardation time τ (`damping` on the element or its material) or Rayleigh damping (`rayleigh = [α, β]` in [simulate]) instead", v.element, fmt_values(&v.values)));
     }
     for v in &m.startde {
         if v.value != 0.0 || v.rate != 0.0 {

@@ -403,6 +403,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             kind: spec_el,
             free,
             input,
+            damping: None,
             comments,
             src: Src::line(e.line),
         });

@@ -96,6 +96,7 @@ impl ModelSpec {
         }
         let chains = self.segment_nodes(&mut b, &mut at_of)?;
         let mut beams: Vec<(String, &ElementEntrySpec, &BeamSpec)> = Vec::new();
+        let mut parts_of: Vec<(String, &ElementEntrySpec)> = Vec::new();
         for (e, chain) in self.elements.iter().zip(&chains) {
             let spec = match &e.kind {
                 ElementKind::Truss { ea } => ElementSpec::Truss { ea: *ea },
@@ -117,6 +118,7 @@ impl ModelSpec {
                 b.add_element(&id, &nodes, spec.clone(), &e.free, &e.input)
                     .map_err(model_err(&e.src))?;
                 at_of.insert(Item::Element(id.clone()), e.src.at);
+                parts_of.push((id.clone(), e));
                 if let ElementKind::Beam(s) = &e.kind {
                     beams.push((id, e, s));
                 }
@@ -133,6 +135,16 @@ impl ModelSpec {
             }
             if !s.fixed.is_empty() {
                 b.set_rigid_modes(id, &s.fixed).map_err(model_err(&e.src))?;
+            }
+        }
+        // material damping: the element's own, else its material's
+        for (id, e) in &parts_of {
+            let of_material = || {
+                let name = e.beam()?.material.as_deref()?;
+                self.materials.iter().find(|m| m.name == name)?.damping
+            };
+            if let Some(tau) = e.damping.or_else(of_material) {
+                b.set_damping(id, tau).map_err(model_err(&e.src))?;
             }
         }
 

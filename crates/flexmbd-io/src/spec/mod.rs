@@ -289,6 +289,10 @@ pub struct ElementEntrySpec {
     /// Input modes (generalised deformations), 1-based.
     #[serde(default)]
     pub input: Vec<i64>,
+    /// Material damping: the retardation time τ [s] (Kelvin–Voigt, σ = S (e + τ ė) in a time
+    /// simulation); over the `material`'s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
     /// Comment lines written above the element.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub comments: Vec<String>,
@@ -306,6 +310,7 @@ impl ElementEntrySpec {
             kind,
             free: Vec::new(),
             input: Vec::new(),
+            damping: None,
             comments: Vec::new(),
             src: Src::default(),
         }
@@ -338,6 +343,10 @@ pub struct MaterialSpec {
     /// Density ρ [kg/m³].
     #[serde(default)]
     pub rho: f64,
+    /// Material damping: the retardation time τ [s] of the beams made of it (Kelvin–Voigt,
+    /// σ = S (e + τ ė) in a time simulation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
     /// Where it was written.
     #[serde(skip)]
     pub src: Src,

@@ -47,6 +47,11 @@ pub(super) fn read_materials(list: &[MaterialSpec]) -> Result<Materials, SpecErr
         if !(s.rho.is_finite() && s.rho >= 0.0) {
             return Err(fail(format!("`rho` must be ≥ 0, found {}", s.rho)));
         }
+        if let Some(d) = s.damping.filter(|d| !(d.is_finite() && *d >= 0.0)) {
+            return Err(fail(format!(
+                "`damping` (the retardation time τ [s]) must be ≥ 0, found {d}"
+            )));
+        }
         if out
             .insert(s.name.clone(), Material { e, g, rho: s.rho })
             .is_some()

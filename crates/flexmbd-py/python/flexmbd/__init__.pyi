@@ -73,7 +73,7 @@ class Model:
         self, name: str, xyz: Vec3 = ..., rot: bool = False, *, at: Optional[str] = None, replace: bool = False
     ) -> None: ...
     def add_truss(
-        self, name: str, nodes: Sequence[str], ea: float, *, free: Iterable[int] = (), input: Iterable[int] = (), replace: bool = False
+        self, name: str, nodes: Sequence[str], ea: float, *, free: Iterable[int] = (), input: Iterable[int] = (), damping: Optional[float] = None, replace: bool = False
     ) -> None: ...
     def add_beam(
         self,
@@ -93,15 +93,16 @@ class Model:
         free: Iterable[int] = (),
         input: Iterable[int] = (),
         fixed: Iterable[int] = (),
+        damping: Optional[float] = None,
         replace: bool = False,
     ) -> None: ...
     def add_hinge(
-        self, name: str, nodes: Sequence[str], axis: Vec3, k: float = 0.0, *, free: Iterable[int] = (), input: Iterable[int] = (), replace: bool = False
+        self, name: str, nodes: Sequence[str], axis: Vec3, k: float = 0.0, *, free: Iterable[int] = (), input: Iterable[int] = (), damping: Optional[float] = None, replace: bool = False
     ) -> None: ...
     def add_rigid(self, name: str, nodes: Sequence[str], *, replace: bool = False) -> None: ...
     def input_deformation(self, element: str, modes: Iterable[int]) -> None: ...
     def add_material(
-        self, name: str, *, E: float, nu: Optional[float] = None, G: Optional[float] = None, rho: float = 0.0, replace: bool = False
+        self, name: str, *, E: float, nu: Optional[float] = None, G: Optional[float] = None, rho: float = 0.0, damping: Optional[float] = None, replace: bool = False
     ) -> None: ...
     def add_section(
         self, name: str, shape: str = "rectangle", *, shear: bool = True, replace: bool = False, **dims: float

@@ -113,7 +113,7 @@ class _Editing:
             item = {"id": name, "x": x[0], "y": x[1], "z": x[2], "rot": bool(rot)}
         self._add("node", name, item, replace)
 
-    def _element(self, name, nodes, kind, data, free, input, replace):
+    def _element(self, name, nodes, kind, data, free, input, replace, damping=None):
         name = str(name)
         item = {
             "id": name,
@@ -122,12 +122,15 @@ class _Editing:
             "free": _modes(free),
             "input": _modes(input),
         }
+        if damping is not None:
+            item["damping"] = float(damping)
         item.update({k: _plain(v) for k, v in data.items() if v is not None})
         self._add("element", name, item, replace)
 
-    def add_truss(self, name, nodes, ea, *, free=(), input=(), replace=False):
-        """Add a truss between two nodes with axial stiffness ``ea`` = EA [N]."""
-        self._element(name, nodes, "truss", {"EA": float(ea)}, free, input, replace)
+    def add_truss(self, name, nodes, ea, *, free=(), input=(), damping=None, replace=False):
+        """Add a truss between two nodes with axial stiffness ``ea`` = EA [N]; ``damping``: the
+        retardation time tau [s] of its material damping in a time simulation."""
+        self._element(name, nodes, "truss", {"EA": float(ea)}, free, input, replace, damping)
 
     def add_beam(
         self,
@@ -147,6 +150,7 @@ class _Editing:
         free=(),
         input=(),
         fixed=(),
+        damping=None,
         replace=False,
     ):
         """Add a spatial beam between two nodes (docs/statics.md).
@@ -157,7 +161,8 @@ class _Editing:
         ``orient``: the local y axis (default SPACAR's rule); ``segments``: split into that
         many elements (``name:1`` ...); ``ct``: torsion-elongation coupling [m^2].
         ``free``, ``input``: released and input deformation modes (1-based); ``fixed``:
-        modes rigid in statics.
+        modes rigid in statics. ``damping``: the retardation time tau [s] of its material
+        damping in a time simulation (sigma = S (e + tau de/dt); over the material's).
         """
         data = {
             "section": section,
@@ -172,13 +177,16 @@ class _Editing:
             "rho_a": rho_a,
             "fixed": _modes(fixed),
         }
-        self._element(name, nodes, "beam", data, free, input, replace)
+        self._element(name, nodes, "beam", data, free, input, replace, damping)
 
-    def add_hinge(self, name, nodes, axis, k=0.0, *, free=(), input=(), replace=False):
+    def add_hinge(
+        self, name, nodes, axis, k=0.0, *, free=(), input=(), damping=None, replace=False
+    ):
         """Add a hinge between two rotational nodes about ``axis`` (need not be unit), with a
-        torsion spring ``k`` [N m/rad] on its mode 1."""
+        torsion spring ``k`` [N m/rad] on its mode 1; ``damping``: the retardation time tau [s]
+        of the spring's damping in a time simulation."""
         data = {"axis": _vector(axis, f"hinge `{name}`: axis", name), "k": float(k)}
-        self._element(name, nodes, "hinge", data, free, input, replace)
+        self._element(name, nodes, "hinge", data, free, input, replace, damping)
 
     def add_rigid(self, name, nodes, *, replace=False):
         """Add a rigid body on ``nodes`` (the first one a rotational reference node)."""
@@ -201,10 +209,13 @@ class _Editing:
 
     # -- materials and sections ----------------------------------------------------------
 
-    def add_material(self, name, *, E, nu=None, G=None, rho=0.0, replace=False):
+    def add_material(self, name, *, E, nu=None, G=None, rho=0.0, damping=None, replace=False):
         """Add a material: Young's modulus ``E`` [Pa], Poisson's ratio ``nu`` or shear modulus
-        ``G`` [Pa], density ``rho`` [kg/m^3]."""
+        ``G`` [Pa], density ``rho`` [kg/m^3], ``damping`` the retardation time tau [s] of its
+        material damping (Kelvin-Voigt) in a time simulation."""
         item = {"id": str(name), "E": float(E), "rho": float(rho)}
+        if damping is not None:
+            item["damping"] = float(damping)
         if nu is not None:
             item["nu"] = float(nu)
         if G is not None:

@@ -76,23 +76,49 @@ impl Engine<'_> {
         f
     }
 
-    /// Rayleigh damping forces C ẋ = α M ẋ + β Dᵀ S D ẋ (with M ẋ given).
+    /// Damping forces C ẋ = α M ẋ + Σₑ (β + τₑ) Dₑᵀ Sₑ Dₑ ẋ (with M ẋ given): Rayleigh damping
+    /// of the whole model and the material damping of each element (Kelvin–Voigt,
+    /// retardation time τₑ: σ = S (e + τ ė)).
     pub(super) fn damping(&self, x: &[f64], v: &[f64], mv: &[f64]) -> Vec<f64> {
-        let [alpha, beta] = self.opts.rayleigh;
+        let alpha = self.opts.rayleigh[0];
         let mut d: Vec<f64> = mv.iter().map(|m| alpha * m).collect();
-        if beta > 0.0 {
-            for (di, ki) in d.iter_mut().zip(self.material_times(x, v)) {
-                *di += beta * ki;
+        if self.stiffness_damping() {
+            for (di, ki) in d
+                .iter_mut()
+                .zip(self.material_times_by(x, v, |el| self.damping_factor(el)))
+            {
+                *di += ki;
             }
         }
         d
     }
 
+    /// β + τₑ of element `el`: its stiffness-proportional damping [s].
+    pub(super) fn damping_factor(&self, el: usize) -> f64 {
+        self.opts.rayleigh[1] + self.model.elements[el].damping
+    }
+
+    /// Whether any damping is proportional to the material stiffness (β > 0 or an element
+    /// with τ > 0).
+    pub(super) fn stiffness_damping(&self) -> bool {
+        self.opts.rayleigh[1] > 0.0 || self.model.elements.iter().any(|e| e.damping > 0.0)
+    }
+
     /// K_m w = Dᵀ S D w on all of x: the material stiffness applied to a vector, element by
     /// element.
     pub(super) fn material_times(&self, x: &[f64], w: &[f64]) -> Vec<f64> {
+        self.material_times_by(x, w, |_| 1.0)
+    }
+
+    /// Σₑ cₑ Dₑᵀ Sₑ Dₑ w with the factor cₑ = `factor(e)` of each element (elements with
+    /// cₑ = 0 skipped).
+    fn material_times_by(&self, x: &[f64], w: &[f64], factor: impl Fn(usize) -> f64) -> Vec<f64> {
         let mut out = vec![0.0; self.model.nx];
         for (el, entry) in self.model.elements.iter().enumerate() {
+            let c = factor(el);
+            if c == 0.0 {
+                continue;
+            }
             let xk = crate::assembly::gather(entry, x);
             let jac = entry.element.jacobian(&xk);
             let s = &self.su.s_eff[el];
@@ -101,7 +127,7 @@ impl Engine<'_> {
                 .map(|m| (0..xk.len()).map(|c| jac[(m, c)] * w[entry.xmap[c]]).sum())
                 .collect();
             let sd: Vec<f64> = (0..ne)
-                .map(|m| (0..ne).map(|n| s[(m, n)] * ed[n]).sum())
+                .map(|m| c * (0..ne).map(|n| s[(m, n)] * ed[n]).sum::<f64>())
                 .collect();
             for (c, &xi) in entry.xmap.iter().enumerate() {
                 out[xi] += (0..ne).map(|m| jac[(m, c)] * sd[m]).sum::<f64>();
@@ -131,8 +157,9 @@ impl Engine<'_> {
         } else {
             assemble_values(model, &self.su, x, mu, 0.0, part, false, Vec::new())
         };
-        let km = (self.opts.rayleigh[1] > 0.0 && part == Part::Full).then(|| {
-            assemble_values(
+        // the damping matrix Σₑ (β + τₑ) Dₑᵀ Sₑ Dₑ
+        let km = (self.stiffness_damping() && part == Part::Full).then(|| {
+            let mut vals = assemble_values(
                 model,
                 &self.su,
                 x,
@@ -142,7 +169,9 @@ impl Engine<'_> {
                 false,
                 Vec::new(),
             )
-            .vals
+            .vals;
+            scale_elements(&self.su, &mut vals, |el| self.damping_factor(el));
+            vals
         });
         let ext = self.external(x, t);
         let inertia = inertia_forces(model, x, v, a);

@@ -147,7 +147,11 @@ impl Engine<'_> {
             let reg = Coefs {
                 k: 1.0 / bp,
                 m: 1.0,
-                km: self.opts.rayleigh[1] * gp / bp,
+                km: if self.stiffness_damping() {
+                    gp / bp
+                } else {
+                    0.0
+                },
                 diag: 0.0,
             };
             let vals = self.values(&ev, &x, 0.0, reg);

@@ -11,8 +11,8 @@ use crate::elements::ElementKind;
 use crate::math::lambda_bar;
 use crate::model::{Model, Target};
 use crate::statics::{
-    assemble, assemble_part, assemble_values, inverted_element, setup, solve, Assembled, KktSolver,
-    Part, Setup, StaticOptions,
+    assemble, assemble_part, assemble_values, inverted_element, scale_elements, setup, solve,
+    Assembled, KktSolver, Part, Setup, StaticOptions,
 };
 
 /// Modified Newton: a new iteration matrix when the corrections shrink by less than this
@@ -234,7 +234,11 @@ impl<'a> Engine<'a> {
         let coefs = Coefs {
             k: 1.0 / bp,
             m: 1.0 + self.opts.rayleigh[0] * gp / bp,
-            km: self.opts.rayleigh[1] * gp / bp,
+            km: if self.stiffness_damping() {
+                gp / bp
+            } else {
+                0.0
+            },
             diag: 0.0,
         };
         // modified Newton: the factorised matrix of an earlier iteration or step is reused
