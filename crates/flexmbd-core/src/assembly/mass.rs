@@ -4,6 +4,7 @@
 //! node) on its λ; and the centrifugal softening −Ω² M_P of a steady rotation from the same
 //! entries.
 
+use crate::assembly::per_element;
 use crate::elements::ElementKind;
 use crate::math::inertia::{lambda_inertia_force, node_inertia_block};
 use crate::model::Model;
@@ -44,8 +45,30 @@ pub(crate) fn for_each_element(
     rotary: bool,
     mut f: impl FnMut(&[usize], &[f64]),
 ) {
-    for entry in &model.elements {
-        element_mass(entry, x, weight, rotary, |me| f(&entry.xmap, me));
+    // in chunks: each evaluated in parallel (large models), then handed to `f` in order, so
+    // that the buffer stays small
+    const CHUNK: usize = 4096;
+    for chunk in model.elements.chunks(CHUNK) {
+        let (me, starts, has) = per_element(
+            chunk,
+            |entry| entry.xmap.len() * entry.xmap.len(),
+            |entry, out| {
+                let mut some = false;
+                element_mass(entry, x, weight, rotary, |me| {
+                    out.copy_from_slice(me);
+                    some = true;
+                });
+                some
+            },
+        );
+        for ((entry, w), _) in chunk
+            .iter()
+            .zip(starts.windows(2))
+            .zip(&has)
+            .filter(|(_, h)| **h)
+        {
+            f(&entry.xmap, &me[w[0]..w[1]]);
+        }
     }
 }
 
@@ -216,18 +239,42 @@ pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
 /// tensors at nodes (4 Λᵀ I Λ λ̈ + h): the inertia terms of the equations of motion.
 pub fn inertia_forces(model: &Model, x: &[f64], v: &[f64], a: &[f64]) -> Vec<f64> {
     let mut out = vec![0.0; model.nx];
-    let (mut xk, mut vk, mut ak, mut fk) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for entry in &model.elements {
-        let n = entry.xmap.len();
-        for (buf, src) in [(&mut xk, x), (&mut vk, v), (&mut ak, a)] {
-            buf.clear();
-            buf.extend(entry.xmap.iter().map(|&i| src[i]));
-        }
-        fk.resize(n, 0.0);
-        if entry.element.inertia_forces(&xk, &vk, &ak, &mut fk) {
-            for (&i, f) in entry.xmap.iter().zip(&fk) {
-                out[i] += f;
+    // element by element (in parallel for large models), then added up in element order
+    let (fk, starts, has) = per_element(
+        &model.elements,
+        |entry| entry.xmap.len(),
+        |entry, fk| {
+            let n = entry.xmap.len();
+            // a beam's coordinates on the stack, larger elements on the heap
+            let mut small = [[0.0; SMALL]; 3];
+            let mut large = Vec::new();
+            let mut bufs: [&mut [f64]; 3] = if n <= SMALL {
+                let [b0, b1, b2] = &mut small;
+                [&mut b0[..n], &mut b1[..n], &mut b2[..n]]
+            } else {
+                large.resize(3 * n, 0.0);
+                let (b0, rest) = large.split_at_mut(n);
+                let (b1, b2) = rest.split_at_mut(n);
+                [b0, b1, b2]
+            };
+            for (buf, src) in bufs.iter_mut().zip([x, v, a]) {
+                buf.iter_mut()
+                    .zip(&entry.xmap)
+                    .for_each(|(b, &i)| *b = src[i]);
             }
+            let [xk, vk, ak] = bufs;
+            entry.element.inertia_forces(xk, vk, ak, fk)
+        },
+    );
+    for ((entry, w), _) in model
+        .elements
+        .iter()
+        .zip(starts.windows(2))
+        .zip(&has)
+        .filter(|(_, h)| **h)
+    {
+        for (&i, f) in entry.xmap.iter().zip(&fk[w[0]..w[1]]) {
+            out[i] += f;
         }
     }
     for &(node, mass) in &model.loads.point_masses {

@@ -8,6 +8,69 @@ use crate::elements::ElementKind;
 use crate::model::{ElementEntry, Model};
 use faer::Mat;
 
+/// Models with fewer elements are evaluated element by element on the calling thread: the
+/// hand-over to worker threads costs more than it saves.
+pub(crate) const PAR_ELEMENTS: usize = 256;
+
+/// Split `v` into consecutive pieces at the given offsets (`starts` ascending, first 0).
+pub(crate) fn split_at_starts<'a, T>(mut v: &'a mut [T], starts: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
+    for w in starts.windows(2) {
+        let (head, rest) = v.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        v = rest;
+    }
+    out
+}
+
+/// Every element's local values in one buffer: `f(entry, out)` fills the `width(entry)`
+/// values of each element and says whether it has any (a `false` leaves its slice zero). In
+/// parallel for models of [`PAR_ELEMENTS`] elements and more; each element writes only its own
+/// slice, so the numbers are the same on any number of threads. Returns the buffer, the offset
+/// of each element's slice (one more at the end) and the flags.
+pub(crate) fn per_element<W, F>(
+    elements: &[ElementEntry],
+    width: W,
+    f: F,
+) -> (Vec<f64>, Vec<usize>, Vec<bool>)
+where
+    W: Fn(&ElementEntry) -> usize,
+    F: Fn(&ElementEntry, &mut [f64]) -> bool + Sync,
+{
+    use rayon::prelude::*;
+    let mut starts = Vec::with_capacity(elements.len() + 1);
+    let mut n = 0;
+    starts.push(0);
+    for entry in elements {
+        n += width(entry);
+        starts.push(n);
+    }
+    let mut buf = vec![0.0; n];
+    let mut has = vec![false; elements.len()];
+    let one = |((entry, out), flag): ((&ElementEntry, &mut [f64]), &mut bool)| {
+        *flag = f(entry, out);
+        if !*flag {
+            out.iter_mut().for_each(|v| *v = 0.0);
+        }
+    };
+    let pieces = split_at_starts(&mut buf, &starts);
+    if elements.len() < PAR_ELEMENTS {
+        elements
+            .iter()
+            .zip(pieces)
+            .zip(has.iter_mut())
+            .for_each(one);
+    } else {
+        elements
+            .par_iter()
+            .zip(pieces)
+            .zip(has.par_iter_mut())
+            .with_min_len(64)
+            .for_each(one);
+    }
+    (buf, starts, has)
+}
+
 /// Element coordinates x_k gathered from the global x.
 pub fn gather(entry: &ElementEntry, x: &[f64]) -> Vec<f64> {
     entry.xmap.iter().map(|&i| x[i]).collect()

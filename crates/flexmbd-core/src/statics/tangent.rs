@@ -2,6 +2,7 @@
 //! [`assemble_values`]), the loads and the prescribed values.
 
 use super::*;
+use crate::assembly::{split_at_starts, PAR_ELEMENTS};
 
 /// Everything assembled at one state.
 pub(crate) struct Assembled {
@@ -221,9 +222,6 @@ pub(super) fn element_local(
     energy
 }
 
-/// Models with fewer elements are assembled on the calling thread.
-pub(super) const PAR_ELEMENTS: usize = 256;
-
 /// An element's index with its slices of the KKT values, deformations, stress resultants and
 /// internal forces (the parallel part of the assembly).
 pub(super) type ElementSlices<'a> = (
@@ -233,17 +231,6 @@ pub(super) type ElementSlices<'a> = (
         &'a mut [f64],
     ),
 );
-
-/// Split `v` into consecutive pieces at the given offsets (`starts` ascending, first 0).
-pub(super) fn split_at_starts<'a>(mut v: &'a mut [f64], starts: &[usize]) -> Vec<&'a mut [f64]> {
-    let mut out = Vec::with_capacity(starts.len().saturating_sub(1));
-    for w in starts.windows(2) {
-        let (head, rest) = v.split_at_mut(w[1] - w[0]);
-        out.push(head);
-        v = rest;
-    }
-    out
-}
 
 /// Multiply the entries that element `el` wrote into `vals` (the full, unreduced system of
 /// [`assemble_values`]) by `factor(el)`: a damping matrix Σₑ cₑ Dₑᵀ Sₑ Dₑ from the material
@@ -272,7 +259,11 @@ pub(crate) fn assemble_values(
     spare: Vec<f64>,
 ) -> Assembled {
     let pat = &su.pattern;
-    let (n_el, elem_start) = if reduced {
+    // the residual alone writes no matrix entries
+    let no_entries = vec![0; model.elements.len() + 1];
+    let (n_el, elem_start) = if part == Part::Residual {
+        (0, &no_entries)
+    } else if reduced {
         (su.red.n_entries, &su.red.elem_start)
     } else {
         let layout = pat.layout();

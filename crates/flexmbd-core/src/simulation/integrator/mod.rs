@@ -133,7 +133,16 @@ struct Engine<'a> {
     failed_stale: bool,
     /// Full Newton (a fresh matrix in every iteration) for the next step.
     full_newton: bool,
+    /// Whether the matrix carried over from an earlier step had to be rebuilt in the last
+    /// step: the next step then rebuilds it after the first correction (which the carried
+    /// matrix still makes well, from the predictor) instead of waiting for slow convergence.
+    carry_fails: bool,
+    /// Steps since a carried matrix was last given the chance to serve a whole step.
+    since_probe: usize,
 }
+
+/// Every this many steps a carried matrix that failed lately is tried again for a whole step.
+const PROBE_STEPS: usize = 16;
 
 /// The matrix coefficients: K and the moment stiffness, M, K_m, and the unit diagonal.
 #[derive(Clone, Copy)]
@@ -242,17 +251,40 @@ impl<'a> Engine<'a> {
             diag: 0.0,
         };
         // modified Newton: the factorised matrix of an earlier iteration or step is reused
-        // while the corrections shrink at least fourfold per iteration; else it is rebuilt
+        // while the corrections shrink at least twofold per iteration; else it is rebuilt
         let mut last_inc = f64::INFINITY;
         let mut prev_inc = f64::INFINITY;
         // the coordinate with the largest correction (named when Newton fails)
         let mut worst = usize::MAX;
         let mut stale = false;
         let full = std::mem::take(&mut self.full_newton);
+        // a carried matrix that failed lately is rebuilt after the first correction, except
+        // in a probe step every PROBE_STEPS
+        self.since_probe += 1;
+        let early = self.carry_fails && self.since_probe < PROBE_STEPS;
+        if !early {
+            self.since_probe = 0;
+        }
+        // whether this step started on the matrix of an earlier step, and whether that one
+        // was rebuilt
+        let mut carried = false;
+        let mut carry_failed = false;
+        // whether the last two corrections came from the same matrix (their ratio is then the
+        // contraction rate of the iteration)
+        let mut same_matrix = false;
         for it in 0..=self.opts.max_iterations {
-            // slow: the corrections shrank less than twofold
-            let slow = it > 1 && last_inc > SLOW * prev_inc;
-            let rebuild = full || self.jac_h != Some(h) || slow || !self.solver.reusable();
+            // slow: the corrections of one matrix shrank less than twofold
+            let slow = same_matrix && last_inc > SLOW * prev_inc;
+            let rebuild = full
+                || self.jac_h != Some(h)
+                || slow
+                || (it == 1 && carried && early)
+                || !self.solver.reusable();
+            if it == 0 {
+                carried = !rebuild;
+            } else if carried && rebuild {
+                carry_failed = true;
+            }
             stale |= !rebuild;
             let part = if rebuild { Part::Full } else { Part::Residual };
             let ev = self.evaluate_part(&n1.x, &n1.v, &n1.acc, &n1.mu, t1, part);
@@ -260,7 +292,10 @@ impl<'a> Engine<'a> {
                 self.jac_h = None;
                 return Err("the forces became non-finite during the Newton iteration".into());
             }
-            if it > 0 && last_inc <= 1.0 {
+            // converged: the last correction within the tolerance
+            let converged = last_inc <= 1.0;
+            if it > 0 && converged {
+                self.carry_fails = carry_failed;
                 for &i in &self.free {
                     n1.aux[i] = aux_pred[i] + (1.0 - p.af) / (1.0 - p.am) * n1.acc[i];
                 }
@@ -306,6 +341,7 @@ impl<'a> Engine<'a> {
             for k in 0..nk {
                 n1.mu[k] += bp * rhs[nf + k];
             }
+            same_matrix = it > 0 && !rebuild;
             prev_inc = if it == 0 { f64::INFINITY } else { last_inc };
             last_inc = inc;
         }

@@ -233,6 +233,8 @@ impl<'a> Engine<'a> {
             jac_h: None,
             failed_stale: false,
             full_newton: false,
+            carry_fails: false,
+            since_probe: 0,
         })
     }
 }
