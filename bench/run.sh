@@ -16,6 +16,11 @@
 #   --skip-static | --skip-modes | --skip-lattice
 #   --only-lattice         only `flexmbd check` on the truss lattices (bench/lattice_check.sh;
 #                          no peer program, so no peer kit needed)
+#   --skip-files           leave out the whole-process runs from model files (below)
+#   --only-files           only the whole-process runs of `convert`, `check`, `static` and
+#                          `modes` on a clamped strip of N beams read from .dat and TOML files
+#                          (bench/strip_files.py; no peer kit needed): strip_files.jsonl/.png
+#   --files-sizes "N ..."  their sizes (default: 1000 3000 10000 30000 100000)
 #   --with-calculix        also run the peer kit's CalculiX strip-modes script (needs ccx:
 #                          bash PEERS/install.sh --with-calculix, as root)
 #   --out DIR              result directory (default bench/results); writes latest.jsonl (raw
@@ -43,6 +48,9 @@ DO_STATIC=1
 DO_MODES=1
 DO_LATTICE=1
 ONLY_LATTICE=0
+DO_FILES=1
+ONLY_FILES=0
+FSIZES="1000 3000 10000 30000 100000"
 WITH_CCX=0
 OUTDIR="$BENCH/results"
 
@@ -61,6 +69,9 @@ while [ $# -gt 0 ]; do
     --skip-modes) DO_MODES=0; shift ;;
     --skip-lattice) DO_LATTICE=0; shift ;;
     --only-lattice) ONLY_LATTICE=1; shift ;;
+    --skip-files) DO_FILES=0; shift ;;
+    --only-files) ONLY_FILES=1; shift ;;
+    --files-sizes) FSIZES="${2:?}"; shift 2 ;;
     --with-calculix) WITH_CCX=1; shift ;;
     --out) OUTDIR="${2:?}"; shift 2 ;;
     --peers) PEERS="${2:?}"; shift 2 ;;
@@ -71,13 +82,26 @@ done
 [[ "$TIMEOUT" =~ ^[0-9]+$ ]] || die "bad --timeout"
 [[ "$REPEAT" =~ ^[0-9]+$ ]] && [ "$REPEAT" -ge 1 ] || die "bad --repeat"
 [[ "$NMODES" =~ ^[0-9]+$ ]] && [ "$NMODES" -ge 1 ] || die "bad --modes"
-for n in $SIZES $MSIZES; do [[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -gt 0 ] || die "bad size '$n'"; done
+for n in $SIZES $MSIZES $FSIZES; do [[ "$n" =~ ^[0-9]+$ ]] && [ "$n" -gt 0 ] || die "bad size '$n'"; done
 # the lattice case has no peer: it runs without the peer kit
 lattice_args=(--out "$OUTDIR")
 [ -n "$THREADS" ] && lattice_args+=(--threads "$THREADS")
 [ "$REPEAT" -gt 1 ] && lattice_args+=(--repeat "$REPEAT")
 if [ "$ONLY_LATTICE" -eq 1 ]; then
   exec bash "$BENCH/lattice_check.sh" "${lattice_args[@]}"
+fi
+# whole-process runs from model files (no peer): the release binary on a strip of N beams
+run_files() {
+  echo "strip_files: cargo build --release -p flexmbd-cli"
+  (cd "$ROOT" && cargo build --release -p flexmbd-cli 2>/dev/null) || { echo "run.sh: cargo build failed" >&2; return 1; }
+  mkdir -p "$OUTDIR"
+  # shellcheck disable=SC2086
+  python3 -B "$BENCH/strip_files.py" --flexmbd "$ROOT/target/release/flexmbd" --n $FSIZES \
+    --out "$OUTDIR/strip_files.jsonl" --plot "$OUTDIR/strip_files.png" 2>"$OUTDIR/strip_files.log"
+}
+if [ "$ONLY_FILES" -eq 1 ]; then
+  run_files
+  exit $?
 fi
 # the peer kit: given, present and complete, or a message that says what to get
 need_peers="install.sh peercommon.py"
@@ -268,4 +292,10 @@ echo
 if [ "$DO_LATTICE" -eq 1 ]; then
   echo
   bash "$BENCH/lattice_check.sh" "${lattice_args[@]}"
+fi
+
+# ---- 8. whole process from model files (no peer; strip_files.jsonl/.log/.png) ---------------
+if [ "$DO_FILES" -eq 1 ]; then
+  echo
+  run_files
 fi

@@ -477,10 +477,19 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
         "     SPACAR Euler-parameter form: {} x {} (same counts, see docs/rotations.md)\n",
         a.euler_shape.0, a.euler_shape.1
     );
+    // a long list (a flexure of many beams: six deformations each) by its ends
+    const LISTED: usize = 24;
     let gs = if generalised.is_empty() {
         "none".to_string()
-    } else {
+    } else if generalised.len() <= LISTED {
         generalised.join(", ")
+    } else {
+        let k = generalised.len();
+        format!(
+            "{k} in all: {}, ..., {} (all in --json)",
+            generalised[..LISTED - 4].join(", "),
+            generalised[k - 4..].join(", ")
+        )
     };
     s += &format!("generalised coordinates: {gs}\n");
     s += &format!(

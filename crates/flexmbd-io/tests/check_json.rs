@@ -141,3 +141,58 @@ fn sparse_check_json_holds_the_decision_and_every_defining_row() {
     assert_eq!(d["n_self_stresses"], v["n_self_stresses"]);
     assert_eq!(d["n_mechanisms"], v["n_mechanisms"]);
 }
+
+/// A flexure of many beams has six generalised coordinates (its deformations, as SPACAR's
+/// `DYNE` modes are in the kinematic analysis) per beam: the text
+/// report names the count, the first twenty and the last four, and `--json` lists all.
+#[test]
+fn a_long_list_of_generalised_coordinates_is_summarised_in_the_text_report() {
+    let n = 10;
+    let mut b = ModelBuilder::new("strip");
+    for i in 0..=n {
+        b.add_node(&format!("s{i}"), [i as f64, 0.0, 0.0], true)
+            .unwrap();
+    }
+    for i in 0..n {
+        b.add_element(
+            &format!("b{i}"),
+            &[&format!("s{i}"), &format!("s{}", i + 1)],
+            ElementSpec::Beam {
+                orient: Some([0.0, 1.0, 0.0]),
+                ct: 0.0,
+            },
+            &[],
+            &[1, 2, 3, 4, 5, 6],
+        )
+        .unwrap();
+    }
+    b.fix("s0", None).unwrap();
+    let m = b.build().unwrap();
+    let opts = ClassifyOptions {
+        check: CheckOptions::default(),
+        auto: false,
+        max_suggestions: 0,
+    };
+    let c = classify(&m, &opts).unwrap();
+    let report = CheckReport::of(&m, "strip.toml", opts.check.rank_tol, &c);
+    let names = generalised_names(&m, &c.partition.x, &c.partition.e);
+    assert_eq!(names.len(), 6 * n);
+    let text = flexmbd_io::report::check_text(&report, &names);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("generalised coordinates:"))
+        .unwrap();
+    let expected = format!(
+        "generalised coordinates: 60 in all: {}, ..., {} (all in --json)",
+        names[..20].join(", "),
+        names[56..].join(", ")
+    );
+    assert_eq!(line, expected);
+    let mut out = Vec::new();
+    write_check_json(&mut out, &report, &names).unwrap();
+    let v: Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(
+        v["generalised_coordinates"].as_array().unwrap().len(),
+        6 * n
+    );
+}

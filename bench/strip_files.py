@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Whole-process runs of the release binary on a clamped strip of N beams read from model files
+(issue 14): the SPACAR `.dat` reader (`flexmbd convert`), and `check`, `static` and
+`modes --count 10` from the `.dat` file and from a TOML file, each with its wall time and peak
+memory (`/usr/bin/time`). The files list every node and beam (no `segments`), as a user's
+generated model would, so that the readers see N items.
+
+    python3 bench/strip_files.py --flexmbd target/release/flexmbd \\
+        --n 1000 3000 10000 30000 100000 --out results/strip_files.jsonl --plot results/strip_files.png
+
+The strip is the peer kit's (peercommon.py): L = 50 mm along x, b = 20 mm (y), t = 0.2 mm (z),
+steel E = 210 GPa, nu = 0.3, rho = 7800 kg/m^3, clamped at x = 0, a tip force of 1 mN along z
+(static: 10 load steps). All six deformation modes of every beam are flexible; `check` takes
+the strip as a flexure (the rigid-body motions of the clamped strip: none).
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.dont_write_bytecode = True
+
+L, B, T, E, NU, RHO = 0.05, 0.02, 0.0002, 210e9, 0.3, 7800.0
+G = E / (2 * (1 + NU))
+A, IY, IZ = B * T, B * T**3 / 12, T * B**3 / 12
+J = B * T**3 / 3 * (1 - 0.63 * T / B)
+FZ = 1e-3
+
+
+def strip_toml(n):
+    out = [f'[model]\nname = "clamped strip of {n} beams"\n', "[nodes]"]
+    out += [f"n{i} = [{L * i / n!r}, 0.0, 0.0]" for i in range(n + 1)]
+    out += ['\n[fix]\nn0 = "all"\n']
+    out += [f"[[material]]\nid = \"steel\"\nE = {E}\nnu = {NU}\nrho = {RHO}\n"]
+    out += [f'[[section]]\nid = "strip"\nshape = "rectangle"\nw = {B}\nt = {T}\nshear = false\n']
+    for k in range(n):
+        out.append(f'[[beam]]\nid = "b{k}"\nnodes = ["n{k}", "n{k + 1}"]\norient = [0.0, 1.0, 0.0]\n'
+                   'section = "strip"\nmaterial = "steel"\n')
+    out.append(f'[[load]]\nnode = "n{n}"\nforce = [0.0, 0.0, {FZ}]\n')
+    out.append("[static]\nsteps = 10\n")
+    return "\n".join(out)
+
+
+def strip_dat(n):
+    out = [f"# a clamped steel strip of {n} beams (flexmbd bench/strip_files.py)"]
+    out += [f"X {2 * i + 1} {L * i / n!r} 0.0 0.0" for i in range(n + 1)]
+    for k in range(1, n + 1):
+        out.append(f"BEAM {k} {2 * k - 1} {2 * k} {2 * k + 1} {2 * k + 2} 0.0 1.0 0.0")
+    out += [f"DYNE {k} 1 2 3 4 5 6" for k in range(1, n + 1)]
+    out += ["FIX 1", "FIX 2", "END", "HALT"]
+    out += [f"ESTIFF {k} {E * A!r} {G * J!r} {E * IY!r} {E * IZ!r}" for k in range(1, n + 1)]
+    out += [f"EM {k} {RHO * A!r} {RHO * (IY + IZ)!r} {RHO * IY!r} {RHO * IZ!r} 0.0"
+            for k in range(1, n + 1)]
+    out += [f"DELXF {2 * n + 1} 0.0 0.0 {FZ}", "ITERSTEP 10 10 1e-6", "END", "END"]
+    return "\n".join(out) + "\n"
+
+
+def timed(cmd):
+    """Wall time [s], peak resident memory [MiB], exit code and the last stderr line."""
+    t0 = time.perf_counter()
+    p = subprocess.run(["/usr/bin/time", "-f", "%M"] + cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    lines = p.stderr.strip().splitlines()
+    try:
+        rss = int(lines[-1]) / 1024
+    except (ValueError, IndexError):
+        rss = float("nan")
+    msg = lines[-2] if len(lines) > 1 else ""
+    return {"wall_s": wall, "peak_mib": rss, "rc": p.returncode, "message": msg[:300]}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--flexmbd", required=True)
+    ap.add_argument("--n", type=int, nargs="+", default=[1000, 3000, 10000, 30000, 100000])
+    ap.add_argument("--out")
+    ap.add_argument("--plot", help="PNG of time and memory against N (matplotlib)")
+    ap.add_argument("--from", dest="from_file", help="tabulate and plot an earlier --out")
+    a = ap.parse_args()
+    records = []
+    if a.from_file:
+        records = [json.loads(ln) for ln in open(a.from_file) if ln.strip()]
+    else:
+        exe = os.path.abspath(a.flexmbd)
+        with tempfile.TemporaryDirectory() as tmp:
+            for n in a.n:
+                dat, toml = os.path.join(tmp, f"strip{n}.dat"), os.path.join(tmp, f"strip{n}.toml")
+                open(dat, "w").write(strip_dat(n))
+                open(toml, "w").write(strip_toml(n))
+                runs = {
+                    "convert dat": [exe, "--quiet", "convert", "--force", dat,
+                                    os.path.join(tmp, "converted.toml")],
+                }
+                for fmt, path in (("dat", dat), ("toml", toml)):
+                    runs[f"check {fmt}"] = [exe, "--quiet", "check", path, "--max-suggestions", "0"]
+                    runs[f"static {fmt}"] = [exe, "--quiet", "static", path]
+                    runs[f"modes {fmt}"] = [exe, "--quiet", "modes", path, "--count", "10"]
+                for name, cmd in runs.items():
+                    r = timed(cmd)
+                    rec = {"n": n, "run": name, **r}
+                    records.append(rec)
+                    print(json.dumps(rec), file=sys.stderr, flush=True)
+        if a.out:
+            with open(a.out, "w") as f:
+                for r in records:
+                    f.write(json.dumps(r) + "\n")
+    names = list(dict.fromkeys(r["run"] for r in records))
+    ns = sorted(set(r["n"] for r in records))
+    by = {(r["n"], r["run"]): r for r in records}
+
+    def cell(n, name, key):
+        r = by.get((n, name))
+        if r is None:
+            return "–"
+        if r["rc"] != 0:
+            return f"rc {r['rc']}"
+        return f"{r[key]:.3g}"
+
+    print("whole-process wall time [s] / peak memory [MiB]")
+    print(f"{'run':>12} " + " ".join(f"{n:>16}" for n in ns))
+    for name in names:
+        print(f"{name:>12} " + " ".join(
+            f"{cell(n, name, 'wall_s') + ' / ' + cell(n, name, 'peak_mib'):>16}" for n in ns))
+    if a.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+        for name in names:
+            pts = [(n, by[(n, name)]) for n in ns if (n, name) in by and by[(n, name)]["rc"] == 0]
+            if not pts:
+                continue
+            x = [p[0] for p in pts]
+            ls = "--" if name.endswith("toml") else "-"
+            ax1.loglog(x, [p[1]["wall_s"] for p in pts], ls, marker="o", label=name)
+            ax2.loglog(x, [p[1]["peak_mib"] for p in pts], ls, marker="o", label=name)
+        ax1.set_xlabel("beams N")
+        ax1.set_ylabel("whole-process wall time [s]")
+        ax2.set_xlabel("beams N")
+        ax2.set_ylabel("peak resident memory [MiB]")
+        for ax in (ax1, ax2):
+            ax.grid(True, which="both", alpha=0.3)
+        ax1.legend(fontsize=7)
+        fig.suptitle("flexmbd from model files: a clamped strip of N beams")
+        fig.tight_layout()
+        fig.savefig(a.plot, dpi=110)
+
+
+if __name__ == "__main__":
+    main()
