@@ -4,15 +4,11 @@
 //! node) on its λ; and the centrifugal softening −Ω² M_P of a steady rotation from the same
 //! entries.
 
-use crate::assembly::per_element;
+use crate::assembly::{gather_local, per_element, SMALL};
 use crate::elements::ElementKind;
 use crate::math::inertia::{lambda_inertia_force, node_inertia_block};
 use crate::model::Model;
 use faer::Mat;
-
-/// The largest number of local coordinates of an element with mass that the scratch buffers
-/// of this module hold without allocating (a beam: 14).
-const SMALL: usize = 14;
 
 /// Every entry of the mass matrix at x, element by element, as `f(row, column, value)` in x
 /// (repeated positions add up): the elements' mass matrices, point masses and inertia
@@ -49,7 +45,7 @@ pub(crate) fn for_each_element(
     // that the buffer stays small
     const CHUNK: usize = 4096;
     for chunk in model.elements.chunks(CHUNK) {
-        let (me, starts, has) = per_element(
+        let me = per_element(
             chunk,
             |entry| entry.xmap.len() * entry.xmap.len(),
             |entry, out| {
@@ -61,13 +57,8 @@ pub(crate) fn for_each_element(
                 some
             },
         );
-        for ((entry, w), _) in chunk
-            .iter()
-            .zip(starts.windows(2))
-            .zip(&has)
-            .filter(|(_, h)| **h)
-        {
-            f(&entry.xmap, &me[w[0]..w[1]]);
+        for (entry, m) in me.each(chunk) {
+            f(&entry.xmap, m);
         }
     }
 }
@@ -84,17 +75,16 @@ pub(crate) fn element_mass(
     f: impl FnOnce(&[f64]),
 ) {
     let n = entry.xmap.len();
-    // a beam's coordinates on the stack, larger elements on the heap
-    let (mut xk_s, mut me_s) = ([0.0; SMALL], [0.0; SMALL * SMALL]);
-    let (mut xk_h, mut me_h) = (Vec::new(), Vec::new());
-    let (xk, me) = if n <= SMALL {
-        (&mut xk_s[..n], &mut me_s[..n * n])
+    // a beam's matrix on the stack, larger elements' on the heap
+    let (mut xk_s, mut xk_h) = ([0.0; SMALL], Vec::new());
+    let xk = gather_local(entry, x, &mut xk_s, &mut xk_h);
+    let (mut me_s, mut me_h) = ([0.0; SMALL * SMALL], Vec::new());
+    let me = if n <= SMALL {
+        &mut me_s[..n * n]
     } else {
-        xk_h.resize(n, 0.0);
         me_h.resize(n * n, 0.0);
-        (&mut xk_h[..], &mut me_h[..])
+        &mut me_h[..]
     };
-    xk.iter_mut().zip(&entry.xmap).for_each(|(v, &i)| *v = x[i]);
     if entry.element.mass(xk, weight, rotary, me) {
         f(me);
     }
@@ -240,41 +230,25 @@ pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
 pub fn inertia_forces(model: &Model, x: &[f64], v: &[f64], a: &[f64]) -> Vec<f64> {
     let mut out = vec![0.0; model.nx];
     // element by element (in parallel for large models), then added up in element order
-    let (fk, starts, has) = per_element(
+    let fk = per_element(
         &model.elements,
         |entry| entry.xmap.len(),
         |entry, fk| {
-            let n = entry.xmap.len();
-            // a beam's coordinates on the stack, larger elements on the heap
-            let mut small = [[0.0; SMALL]; 3];
-            let mut large = Vec::new();
-            let mut bufs: [&mut [f64]; 3] = if n <= SMALL {
-                let [b0, b1, b2] = &mut small;
-                [&mut b0[..n], &mut b1[..n], &mut b2[..n]]
-            } else {
-                large.resize(3 * n, 0.0);
-                let (b0, rest) = large.split_at_mut(n);
-                let (b1, b2) = rest.split_at_mut(n);
-                [b0, b1, b2]
-            };
-            for (buf, src) in bufs.iter_mut().zip([x, v, a]) {
-                buf.iter_mut()
-                    .zip(&entry.xmap)
-                    .for_each(|(b, &i)| *b = src[i]);
-            }
-            let [xk, vk, ak] = bufs;
-            entry.element.inertia_forces(xk, vk, ak, fk)
+            let mut stack = [[0.0; SMALL]; 3];
+            let mut heap = [Vec::new(), Vec::new(), Vec::new()];
+            let [s0, s1, s2] = &mut stack;
+            let [h0, h1, h2] = &mut heap;
+            entry.element.inertia_forces(
+                gather_local(entry, x, s0, h0),
+                gather_local(entry, v, s1, h1),
+                gather_local(entry, a, s2, h2),
+                fk,
+            )
         },
     );
-    for ((entry, w), _) in model
-        .elements
-        .iter()
-        .zip(starts.windows(2))
-        .zip(&has)
-        .filter(|(_, h)| **h)
-    {
-        for (&i, f) in entry.xmap.iter().zip(&fk[w[0]..w[1]]) {
-            out[i] += f;
+    for (entry, f) in fk.each(&model.elements) {
+        for (&i, fi) in entry.xmap.iter().zip(f) {
+            out[i] += fi;
         }
     }
     for &(node, mass) in &model.loads.point_masses {

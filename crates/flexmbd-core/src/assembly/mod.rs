@@ -23,16 +23,35 @@ pub(crate) fn split_at_starts<'a, T>(mut v: &'a mut [T], starts: &[usize]) -> Ve
     out
 }
 
-/// Every element's local values in one buffer: `f(entry, out)` fills the `width(entry)`
-/// values of each element and says whether it has any (a `false` leaves its slice zero). In
-/// parallel for models of [`PAR_ELEMENTS`] elements and more; each element writes only its own
-/// slice, so the numbers are the same on any number of threads. Returns the buffer, the offset
-/// of each element's slice (one more at the end) and the flags.
-pub(crate) fn per_element<W, F>(
-    elements: &[ElementEntry],
-    width: W,
-    f: F,
-) -> (Vec<f64>, Vec<usize>, Vec<bool>)
+/// Every element's local values in one buffer ([`per_element`]): element k's in
+/// `buf[starts[k]..starts[k + 1]]`, `has[k]` whether it has any.
+pub(crate) struct ElementValues {
+    buf: Vec<f64>,
+    starts: Vec<usize>,
+    has: Vec<bool>,
+}
+
+impl ElementValues {
+    /// The elements that have values, with them, in element order (`elements` the slice that
+    /// [`per_element`] was given).
+    pub(crate) fn each<'a>(
+        &'a self,
+        elements: &'a [ElementEntry],
+    ) -> impl Iterator<Item = (&'a ElementEntry, &'a [f64])> + 'a {
+        elements
+            .iter()
+            .zip(self.starts.windows(2))
+            .zip(&self.has)
+            .filter(|(_, h)| **h)
+            .map(|((entry, w), _)| (entry, &self.buf[w[0]..w[1]]))
+    }
+}
+
+/// Every element's local values: `f(entry, out)` fills the `width(entry)` values of each
+/// element and says whether it has any. In parallel for models of [`PAR_ELEMENTS`] elements
+/// and more; each element writes only its own slice, so the numbers are the same on any number
+/// of threads.
+pub(crate) fn per_element<W, F>(elements: &[ElementEntry], width: W, f: F) -> ElementValues
 where
     W: Fn(&ElementEntry) -> usize,
     F: Fn(&ElementEntry, &mut [f64]) -> bool + Sync,
@@ -49,9 +68,6 @@ where
     let mut has = vec![false; elements.len()];
     let one = |((entry, out), flag): ((&ElementEntry, &mut [f64]), &mut bool)| {
         *flag = f(entry, out);
-        if !*flag {
-            out.iter_mut().for_each(|v| *v = 0.0);
-        }
     };
     let pieces = split_at_starts(&mut buf, &starts);
     if elements.len() < PAR_ELEMENTS {
@@ -68,7 +84,32 @@ where
             .with_min_len(64)
             .for_each(one);
     }
-    (buf, starts, has)
+    ElementValues { buf, starts, has }
+}
+
+/// The largest number of local coordinates that [`gather_local`] holds on the stack (a beam:
+/// 14).
+pub(crate) const SMALL: usize = 14;
+
+/// `src` at the element's coordinates, in `stack` when they fit (a beam), else in `heap`:
+/// [`gather`] without an allocation per element.
+pub(crate) fn gather_local<'b>(
+    entry: &ElementEntry,
+    src: &[f64],
+    stack: &'b mut [f64; SMALL],
+    heap: &'b mut Vec<f64>,
+) -> &'b mut [f64] {
+    let n = entry.xmap.len();
+    let buf = if n <= SMALL {
+        &mut stack[..n]
+    } else {
+        heap.resize(n, 0.0);
+        &mut heap[..]
+    };
+    buf.iter_mut()
+        .zip(&entry.xmap)
+        .for_each(|(b, &i)| *b = src[i]);
+    buf
 }
 
 /// Element coordinates x_k gathered from the global x.

@@ -260,8 +260,9 @@ pub(crate) fn assemble_values(
 ) -> Assembled {
     let pat = &su.pattern;
     // the residual alone writes no matrix entries
-    let no_entries = vec![0; model.elements.len() + 1];
+    let no_entries;
     let (n_el, elem_start) = if part == Part::Residual {
+        no_entries = vec![0; model.elements.len() + 1];
         (0, &no_entries)
     } else if reduced {
         (su.red.n_entries, &su.red.elem_start)

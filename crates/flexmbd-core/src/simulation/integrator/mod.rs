@@ -292,9 +292,7 @@ impl<'a> Engine<'a> {
                 self.jac_h = None;
                 return Err("the forces became non-finite during the Newton iteration".into());
             }
-            // converged: the last correction within the tolerance
-            let converged = last_inc <= 1.0;
-            if it > 0 && converged {
+            if it > 0 && last_inc <= 1.0 {
                 self.carry_fails = carry_failed;
                 for &i in &self.free {
                     n1.aux[i] = aux_pred[i] + (1.0 - p.af) / (1.0 - p.am) * n1.acc[i];
