@@ -47,16 +47,41 @@ impl ElementValues {
     }
 }
 
+/// `f(el, entry, piece)` for every element `el` with its own `piece` (its slices of output
+/// buffers, `pieces` in element order), and what it returns, in element order. In parallel for
+/// models of [`PAR_ELEMENTS`] elements and more; each element writes only its own piece, so the
+/// numbers are the same on any number of threads.
+pub(crate) fn map_elements<P, R, F>(elements: &[ElementEntry], pieces: Vec<P>, f: F) -> Vec<R>
+where
+    P: Send,
+    R: Send,
+    F: Fn(usize, &ElementEntry, P) -> R + Sync,
+{
+    use rayon::prelude::*;
+    debug_assert_eq!(pieces.len(), elements.len());
+    let one = |(el, (entry, piece)): (usize, (&ElementEntry, P))| f(el, entry, piece);
+    if elements.len() < PAR_ELEMENTS {
+        elements.iter().zip(pieces).enumerate().map(one).collect()
+    } else {
+        let mut out = Vec::with_capacity(elements.len());
+        elements
+            .par_iter()
+            .zip(pieces)
+            .enumerate()
+            .with_min_len(64)
+            .map(one)
+            .collect_into_vec(&mut out);
+        out
+    }
+}
+
 /// Every element's local values: `f(entry, out)` fills the `width(entry)` values of each
-/// element and says whether it has any. In parallel for models of [`PAR_ELEMENTS`] elements
-/// and more; each element writes only its own slice, so the numbers are the same on any number
-/// of threads.
+/// element and says whether it has any ([`map_elements`] on one buffer).
 pub(crate) fn per_element<W, F>(elements: &[ElementEntry], width: W, f: F) -> ElementValues
 where
     W: Fn(&ElementEntry) -> usize,
     F: Fn(&ElementEntry, &mut [f64]) -> bool + Sync,
 {
-    use rayon::prelude::*;
     let mut starts = Vec::with_capacity(elements.len() + 1);
     let mut n = 0;
     starts.push(0);
@@ -65,25 +90,8 @@ where
         starts.push(n);
     }
     let mut buf = vec![0.0; n];
-    let mut has = vec![false; elements.len()];
-    let one = |((entry, out), flag): ((&ElementEntry, &mut [f64]), &mut bool)| {
-        *flag = f(entry, out);
-    };
     let pieces = split_at_starts(&mut buf, &starts);
-    if elements.len() < PAR_ELEMENTS {
-        elements
-            .iter()
-            .zip(pieces)
-            .zip(has.iter_mut())
-            .for_each(one);
-    } else {
-        elements
-            .par_iter()
-            .zip(pieces)
-            .zip(has.par_iter_mut())
-            .with_min_len(64)
-            .for_each(one);
-    }
+    let has = map_elements(elements, pieces, |_, entry, out| f(entry, out));
     ElementValues { buf, starts, has }
 }
 

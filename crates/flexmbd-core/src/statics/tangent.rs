@@ -2,7 +2,7 @@
 //! [`assemble_values`]), the loads and the prescribed values.
 
 use super::*;
-use crate::assembly::{split_at_starts, PAR_ELEMENTS};
+use crate::assembly::{map_elements, split_at_starts};
 
 /// Everything assembled at one state.
 pub(crate) struct Assembled {
@@ -222,16 +222,6 @@ pub(super) fn element_local(
     energy
 }
 
-/// An element's index with its slices of the KKT values, deformations, stress resultants and
-/// internal forces (the parallel part of the assembly).
-pub(super) type ElementSlices<'a> = (
-    usize,
-    (
-        ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]),
-        &'a mut [f64],
-    ),
-);
-
 /// Multiply the entries that element `el` wrote into `vals` (the full, unreduced system of
 /// [`assemble_values`]) by `factor(el)`: a damping matrix Σₑ cₑ Dₑᵀ Sₑ Dₑ from the material
 /// part.
@@ -284,46 +274,20 @@ pub(crate) fn assemble_values(
         .chain(std::iter::once(model.ne))
         .collect();
     let energy: f64 = {
-        let vals_k = split_at_starts(&mut vals, elem_start);
-        let e_k = split_at_starts(&mut e, &e_starts);
-        let sigma_k = split_at_starts(&mut sigma, &e_starts);
-        let f_k = split_at_starts(&mut fbuf, &pat.f_start);
-        let one = |(el, (((v, ek), sk), fk)): ElementSlices<'_>| {
-            element_local(
-                su,
-                el,
-                &model.elements[el],
-                x,
-                mu,
-                part,
-                reduced,
-                ek,
-                sk,
-                fk,
-                v,
-            )
-        };
-        if model.elements.len() < PAR_ELEMENTS {
-            // small models: the hand-over to worker threads costs more than it saves
-            vals_k
-                .into_iter()
-                .zip(e_k)
-                .zip(sigma_k)
-                .zip(f_k)
-                .enumerate()
-                .map(one)
-                .sum()
-        } else {
-            vals_k
-                .into_par_iter()
-                .zip(e_k)
-                .zip(sigma_k)
-                .zip(f_k)
-                .enumerate()
-                .with_min_len(64)
-                .map(one)
-                .sum()
-        }
+        // each element's slices of the KKT values, deformations, stress resultants and
+        // internal forces; the elastic energies added up in element order (the same sum on
+        // any number of threads)
+        let pieces: Vec<_> = split_at_starts(&mut vals, elem_start)
+            .into_iter()
+            .zip(split_at_starts(&mut e, &e_starts))
+            .zip(split_at_starts(&mut sigma, &e_starts))
+            .zip(split_at_starts(&mut fbuf, &pat.f_start))
+            .collect();
+        map_elements(&model.elements, pieces, |el, entry, (((v, ek), sk), fk)| {
+            element_local(su, el, entry, x, mu, part, reduced, ek, sk, fk, v)
+        })
+        .into_iter()
+        .sum()
     };
 
     let mut int_force = vec![0.0; model.nx];
