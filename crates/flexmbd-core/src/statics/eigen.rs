@@ -114,19 +114,25 @@ pub(super) fn tangent_eigenvalues(
     let a = if a.reduced {
         a
     } else {
-        reassembled = assemble_values(
-            model,
-            su,
-            &st.x,
-            &st.multipliers,
-            st.load_factor,
-            Part::Full,
-            true,
-            Vec::new(),
-        );
+        reassembled = reduced_at(model, su, st);
         &reassembled
     };
     kappa(su, a, asked)
+}
+
+/// The full tangent (`Part::Full`) of the converged step `st` assembled in the reduced
+/// unknowns, the system whose κ this module computes.
+fn reduced_at(model: &Model, su: &Setup, st: &StepResult) -> Assembled {
+    assemble_values(
+        model,
+        su,
+        &st.x,
+        &st.multipliers,
+        st.load_factor,
+        Part::Full,
+        true,
+        Vec::new(),
+    )
 }
 
 /// The κ that [`tangent_eigenvalues`] reports, from a reduced assembly `a`, when `asked`.
@@ -265,16 +271,7 @@ mod tests {
                 su.red.n > su.red.nfr,
                 "the rigid elongations are constraints"
             );
-            let a = assemble_values(
-                &model,
-                &su,
-                &st.x,
-                &st.multipliers,
-                st.load_factor,
-                Part::Full,
-                true,
-                Vec::new(),
-            );
+            let a = reduced_at(&model, &su, st);
             let all = smallest_eigenvalues(&su, &a, usize::MAX).unwrap();
             let scale = all.iter().fold(0.0f64, |m, k| m.max(k.abs()));
             let mut want = all.clone();
