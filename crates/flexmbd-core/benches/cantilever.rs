@@ -8,10 +8,13 @@
 //! values from that line.
 
 use flexmbd_core::math::rotate;
-use flexmbd_core::model::ModelBuilder;
-use flexmbd_core::section::BeamProps;
 use flexmbd_core::statics::{solve, StaticOptions};
 use std::time::Instant;
+// `crate::model` and `crate::section` of the shared statics test models
+use flexmbd_core::{model, section};
+
+#[path = "../src/statics/test_models.rs"]
+mod test_models;
 
 /// Exact inextensible elastica at k = 3 (shooting; peercommon.elastica(3), bench/README.md):
 /// u/L, w/L, φ.
@@ -29,27 +32,9 @@ fn main() {
     };
     for n in ns {
         let t0 = Instant::now();
-        let mut b = ModelBuilder::new("cantilever");
-        let props = BeamProps {
-            ea: 1e7,
-            gj: 1.0,
-            eiy: 1.0,
-            eiz: 1.0,
-            ..Default::default()
-        };
-        b.add_beam_chain(
-            "",
-            [0.0; 3],
-            [1.0, 0.0, 0.0],
-            n,
-            Some([0.0, 1.0, 0.0]),
-            Some(props),
-        )
-        .unwrap();
-        b.fix("n0", None).unwrap();
-        b.add_load(&format!("n{n}"), [0.0, -3.0, 0.0], [0.0; 3])
+        let model = test_models::column(n, 1.0, [0.0, -3.0, 0.0])
+            .build()
             .unwrap();
-        let model = b.build().unwrap();
         let t1 = Instant::now();
         let sol = solve(&model, &StaticOptions::default(), |_, _| {}).unwrap();
         let dt = t1.elapsed().as_secs_f64();

@@ -9,6 +9,11 @@ mod common;
 use flexmbd_core::model::{Dof, ElementSpec, ModelBuilder};
 use flexmbd_core::statics::{solve_path, PathEvent, PathMethod, StaticOptions, StaticSolution};
 use flexmbd_core::Model;
+// `crate::model` and `crate::section` of the shared statics test models
+use flexmbd_core::{model, section};
+
+#[path = "../src/statics/test_models.rs"]
+mod test_models;
 
 /// Half span, rise [m] and axial stiffness EA [N] of the truss; the load at full load [N].
 const A: f64 = 1.0;
@@ -297,35 +302,15 @@ fn s05_toggle_under_a_stroke_by_arc_length() {
     assert!((d_max - 0.2325).abs() < 0.03 * 0.2325, "δ at P_max {d_max}");
 }
 
-/// A column of length 1 m, EIy = 1 N·m² (EIz = 4, EA = 1e7: extensibility negligible), 20
-/// Euler–Bernoulli elements along x, clamped at x = 0, with the tip load (−p, 0, q).
+/// The column of [`test_models::column`] (EI_y = 1 N·m², EI_z = 4) in 20 elements, with the
+/// tip load (−p, 0, q).
 fn column(p: f64, q: f64) -> Model {
     column_of(20, p, q)
 }
 
 /// [`column`] with `n` elements.
 fn column_of(n: usize, p: f64, q: f64) -> Model {
-    let props = flexmbd_core::section::BeamProps {
-        ea: 1e7,
-        gj: 1.0,
-        eiy: 1.0,
-        eiz: 4.0,
-        ..Default::default()
-    };
-    let mut b = ModelBuilder::new("column");
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        n,
-        Some([0.0, 1.0, 0.0]),
-        Some(props),
-    )
-    .unwrap();
-    b.fix("n0", None).unwrap();
-    b.add_load(&format!("n{n}"), [-p, 0.0, q], [0.0; 3])
-        .unwrap();
-    b.build().unwrap()
+    test_models::column(n, 4.0, [-p, 0.0, q]).build().unwrap()
 }
 
 #[test]

@@ -3,15 +3,16 @@
 //! elongation of the trapezoidal rule), and a free beam after a force pulse keeps the momentum
 //! that the pulse's impulse gave it.
 
+mod common;
+
+use common::run;
 use flexmbd_core::assembly::mass::mass_times;
 use flexmbd_core::dynamics::modes;
-use flexmbd_core::model::{Model, ModelBuilder};
 use flexmbd_core::results::moment_of_lambda_forces;
 use flexmbd_core::section::BeamProps;
-use flexmbd_core::simulation::{
-    simulate, Excitation, InitialVelocity, SimOptions, Simulation, TimeFunction,
-};
+use flexmbd_core::simulation::{Excitation, InitialVelocity, SimOptions, TimeFunction};
 use flexmbd_core::statics::{solve, StaticOptions};
+use flexmbd_core::Model;
 
 /// A steel leaf 50 mm × 20 mm × 0.3 mm clamped at the origin along x in four beams, with a
 /// 10 g mass at its tip; bending about the weak axis moves the tip along z.
@@ -27,23 +28,9 @@ fn leaf() -> Model {
         rho_i: [rho * (iy + iz), rho * iy, rho * iz],
         ..Default::default()
     };
-    let mut b = ModelBuilder::new("leaf");
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [l, 0.0, 0.0],
-        4,
-        Some([0.0, 1.0, 0.0]),
-        Some(props),
-    )
-    .unwrap();
-    b.fix("n0", None).unwrap();
+    let mut b = common::cantilever(4, l, props);
     b.add_point_mass("n4", 0.01).unwrap();
     b.build().unwrap()
-}
-
-fn run(model: &Model, exc: &Excitation, o: &SimOptions) -> Simulation {
-    simulate(model, exc, o, &mut |_| {}).unwrap()
 }
 
 /// Undamped free vibration with ρ∞ = 1 (the trapezoidal rule), 40 steps per period, 1000
@@ -119,16 +106,7 @@ fn free_flight_after_a_pulse_keeps_momentum_and_energy() {
         rho_i: [2e-4, 1e-4, 1e-4],
         ..Default::default()
     };
-    let mut b = ModelBuilder::new("spaghetti");
-    b.add_beam_chain(
-        "",
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        6,
-        Some([0.0, 1.0, 0.0]),
-        Some(props),
-    )
-    .unwrap();
+    let mut b = common::beam_chain("spaghetti", 6, 1.0, [0.0, 1.0, 0.0], props);
     let f = [0.0, 2.0, 1.0];
     b.add_load("n6", f, [0.0; 3]).unwrap();
     let model = b.build().unwrap();

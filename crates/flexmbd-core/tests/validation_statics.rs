@@ -13,6 +13,11 @@ use flexmbd_core::model::{Dof, ElementSpec, ModelBuilder};
 use flexmbd_core::section::{BeamProps, Material, Shape};
 use flexmbd_core::statics::{solve, SolveError, StaticOptions, MAX_STEPS};
 use flexmbd_core::Model;
+// `crate::model` and `crate::section` of the shared statics test models
+use flexmbd_core::{model, section};
+
+#[path = "../src/statics/test_models.rs"]
+mod test_models;
 
 fn s02_props() -> BeamProps {
     // S02: E = G = 1e4 Pa, A = 1 m², I = J = 1e-2 m⁴: EI = GJ = 100, EA = GA = 1e4
@@ -39,18 +44,9 @@ const S01: [(f64, f64, f64, f64); 6] = [
 #[test]
 fn s01_tip_load_matches_mattiasson_table() {
     // L = 1, EI = 1, EA L²/EI = 1e7 (validation.md S01), dead tip load −y; 40 elements.
-    let n = 40;
-    let props = BeamProps {
-        ea: 1e7,
-        gj: 1.0,
-        eiy: 1.0,
-        eiz: 1.0,
-        ..Default::default()
-    };
-    let mut b = cantilever(n, 1.0, props);
-    b.add_load(&format!("n{n}"), [0.0, -10.0, 0.0], [0.0; 3])
+    let model = test_models::column(40, 1.0, [0.0, -10.0, 0.0])
+        .build()
         .unwrap();
-    let model = b.build().unwrap();
     let sol = solve_steps(&model, 10).unwrap();
     for (k, u, w, phi) in S01 {
         let step = sol

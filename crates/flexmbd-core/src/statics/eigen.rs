@@ -221,35 +221,16 @@ pub(crate) fn nearest_zero_eigenvalues(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::ModelBuilder;
+    use crate::statics::test_models::column;
     use crate::statics::{setup, solve_path, StaticOptions};
 
-    /// A cantilever column of `n` inextensible beams (elongation rigid: constraints G) along
-    /// x, L = 1, EI_y = 1 (weak), EI_z = 4, under the axial load `p` at its end.
-    fn column(n: usize, p: f64) -> Model {
-        let props = crate::section::BeamProps {
-            ea: 1e7,
-            gj: 1.0,
-            eiy: 1.0,
-            eiz: 4.0,
-            ..Default::default()
-        };
-        let mut b = ModelBuilder::new("column");
-        b.add_beam_chain(
-            "",
-            [0.0; 3],
-            [1.0, 0.0, 0.0],
-            n,
-            Some([0.0, 1.0, 0.0]),
-            Some(props),
-        )
-        .unwrap();
+    /// The column of [`column`] with inextensible beams (elongation rigid: constraints G),
+    /// EI_y = 1 (weak), EI_z = 4, under the axial load `p` at its end.
+    fn inextensible_column(n: usize, p: f64) -> Model {
+        let mut b = column(n, 4.0, [-p, 0.0, 0.0]);
         for i in 0..n {
             b.set_rigid_modes(&format!("b{i}"), &[1]).unwrap();
         }
-        b.fix("n0", None).unwrap();
-        b.add_load(&format!("n{n}"), [-p, 0.0, 0.0], [0.0; 3])
-            .unwrap();
         b.build().unwrap()
     }
 
@@ -259,7 +240,7 @@ mod tests {
         // between, against every eigenvalue of the dense Zᵀ S K S Z
         let p_cr = std::f64::consts::PI.powi(2) / 4.0;
         for (n, f) in [(20, 0.5), (20, 1.5), (40, 0.99)] {
-            let model = column(n, f * p_cr);
+            let model = inextensible_column(n, f * p_cr);
             let opts = StaticOptions {
                 steps: 4,
                 ..Default::default()

@@ -390,6 +390,8 @@ mod arc;
 mod critical;
 mod eigen;
 mod levels;
+#[cfg(test)]
+pub(crate) mod test_models;
 pub use eigen::{TANGENT_EIGENVALUES, TANGENT_EIGEN_MAX};
 #[cfg(test)]
 pub(crate) use path::last_step;
