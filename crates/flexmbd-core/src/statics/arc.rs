@@ -239,6 +239,14 @@ pub(super) struct Step {
     pub(super) end: bool,
 }
 
+impl Step {
+    /// The step's results ([`record`]), reached in `substeps` sub-steps.
+    pub(super) fn record(&self, model: &Model, substeps: usize) -> StepResult {
+        let (x, mu, a, t) = (&self.x, &self.mu, &self.a, self.t);
+        record(model, x, mu, a, t, self.iterations, substeps, self.residual)
+    }
+}
+
 /// A state inside a step, inserted into the path before the step's end: a located critical
 /// point or an output level.
 struct Inside {
@@ -510,16 +518,17 @@ fn run(
                 }
             }
         };
+        let step_end = snap_to_level(model, &su, opts, done, (&cur, p2, steps), &mut kkt);
+        let mut st = step_end.record(model, halvings + 1);
         let Step {
             x,
             mu,
             t,
             a,
             iterations,
-            residual,
             end,
-        } = snap_to_level(model, &su, opts, done, (&cur, p2, steps), &mut kkt);
-        let mut st = record(model, &x, &mu, &a, t, iterations, halvings + 1, residual);
+            ..
+        } = step_end;
         st.tangent_eigenvalues = tangent_eigenvalues(model, &su, &st, &a, opts.tangent_eigenvalues);
         let tangent = match tangent(model, &su, (&x, t), &a, &mut kkt) {
             Ok(tg) => tg,
@@ -547,12 +556,12 @@ fn run(
                     unstable: [u0, u1],
                 };
                 if let Some(c) = locate(model, &su, opts, &bracket, &mut kkt) {
-                    let mut cs = record(model, &c.x, &c.mu, &c.a, c.t, c.iterations, 1, c.residual);
+                    let mut cs = c.state.record(model, 1);
                     cs.tangent_eigenvalues = c.kappa;
                     let turns = (dot(&su, &inc, &tangent.db) + dt * p2) * sign < 0.0;
                     inside.push(Inside {
                         s: c.s,
-                        level: level_of(c.t, steps),
+                        level: level_of(c.state.t, steps),
                         step: cs,
                         unstable: c.unstable,
                         critical: Some((turns, [u0, u1])),

@@ -17,7 +17,7 @@
 //! point, an inverted element) the search ends with the best state so far; with none, the
 //! step keeps its sampled critical point.
 
-use super::arc::{arc_step, tangent, State};
+use super::arc::{arc_step, tangent, State, Step};
 use super::eigen::{kappa, smallest_eigenvalues};
 use super::{
     inverted_element, Assembled, KktSolver, PathEvent, PathPoint, Setup, StaticOptions, StepResult,
@@ -40,15 +40,10 @@ pub(super) struct Located {
     pub(super) unstable: [usize; 2],
 }
 
-/// The located critical state: the converged state, its distance s from the step's start, the
-/// iterations of its last solve, and its eigenvalues and inertia.
+/// The located critical state: the converged state (with the iterations of its last solve),
+/// its distance s from the step's start, and its eigenvalues and inertia.
 pub(super) struct Critical {
-    pub(super) x: Vec<f64>,
-    pub(super) mu: Vec<f64>,
-    pub(super) t: f64,
-    pub(super) a: Box<Assembled>,
-    pub(super) iterations: usize,
-    pub(super) residual: f64,
+    pub(super) state: Step,
     pub(super) s: f64,
     pub(super) kappa: Option<Vec<f64>>,
     pub(super) unstable: Option<usize>,
@@ -145,12 +140,7 @@ pub(super) fn locate(
         .ok()
         .and_then(|t| t.unstable);
     Some(Critical {
-        x: st.x,
-        mu: st.mu,
-        t: st.t,
-        a: st.a,
-        iterations: st.iterations,
-        residual: st.residual,
+        state: st,
         s,
         kappa,
         unstable,
