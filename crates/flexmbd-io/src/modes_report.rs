@@ -1,6 +1,6 @@
 //! Reports of a modal analysis: frequencies, energy distribution per mode, shapes.
 
-use crate::report::{fmt_num, table};
+use crate::report::{fmt_num, heading, table};
 use crate::stopped::StopNote;
 use flexmbd_core::dynamics::{Modal, ModeClass};
 use flexmbd_core::elements::ElementKind;
@@ -69,13 +69,7 @@ pub fn modes_text(
     modal: &Modal,
     stop: Option<&StopNote>,
 ) -> String {
-    let mut s = String::new();
-    let title = if model.name.is_empty() {
-        String::new()
-    } else {
-        format!(": {}", model.name)
-    };
-    let _ = writeln!(s, "flexmbd modes{title}  ({file})\n");
+    let mut s = heading("modes", model, file);
     let _ = writeln!(
         s,
         "linearised at load factor {load_factor:.4}; {} degrees of freedom{}\n",

@@ -5,7 +5,9 @@ use flexmbd_core::kinematics::classify::Classification;
 use flexmbd_core::kinematics::freedom::FreedomCheck;
 use flexmbd_core::kinematics::screw::ScrewAnalysis;
 use flexmbd_core::kinematics::sparse::SparseDecision;
-use flexmbd_core::kinematics::{ConstraintAnalysis, Motion, SelfStress};
+use flexmbd_core::kinematics::{
+    ConstraintAnalysis, DeformationValue, Motion, NodalVelocity, SelfStress,
+};
 use flexmbd_core::model::{CoordKind, DefKind};
 use flexmbd_core::Model;
 use serde::Serialize;
@@ -272,6 +274,17 @@ pub fn fmt_num(v: f64) -> String {
     }
 }
 
+/// The first line of a text report and the blank line after it: `flexmbd COMMAND: MODEL  (FILE)`
+/// (without `: MODEL` when the model has no name).
+pub(crate) fn heading(command: &str, model: &Model, file: &str) -> String {
+    let name = if model.name.is_empty() {
+        String::new()
+    } else {
+        format!(": {}", model.name)
+    };
+    format!("flexmbd {command}{name}  ({file})\n\n")
+}
+
 /// Left-aligned text table with a header row.
 pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     let mut w: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
@@ -329,6 +342,37 @@ fn top_entries(values: &[f64]) -> (Vec<usize>, Option<String>) {
             fmt_num(below)
         )),
     )
+}
+
+/// What the entries of a motion and of a self-stress state are, in the text report.
+const MOTION_KIND: &str = "kinematically indeterminate; nodal velocities";
+const SELF_STRESS_KIND: &str = "statically indeterminate; stress resultants";
+
+/// A motion or self-stress state in text: the heading `title (kind, unit length)` (for a long
+/// vector with how many of its entries are shown), then a table of the entries shown
+/// ([`top_entries`]), each its `cells` and its `value`, and the line for the rest.
+fn null_vector_text<T>(
+    (title, kind): (&str, &str),
+    (entries, value, cells): (&[T], impl Fn(&T) -> f64, impl Fn(&T) -> Vec<String>),
+    header: &[&str],
+) -> String {
+    let values: Vec<f64> = entries.iter().map(value).collect();
+    let (shown, rest) = top_entries(&values);
+    let of = if rest.is_some() {
+        format!(", the {TEXT_TOP_ENTRIES} largest of {}", values.len())
+    } else {
+        String::new()
+    };
+    let rows: Vec<Vec<String>> = shown
+        .iter()
+        .map(|&i| {
+            let mut row = cells(&entries[i]);
+            row.push(format!("{:+.6}", values[i]));
+            row
+        })
+        .collect();
+    let heading = format!("\n{title} ({kind}, unit length{of})\n");
+    heading + &table(header, &rows) + rest.as_deref().unwrap_or("")
 }
 
 /// The singular-value table of the text report: all of them for small models; else the
@@ -450,13 +494,7 @@ fn sparse_decision_text(a: &ConstraintAnalysis, sp: &SparseDecision) -> String {
 /// Human report of a check, as aligned tables.
 pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
     let a = r.analysis;
-    let mut s = String::new();
-    let title = if r.model.name.is_empty() {
-        String::new()
-    } else {
-        format!(": {}", r.model.name)
-    };
-    s += &format!("flexmbd check{title}  ({})\n\n", r.file);
+    let mut s = heading("check", r.model, r.file);
     if let Some((chosen, before)) = r.auto {
         s += &format!(
             "--auto: {} motion(s) found without extra generalised coordinates; chose {}:\n",
@@ -521,57 +559,21 @@ pub fn check_text(r: &CheckReport<'_>, generalised: &[String]) -> String {
         None => singular_value_text(a),
     };
     for (k, m) in a.motions.iter().enumerate() {
-        let values: Vec<f64> = m.coordinates.iter().map(|c| c.value).collect();
-        let (shown, rest) = top_entries(&values);
-        let what = if rest.is_some() {
-            format!(", the {TEXT_TOP_ENTRIES} largest of {}", values.len())
-        } else {
-            String::new()
-        };
-        s += &format!(
-            "\nMotion {} (kinematically indeterminate; nodal velocities, unit length{what})\n",
-            k + 1
+        let cells = |c: &NodalVelocity| vec![c.node.clone(), c.dof.name().to_string()];
+        s += &null_vector_text(
+            (&format!("Motion {}", k + 1), MOTION_KIND),
+            (&m.coordinates, |c| c.value, cells),
+            &["node", "dof", "velocity"],
         );
-        let rows: Vec<Vec<String>> = shown
-            .iter()
-            .map(|&i| &m.coordinates[i])
-            .map(|c| {
-                vec![
-                    c.node.clone(),
-                    c.dof.name().to_string(),
-                    format!("{:+.6}", c.value),
-                ]
-            })
-            .collect();
-        s += &table(&["node", "dof", "velocity"], &rows);
-        s += rest.as_deref().unwrap_or("");
     }
     for (k, st) in a.self_stresses.iter().enumerate() {
-        let values: Vec<f64> = st.deformations.iter().map(|d| d.value).collect();
-        let (shown, rest) = top_entries(&values);
-        let what = if rest.is_some() {
-            format!(", the {TEXT_TOP_ENTRIES} largest of {}", values.len())
-        } else {
-            String::new()
-        };
-        s += &format!(
-            "\nSelf-stress state {} (statically indeterminate; stress resultants, unit length{what})\n",
-            k + 1
+        let cells =
+            |d: &DeformationValue| vec![d.element.clone(), d.mode.to_string(), d.mode_name.clone()];
+        s += &null_vector_text(
+            (&format!("Self-stress state {}", k + 1), SELF_STRESS_KIND),
+            (&st.deformations, |d| d.value, cells),
+            &["element", "mode", "name", "value"],
         );
-        let rows: Vec<Vec<String>> = shown
-            .iter()
-            .map(|&i| &st.deformations[i])
-            .map(|d| {
-                vec![
-                    d.element.clone(),
-                    d.mode.to_string(),
-                    d.mode_name.clone(),
-                    format!("{:+.6}", d.value),
-                ]
-            })
-            .collect();
-        s += &table(&["element", "mode", "name", "value"], &rows);
-        s += rest.as_deref().unwrap_or("");
     }
     if let Some(sc) = r.screws {
         s += &crate::screw_report::screws_text(sc);

@@ -2,7 +2,7 @@
 //! resultants and maximum bending stress, reactions, elastic energy, support compliance and
 //! buckling multipliers. Text tables, JSON and CSV.
 
-use crate::report::{fmt_num, table};
+use crate::report::{fmt_num, heading, table};
 use crate::stopped::{json_field, StopNote};
 use flexmbd_core::model::Model;
 use flexmbd_core::statics::{PathEvent, StaticSolution};
@@ -119,13 +119,7 @@ pub fn static_text(
     extras: &[StepExtras],
     stop: Option<&StopNote>,
 ) -> String {
-    let mut s = String::new();
-    let title = if model.name.is_empty() {
-        String::new()
-    } else {
-        format!(": {}", model.name)
-    };
-    let _ = writeln!(s, "flexmbd static{title}  ({file})\n");
+    let mut s = heading("static", model, file);
     let rigid = sol
         .roles
         .iter()
