@@ -3,7 +3,7 @@
 use super::*;
 use crate::elements::{Beam, FrameError, Hinge, Rigid, Truss};
 use crate::math::norm;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Length below which two nodes of an element count as coincident [m]. Flexures in precision
 /// engineering are far longer than a nanometre; anything shorter is an input error.
@@ -75,10 +75,16 @@ pub struct ModelBuilder {
     prescribed_e: Vec<(usize, usize, f64)>,
 }
 
-fn check_finite(item: &Item, field: &'static str, v: &[f64]) -> Result<(), ModelError> {
+/// `v` is finite, else a [`ModelError::BadValue`] of the item (named only then: reading a model
+/// of 10^5 items allocates no name it does not need).
+fn check_finite(
+    item: impl FnOnce() -> Item,
+    field: &'static str,
+    v: &[f64],
+) -> Result<(), ModelError> {
     match v.iter().find(|x| !x.is_finite()) {
         Some(&value) => Err(ModelError::BadValue {
-            item: item.clone(),
+            item: item(),
             field,
             requirement: "finite",
             value,
@@ -96,17 +102,27 @@ impl ModelBuilder {
         }
     }
 
+    /// Room for `nodes` more nodes and `elements` more elements (a reader that knows its counts
+    /// saves the regrowth of every list).
+    pub fn reserve(&mut self, nodes: usize, elements: usize) {
+        self.nodes.reserve(nodes);
+        self.node_index.reserve(nodes);
+        self.elements.reserve(elements);
+        self.element_names.reserve(elements);
+    }
+
     /// Add a node at `x0` [m]; `rot` asks for rotation coordinates even if no element uses them.
     pub fn add_node(&mut self, name: &str, x0: [f64; 3], rot: bool) -> Result<NodeId, ModelError> {
-        check_finite(&Item::Node(name.to_string()), "x", &x0)?;
+        check_finite(|| Item::Node(name.to_string()), "x", &x0)?;
         if self.node_index.contains_key(name) {
             return Err(ModelError::DuplicateNode {
                 node: name.to_string(),
             });
         }
         let id = self.nodes.len();
-        self.nodes.push((name.to_string(), x0, rot, None));
-        self.node_index.insert(name.to_string(), id);
+        let name = name.to_string();
+        self.node_index.insert(name.clone(), id);
+        self.nodes.push((name, x0, rot, None));
         Ok(id)
     }
 
@@ -127,8 +143,9 @@ impl ModelBuilder {
         let h = self.nodes[h].3.unwrap_or(h);
         let id = self.nodes.len();
         let x0 = self.nodes[h].1;
-        self.nodes.push((name.to_string(), x0, true, Some(h)));
-        self.node_index.insert(name.to_string(), id);
+        let name = name.to_string();
+        self.node_index.insert(name.clone(), id);
+        self.nodes.push((name, x0, true, Some(h)));
         Ok(id)
     }
 
@@ -181,16 +198,16 @@ impl ModelBuilder {
             }
             ids.push(id);
         }
-        let item = Item::Element(name.to_string());
+        let item = || Item::Element(name.to_string());
         match &spec {
-            ElementSpec::Truss { ea } => check_finite(&item, "EA", &[*ea])?,
+            ElementSpec::Truss { ea } => check_finite(item, "EA", &[*ea])?,
             ElementSpec::Beam { orient, ct } => {
-                check_finite(&item, "orient", orient.as_ref().map_or(&[][..], |o| &o[..]))?;
-                check_finite(&item, "ct", &[*ct])?;
+                check_finite(item, "orient", orient.as_ref().map_or(&[][..], |o| &o[..]))?;
+                check_finite(item, "ct", &[*ct])?;
             }
             ElementSpec::Hinge { axis, k } => {
-                check_finite(&item, "axis", axis)?;
-                check_finite(&item, "k", &[*k])?;
+                check_finite(item, "axis", axis)?;
+                check_finite(item, "k", &[*k])?;
             }
             ElementSpec::Rigid => {}
         }
@@ -213,7 +230,7 @@ impl ModelBuilder {
             ElementSpec::Hinge { axis, .. } => {
                 Hinge::new([0, 1], *axis).map_err(|e| match e {
                     FrameError::ZeroAxis => ModelError::BadValue {
-                        item: item.clone(),
+                        item: item(),
                         field: "axis",
                         requirement: "non-zero",
                         value: 0.0,
@@ -313,7 +330,7 @@ impl ModelBuilder {
         element: &str,
         props: crate::section::BeamProps,
     ) -> Result<(), ModelError> {
-        let item = Item::Element(element.to_string());
+        let item = || Item::Element(element.to_string());
         let v = [
             props.ea,
             props.gj,
@@ -324,7 +341,7 @@ impl ModelBuilder {
             props.ct,
             props.rho_a,
         ];
-        check_finite(&item, "section constants", &v)?;
+        check_finite(item, "section constants", &v)?;
         let index = self.element_names.get(element).copied();
         match index.map(|i| &mut self.elements[i]) {
             Some(
@@ -392,9 +409,9 @@ impl ModelBuilder {
         force: [f64; 3],
         moment: [f64; 3],
     ) -> Result<(), ModelError> {
-        let item = Item::Load(node.to_string());
-        check_finite(&item, "force", &force)?;
-        check_finite(&item, "moment", &moment)?;
+        let item = || Item::Load(node.to_string());
+        check_finite(item, "force", &force)?;
+        check_finite(item, "moment", &moment)?;
         if !self.node_index.contains_key(node) {
             return Err(ModelError::UnknownNodeInEntry {
                 what: "load",
@@ -407,7 +424,7 @@ impl ModelBuilder {
 
     /// Gravitational acceleration [m/s²].
     pub fn set_gravity(&mut self, g: [f64; 3]) -> Result<(), ModelError> {
-        check_finite(&Item::Model, "gravity", &g)?;
+        check_finite(|| Item::Model, "gravity", &g)?;
         self.gravity = g;
         Ok(())
     }
@@ -415,8 +432,8 @@ impl ModelBuilder {
     /// Steady rotation at angular velocity `omega` [rad/s] about the axis through `point`
     /// ([`Spin`]): centrifugal loads in statics, centrifugal softening in dynamics.
     pub fn set_spin(&mut self, omega: [f64; 3], point: [f64; 3]) -> Result<(), ModelError> {
-        check_finite(&Item::Model, "spin", &omega)?;
-        check_finite(&Item::Model, "spin_point", &point)?;
+        check_finite(|| Item::Model, "spin", &omega)?;
+        check_finite(|| Item::Model, "spin_point", &point)?;
         self.spin = Some(Spin { omega, point });
         Ok(())
     }
@@ -444,7 +461,7 @@ impl ModelBuilder {
     /// An inertia tensor [kg·m²] about a rotational node, global axes in the reference
     /// orientation (SPACAR `XM n Ixx Ixy Ixz Iyy Iyz Izz`): [Ixx, Ixy, Ixz, Iyy, Iyz, Izz].
     pub fn add_inertia(&mut self, node: &str, i: [f64; 6]) -> Result<(), ModelError> {
-        check_finite(&Item::Mass(node.into()), "inertia", &i)?;
+        check_finite(|| Item::Mass(node.into()), "inertia", &i)?;
         if !self.node_index.contains_key(node) {
             return Err(ModelError::UnknownNodeInEntry {
                 what: "mass",
@@ -486,7 +503,7 @@ impl ModelBuilder {
         dof: Dof,
         value: f64,
     ) -> Result<(), ModelError> {
-        check_finite(&Item::Input(node.into()), dof.name(), &[value])?;
+        check_finite(|| Item::Input(node.into()), dof.name(), &[value])?;
         self.entry("inputs", node, Some(&[dof]))?;
         self.prescribed_x.push((node.to_string(), dof, value));
         Ok(())
@@ -499,7 +516,7 @@ impl ModelBuilder {
         mode: usize,
         value: f64,
     ) -> Result<(), ModelError> {
-        check_finite(&Item::Element(element.into()), "input value", &[value])?;
+        check_finite(|| Item::Element(element.into()), "input value", &[value])?;
         let Some(&index) = self.element_names.get(element) else {
             return Err(ModelError::NotA {
                 element: element.to_string(),
@@ -549,9 +566,27 @@ impl ModelBuilder {
 
     /// Validate and compile the model.
     pub fn build(self) -> Result<Model, ModelError> {
+        // the builder's names move into the model (no copies: 10^5 items)
+        let ModelBuilder {
+            name: model_name,
+            nodes: pending_nodes,
+            node_index,
+            elements: pending,
+            element_names: _,
+            fixes,
+            inputs,
+            rigid_modes,
+            loads: pending_loads,
+            gravity,
+            spin,
+            masses,
+            inertias,
+            prescribed_x,
+            prescribed_e,
+        } = self;
         // which nodes carry rotations
-        let mut rot: Vec<bool> = self.nodes.iter().map(|n| n.2 || n.3.is_some()).collect();
-        for e in &self.elements {
+        let mut rot: Vec<bool> = pending_nodes.iter().map(|n| n.2 || n.3.is_some()).collect();
+        for e in &pending {
             match e.spec {
                 ElementSpec::Beam { .. } | ElementSpec::Hinge { .. } => {
                     for &n in &e.nodes {
@@ -563,11 +598,11 @@ impl ModelBuilder {
             }
         }
         // coordinate layout
-        let mut nodes = Vec::with_capacity(self.nodes.len());
+        let mut nodes = Vec::with_capacity(pending_nodes.len());
         let mut nx = 0;
-        for (i, (name, x0, _, host)) in self.nodes.iter().enumerate() {
+        for (i, (name, x0, _, host)) in pending_nodes.into_iter().enumerate() {
             let ix_pos = match host {
-                Some(h) => nodes.get(*h).map_or(0, |n: &Node| n.ix_pos),
+                Some(h) => nodes.get(h).map_or(0, |n: &Node| n.ix_pos),
                 None => {
                     nx += 3;
                     nx - 3
@@ -578,18 +613,18 @@ impl ModelBuilder {
                 nx - 4
             });
             nodes.push(Node {
-                name: name.clone(),
-                x0: *x0,
-                host: *host,
+                name,
+                x0,
+                host,
                 ix_pos,
                 ix_rot,
             });
         }
         // elements
-        let mut elements = Vec::with_capacity(self.elements.len());
-        let mut e_kind = Vec::new();
+        let mut elements = Vec::with_capacity(pending.len());
+        let mut e_kind = Vec::with_capacity(6 * pending.len());
         let mut ne = 0;
-        for p in &self.elements {
+        for p in pending {
             let pos = |k: usize| nodes[p.nodes[k]].x0;
             let two = [p.nodes[0], *p.nodes.get(1).unwrap_or(&p.nodes[0])];
             let element = match &p.spec {
@@ -631,10 +666,7 @@ impl ModelBuilder {
                         })
                         .collect();
                     Element::Rigid(Rigid::with_shared_positions(
-                        p.nodes.clone(),
-                        &positions,
-                        flags,
-                        pos_flags,
+                        p.nodes, &positions, flags, pos_flags,
                     ))
                 }
             };
@@ -649,7 +681,7 @@ impl ModelBuilder {
                     });
                 }
             }
-            let mut xmap = Vec::new();
+            let mut xmap = Vec::with_capacity(14);
             for u in element.node_uses() {
                 let n = &nodes[u.node];
                 if u.pos {
@@ -671,7 +703,7 @@ impl ModelBuilder {
             }
             e_kind.extend(kinds);
             elements.push(ElementEntry {
-                name: p.name.clone(),
+                name: p.name,
                 element,
                 ie: ne,
                 xmap,
@@ -682,11 +714,11 @@ impl ModelBuilder {
         // partition of x
         let mut x_kind = vec![CoordKind::Free; nx];
         for (what, list, kind) in [
-            ("fix", &self.fixes, CoordKind::Fixed),
-            ("inputs", &self.inputs, CoordKind::Input),
+            ("fix", &fixes, CoordKind::Fixed),
+            ("inputs", &inputs, CoordKind::Input),
         ] {
             for (name, dofs) in list {
-                let n = &nodes[self.node_index[name]];
+                let n = &nodes[node_index[name]];
                 let all = dofs.is_none();
                 for &d in dofs.as_deref().unwrap_or(&Dof::ALL) {
                     match n.x_index(d) {
@@ -714,7 +746,7 @@ impl ModelBuilder {
         // statics data: explicit rigid modes, loads, masses, prescribed values
         let mut explicit_rigid = vec![false; ne];
         // pending element i compiles to elements[i]
-        for &(index, mode) in &self.rigid_modes {
+        for &(index, mode) in &rigid_modes {
             let el = &elements[index];
             if mode > el.element.ne() {
                 return Err(ModelError::BadMode {
@@ -727,12 +759,12 @@ impl ModelBuilder {
             explicit_rigid[el.ie + mode - 1] = true;
         }
         let mut loads = Loads {
-            gravity: self.gravity,
-            spin: self.spin,
+            gravity,
+            spin,
             ..Default::default()
         };
-        for (name, force, moment) in &self.loads {
-            let node = self.node_index[name];
+        for (name, force, moment) in &pending_loads {
+            let node = node_index[name];
             if moment.iter().any(|m| *m != 0.0) && !nodes[node].rot() {
                 return Err(ModelError::MomentWithoutRotation { node: name.clone() });
             }
@@ -742,11 +774,11 @@ impl ModelBuilder {
                 moment: *moment,
             });
         }
-        for (name, m) in &self.masses {
-            loads.point_masses.push((self.node_index[name], *m));
+        for (name, m) in &masses {
+            loads.point_masses.push((node_index[name], *m));
         }
-        for (name, t) in &self.inertias {
-            let node = self.node_index[name];
+        for (name, t) in &inertias {
+            let node = node_index[name];
             if !nodes[node].rot() {
                 return Err(ModelError::NoRotation {
                     what: "mass",
@@ -756,20 +788,21 @@ impl ModelBuilder {
             }
             loads.inertias.push((node, *t));
         }
-        for (name, dof, value) in &self.prescribed_x {
-            let i = nodes[self.node_index[name]].x_index(*dof).ok_or_else(|| {
-                ModelError::NoRotation {
-                    what: "inputs",
-                    node: name.clone(),
-                    dof: dof.name(),
-                }
-            })?;
+        for (name, dof, value) in &prescribed_x {
+            let i =
+                nodes[node_index[name]]
+                    .x_index(*dof)
+                    .ok_or_else(|| ModelError::NoRotation {
+                        what: "inputs",
+                        node: name.clone(),
+                        dof: dof.name(),
+                    })?;
             loads.prescribed.push(Prescribed {
                 target: Target::Coordinate(i),
                 value: *value,
             });
         }
-        for &(index, mode, value) in &self.prescribed_e {
+        for &(index, mode, value) in &prescribed_e {
             let el = &elements[index];
             loads.prescribed.push(Prescribed {
                 target: Target::Deformation(el.ie + mode - 1),
@@ -777,7 +810,7 @@ impl ModelBuilder {
             });
         }
         Ok(Model {
-            name: self.name,
+            name: model_name,
             nodes,
             elements,
             nx,

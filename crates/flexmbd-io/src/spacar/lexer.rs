@@ -39,7 +39,7 @@ fn is_separator(c: char) -> bool {
 
 /// Split one line (without its newline) into fields and comment.
 pub(crate) fn split_line(no: usize, raw: &str) -> Line<'_> {
-    let mut tokens = Vec::new();
+    let mut tokens = Vec::with_capacity(12);
     let mut comment = None;
     let mut start: Option<(usize, usize)> = None; // (byte, col)
     let mut col = 0;
@@ -145,12 +145,27 @@ pub(crate) fn parse_int(s: &str) -> Result<i64, String> {
         .map_err(|_| format!("the number `{s}` is too large"))
 }
 
+/// The keyword of a line as the parser matches it: upper case, special characters escaped.
+/// Borrowed when the file writes it in upper case already (the usual case: no allocation per
+/// line of a model of 10^5 elements).
+pub(crate) fn keyword<'l>(token: &'l str) -> std::borrow::Cow<'l, str> {
+    if token
+        .bytes()
+        .all(|b| b.is_ascii_uppercase() || b.is_ascii_digit() || b == b'_')
+    {
+        std::borrow::Cow::Borrowed(token)
+    } else {
+        std::borrow::Cow::Owned(token.escape_debug().to_string().to_ascii_uppercase())
+    }
+}
+
 /// Reads the fields of one keyword line, with errors at the field's column.
 pub(crate) struct Fields<'a, 'l> {
     file: &'a str,
     line: &'l Line<'l>,
-    /// Name of the item for messages, e.g. "BEAM" or "BEAM 3".
-    pub item: String,
+    /// The number of the item the line defines, once read: messages name the item as
+    /// "BEAM" before and "BEAM 3" after ([`Fields::named`]).
+    number: Option<u32>,
     pos: usize,
 }
 
@@ -160,12 +175,22 @@ impl<'a, 'l> Fields<'a, 'l> {
         Self {
             file,
             line,
-            item: line.tokens[0]
-                .text
-                .escape_debug()
-                .to_string()
-                .to_ascii_uppercase(),
+            number: None,
             pos: 1,
+        }
+    }
+
+    /// From here on, messages name the item with its number (`BEAM 3`).
+    pub fn named(&mut self, number: u32) {
+        self.number = Some(number);
+    }
+
+    /// Name of the item for messages, e.g. "BEAM" or "BEAM 3".
+    pub fn item(&self) -> String {
+        let kw = keyword(self.line.tokens[0].text);
+        match self.number {
+            Some(n) => format!("{kw} {n}"),
+            None => kw.into_owned(),
         }
     }
 
@@ -180,7 +205,7 @@ impl<'a, 'l> Fields<'a, 'l> {
             self.file,
             self.line.no,
             col,
-            format!("{}: {msg}", self.item),
+            format!("{}: {msg}", self.item()),
         )
     }
 
@@ -191,7 +216,7 @@ impl<'a, 'l> Fields<'a, 'l> {
             self.file,
             self.line.no,
             col,
-            format!("{}: {msg}", self.item),
+            format!("{}: {msg}", self.item()),
         )
     }
 

@@ -39,7 +39,8 @@ use crate::spec::{
     BeamSpec, DofEntry, ElementEntrySpec, ElementKind as Kind, ModelSpec, NodePlace, NodeSpec, Src,
 };
 use flexmbd_core::model::Dof;
-use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
+use rustc_hash::FxHashMap as HashMap;
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt::Write;
 
 /// Name of the artificial position node of hinge-only rotational nodes.
@@ -58,21 +59,22 @@ pub struct NodeMap {
 impl NodeMap {
     /// Work out the hosts of all rotational nodes.
     pub fn new(m: &SpacarModel) -> Result<NodeMap, InputError> {
-        let mut home: BTreeMap<u32, (u32, u32, usize)> = BTreeMap::new();
+        let mut home: HashMap<u32, (u32, u32, usize)> =
+            HashMap::with_capacity_and_hasher(m.elements.len(), Default::default());
         let mut adj: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
         for e in &m.elements {
-            let pairs: Vec<(u32, u32)> = match e.kind {
+            let pairs: [Option<(u32, u32)>; 2] = match e.kind {
                 ElementKind::Beam { xp, rp, xq, rq, .. }
-                | ElementKind::BeamW { xp, rp, xq, rq, .. } => vec![(xp, rp), (xq, rq)],
-                ElementKind::RBeam { xp, rp, .. } => vec![(xp, rp)],
+                | ElementKind::BeamW { xp, rp, xq, rq, .. } => [Some((xp, rp)), Some((xq, rq))],
+                ElementKind::RBeam { xp, rp, .. } => [Some((xp, rp)), None],
                 ElementKind::Hinge { rp, rq, .. } => {
                     adj.entry(rp).or_default().push(rq);
                     adj.entry(rq).or_default().push(rp);
-                    vec![]
+                    [None, None]
                 }
-                ElementKind::Truss { .. } => vec![],
+                ElementKind::Truss { .. } => [None, None],
             };
-            for (t, r) in pairs {
+            for (t, r) in pairs.into_iter().flatten() {
                 match home.get(&r) {
                     Some(&(t0, el, line)) if t0 != t => {
                         return Err(at_line(
@@ -185,7 +187,10 @@ fn fmt_modes(v: &[u32]) -> String {
 }
 
 /// The neutral model of a SPACAR model.
-pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
+///
+/// `comments`: write the SPACAR provenance of every item as comments (the document of
+/// `convert`); an analysis of the file skips them (most of the mapping's time on 10^5 beams).
+pub(super) fn to_spec(m: &SpacarModel, comments: bool) -> Result<ModelSpec, InputError> {
     let map = NodeMap::new(m)?;
     let err = |line: usize, msg: String| at_line(&m.file, line, 1, msg);
     let x_of: HashMap<u32, &Position> = m.positions.iter().map(|p| (p.node, p)).collect();
@@ -196,7 +201,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         ..Default::default()
     };
     // the line of the first element that uses each node (one pass: linear in the model size)
-    let mut first_line: HashMap<u32, usize> = HashMap::new();
+    let mut first_line: HashMap<u32, usize> = HashMap::default();
     for e in &m.elements {
         for (n, _) in e.kind.node_slots() {
             first_line.entry(n).or_insert(e.line);
@@ -212,10 +217,12 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         NodeSpec {
             name: map.rot_name(r),
             place: NodePlace::At(host),
-            comment: Some(if via_hinges {
-                format!("SPACAR rotational node {r} (hinges only, no position of its own)")
-            } else {
-                format!("SPACAR rotational node {r}")
+            comment: comments.then(|| {
+                if via_hinges {
+                    format!("SPACAR rotational node {r} (hinges only, no position of its own)")
+                } else {
+                    format!("SPACAR rotational node {r}")
+                }
             }),
             src: Src::maybe_line(first_use(r)),
         }
@@ -238,7 +245,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
         spec.nodes.push(NodeSpec {
             name: NodeMap::trans_name(t),
             place: NodePlace::Position { x, rot: false },
-            comment: Some(format!("SPACAR translational node {t}")),
+            comment: comments.then(|| format!("SPACAR translational node {t}")),
             src: Src::line(p.line),
         });
         for &r in hosted.get(&Some(t)).into_iter().flatten() {
@@ -271,58 +278,26 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
 
     // --- elements ---
     let by = ByElement::new(m);
-    let last = |of: &HashMap<u32, &ElementValues>, el: u32| -> Option<Vec<f64>> {
-        of.get(&el).map(|v| v.values.clone())
-    };
     type Lists<'a> = HashMap<u32, Vec<&'a ModeList>>;
+    // the modes the lists name for an element, in order, once each
     let modes = |lists: &[&Lists], el: u32, max: u32| -> Vec<i64> {
-        let set: BTreeSet<u32> = lists
+        let mut set: Vec<i64> = lists
             .iter()
             .flat_map(|of| of.get(&el).into_iter().flatten())
             .flat_map(|l| l.modes.iter().copied())
             .filter(|&k| k <= max)
+            .map(i64::from)
             .collect();
-        set.into_iter().map(i64::from).collect()
+        set.sort_unstable();
+        set.dedup();
+        set
     };
     for e in &m.elements {
         let n = e.number;
-        let estiff = last(&by.estiff, n);
-        let mut comments = vec![format!(
-            "SPACAR {} {} (line {})",
-            e.kind.keyword(),
-            n,
-            e.line
-        )];
-        for (kw, lists) in [
-            ("RLSE", &by.rlse),
-            ("DYNE", &by.dyne),
-            ("INPUTE", &by.inpute),
-        ] {
-            for l in lists.get(&n).into_iter().flatten() {
-                let to = match kw {
-                    "RLSE" => "free",
-                    "DYNE" => "input (dynamic DOFs: rows of Dcc, as in SPACAR)",
-                    _ => "input",
-                };
-                comments.push(format!(
-                    "{kw} {} {} (line {}) -> {to}",
-                    n,
-                    fmt_modes(&l.modes),
-                    l.line
-                ));
-            }
-        }
-        if let Some(v) = &estiff {
-            comments.push(format!(
-                "ESTIFF: {}",
-                fmt_named(e.kind.stiffness_columns(), v)
-            ));
-        }
-        if let Some(v) = last(&by.em, n) {
-            comments.push(format!("EM: {}", fmt_named(e.kind.mass_columns(), &v)));
-        }
-        if let Some(v) = last(&by.esig, n) {
-            comments.push(format!("ESIG (pre-stress): {}", fmt_values(&v)));
+        let estiff = by.estiff.get(&n).map(|v| v.values.as_slice());
+        let mut notes = Vec::new();
+        if comments {
+            notes = element_notes(&by, e, estiff);
         }
         let free = modes(&[&by.rlse], n, 6);
         let input = modes(&[&by.dyne, &by.inpute], n, 6);
@@ -342,9 +317,11 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                 orient,
                 ..
             } => {
-                comments.push(format!(
-                    "BEAMW: warping nodes {wp}, {wq} and deformations 7-8 are not modelled"
-                ));
+                if comments {
+                    notes.push(format!(
+                        "BEAMW: warping nodes {wp}, {wq} and deformations 7-8 are not modelled"
+                    ));
+                }
                 (
                     vec![map.rot_name(*rp), map.rot_name(*rq)],
                     Kind::Beam(BeamSpec {
@@ -366,10 +343,10 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
                         format!("RBEAM {n}: its deformations cannot be released or made inputs in flexmbd (a rigid body has no free or input modes); model the part as a BEAM instead"),
                     ));
                 }
-                if let Some(o) = orient {
-                    comments.push(format!(
+                if let Some(o) = orient.filter(|_| comments) {
+                    notes.push(format!(
                         "orientation (local y) {} is used by SPACAR for mass and drawing only",
-                        fmt_values(o)
+                        fmt_values(&o)
                     ));
                 }
                 (
@@ -404,7 +381,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             free,
             input,
             damping: None,
-            comments,
+            comments: notes,
             src: Src::line(e.line),
         });
     }
@@ -448,7 +425,7 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
             let entry = DofEntry {
                 node: name,
                 dofs: Some(d),
-                comment: Some(text),
+                comment: comments.then_some(text),
                 src: Src::line(l.line),
             };
             match target {
@@ -461,6 +438,53 @@ pub(super) fn to_spec(m: &SpacarModel) -> Result<ModelSpec, InputError> {
 
     spec.header = header(m, &map, None, false);
     Ok(spec)
+}
+
+/// The comments of element `e` in a converted file: its SPACAR line, the mode lists that name
+/// it, its stiffness, mass and pre-stress values.
+fn element_notes(by: &ByElement, e: &super::Element, estiff: Option<&[f64]>) -> Vec<String> {
+    let n = e.number;
+    let mut notes = vec![format!(
+        "SPACAR {} {} (line {})",
+        e.kind.keyword(),
+        n,
+        e.line
+    )];
+    for (kw, lists) in [
+        ("RLSE", &by.rlse),
+        ("DYNE", &by.dyne),
+        ("INPUTE", &by.inpute),
+    ] {
+        for l in lists.get(&n).into_iter().flatten() {
+            let to = match kw {
+                "RLSE" => "free",
+                "DYNE" => "input (dynamic DOFs: rows of Dcc, as in SPACAR)",
+                _ => "input",
+            };
+            notes.push(format!(
+                "{kw} {} {} (line {}) -> {to}",
+                n,
+                fmt_modes(&l.modes),
+                l.line
+            ));
+        }
+    }
+    if let Some(v) = estiff {
+        notes.push(format!(
+            "ESTIFF: {}",
+            fmt_named(e.kind.stiffness_columns(), v)
+        ));
+    }
+    if let Some(v) = by.em.get(&n) {
+        notes.push(format!(
+            "EM: {}",
+            fmt_named(e.kind.mass_columns(), &v.values)
+        ));
+    }
+    if let Some(v) = by.esig.get(&n) {
+        notes.push(format!("ESIG (pre-stress): {}", fmt_values(&v.values)));
+    }
+    notes
 }
 
 /// The comment block at the top of a converted file: provenance, naming, and the SPACAR data

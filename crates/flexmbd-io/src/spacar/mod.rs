@@ -32,7 +32,8 @@ mod tests;
 use crate::error::InputError;
 use crate::spec::{ModelFile, ModelSpec, SpecError, SpecErrorKind};
 use flexmbd_core::Model;
-use std::collections::{BTreeMap, HashMap};
+use rustc_hash::FxHashMap as HashMap;
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// A non-fatal problem: the file is read, the kinematic result does not depend on it.
@@ -279,7 +280,7 @@ pub struct ElementValues {
 /// The last entry of each element number in an element table (a later line overrides an
 /// earlier one): one pass over the table, so that reading a file stays linear in its size.
 fn last_per_element(list: &[ElementValues]) -> HashMap<u32, &ElementValues> {
-    let mut by = HashMap::with_capacity(list.len());
+    let mut by = HashMap::with_capacity_and_hasher(list.len(), Default::default());
     for v in list {
         by.insert(v.element, v);
     }
@@ -288,7 +289,7 @@ fn last_per_element(list: &[ElementValues]) -> HashMap<u32, &ElementValues> {
 
 /// The mode lists (`RLSE`, `DYNE`, `INPUTE`) of each element number, in file order.
 fn lists_per_element(list: &[ModeList]) -> HashMap<u32, Vec<&ModeList>> {
-    let mut by: HashMap<u32, Vec<&ModeList>> = HashMap::new();
+    let mut by: HashMap<u32, Vec<&ModeList>> = HashMap::default();
     for l in list {
         by.entry(l.element).or_default().push(l);
     }
@@ -582,7 +583,7 @@ impl SpacarModel {
     /// with comments): `DYNE` deformations and `DYNX` coordinates are inputs, as in SPACAR's
     /// kinematic analysis.
     pub fn to_spec(&self) -> Result<ModelSpec, InputError> {
-        mapping::to_spec(self)
+        mapping::to_spec(self, true)
     }
 
     /// The neutral model spec with the static data (beam constants, modes kept rigid, loads,
@@ -594,7 +595,7 @@ impl SpacarModel {
 
     /// Build the core model for the kinematic check; errors name file and line.
     pub fn to_model(&self) -> Result<Model, InputError> {
-        let spec = self.to_spec()?;
+        let spec = mapping::to_spec(self, false)?;
         spec.build().map_err(|e| self.spec_error(e))
     }
 

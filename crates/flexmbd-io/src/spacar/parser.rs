@@ -130,16 +130,12 @@ impl<'a> Parser<'a> {
     }
 
     fn line(&mut self, line: &Line) -> Result<(), InputError> {
-        let kw = line.tokens[0]
-            .text
-            .escape_debug()
-            .to_string()
-            .to_ascii_uppercase();
+        let kw = super::lexer::keyword(line.tokens[0].text);
         let no = line.no;
         if matches!(self.section, Section::Trailer | Section::Visualization) {
             return self.trailer(line, &kw);
         }
-        match kw.as_str() {
+        match &*kw {
             "END" => {
                 if self.pending_end.take().is_some() {
                     // END END: the analysis input is complete
@@ -242,7 +238,7 @@ impl<'a> Parser<'a> {
         match kw {
             "X" => {
                 let node = f.positive("node number")?;
-                f.item = format!("X {node}");
+                f.named(node);
                 let values = f.rest_floats("coordinate")?;
                 if values.len() != 3 && values.len() != 4 {
                     return Err(f.err_at(
@@ -261,7 +257,7 @@ impl<'a> Parser<'a> {
             }
             "BEAM" | "BEAMW" | "RBEAM" | "HINGE" | "TRUSS" => {
                 let number = f.positive("element number")?;
-                f.item = format!("{kw} {number}");
+                f.named(number);
                 let kind = element(kw, f)?;
                 f.done()?;
                 self.m.elements.push(Element {
@@ -272,7 +268,7 @@ impl<'a> Parser<'a> {
             }
             "RLSE" | "DYNE" | "INPUTE" => {
                 let element = f.positive("element number")?;
-                f.item = format!("{kw} {element}");
+                f.named(element);
                 let modes = f.rest_positive("deformation mode")?;
                 if modes.is_empty() {
                     return Err(f.err_here("missing deformation mode numbers"));
@@ -290,7 +286,7 @@ impl<'a> Parser<'a> {
             }
             "FIX" | "INPUTX" | "DYNX" => {
                 let node = f.positive("node number")?;
-                f.item = format!("{kw} {node}");
+                f.named(node);
                 let coords = f.rest_positive("coordinate number")?;
                 if let Some(c) = coords.iter().position(|&c| c > 4) {
                     return Err(f.err_at(
@@ -344,7 +340,7 @@ impl<'a> Parser<'a> {
         match kw {
             "ESTIFF" | "EM" | "ESIG" | "EDAMP" | "ED" => {
                 let element = f.positive("element number")?;
-                f.item = format!("{kw} {element}");
+                f.named(element);
                 let values = f.rest_floats("value")?;
                 if values.is_empty() {
                     return Err(f.err_here("missing values"));
@@ -363,7 +359,7 @@ impl<'a> Parser<'a> {
             }
             "XM" | "XF" | "DELXF" => {
                 let node = f.positive("node number")?;
-                f.item = format!("{kw} {node}");
+                f.named(node);
                 let values = f.rest_floats("value")?;
                 if values.is_empty() {
                     return Err(f.err_here("missing values"));
@@ -381,7 +377,7 @@ impl<'a> Parser<'a> {
             }
             "INPUTX" | "DELINPX" => {
                 let node = f.positive("node number")?;
-                f.item = format!("{kw} {node}");
+                f.named(node);
                 let coord = f.positive("coordinate number")?;
                 let value = f.float("value")?;
                 // a file for a time simulation may give the velocity and acceleration too
@@ -407,7 +403,7 @@ impl<'a> Parser<'a> {
             }
             "INPUTE" | "DELINPE" => {
                 let element = f.positive("element number")?;
-                f.item = format!("{kw} {element}");
+                f.named(element);
                 let mode = f.positive("deformation mode")?;
                 let value = f.float("value")?;
                 f.done()?;
@@ -430,7 +426,7 @@ impl<'a> Parser<'a> {
                     ("node number", "coordinate number")
                 };
                 let number = f.positive(what)?;
-                f.item = format!("{kw} {number}");
+                f.named(number);
                 let index = f.positive(index)?;
                 let value = f.float("initial value")?;
                 let rate = if f.remaining() > 0 {
@@ -490,7 +486,7 @@ impl<'a> Parser<'a> {
             }
             "INPUTF" | "OUTX" | "OUTXP" => {
                 let index = f.positive("input/output index")?;
-                f.item = format!("{kw} {index}");
+                f.named(index);
                 let node = f.positive("node number")?;
                 let dir = f.positive("direction")?;
                 f.done()?;

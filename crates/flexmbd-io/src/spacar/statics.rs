@@ -35,7 +35,8 @@ use crate::spec::{
 };
 use flexmbd_core::model::Dof;
 use flexmbd_core::section::BeamProps;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use rustc_hash::FxHashMap as HashMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// flexmbd's default number of load steps (`StaticOptions::default().steps`), for the
 /// load-path warnings of a file without `ITERSTEP`.
@@ -100,7 +101,7 @@ pub(super) enum Purpose {
 
 /// The static data of `m` on top of its kinematic spec.
 pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, InputError> {
-    let mut spec = super::mapping::to_spec(m)?;
+    let mut spec = super::mapping::to_spec(m, purpose == Purpose::Document)?;
     let map = NodeMap::new(m)?;
     let err = |line: usize, msg: String| at_line(&m.file, line, 1, msg);
     let mut warnings = Vec::new();
@@ -235,7 +236,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
                             fmt_num(p.shear[1])
                         ));
                     }
-                    if p.rho_i != [0.0; 3] {
+                    if p.rho_i != [0.0; 3] && purpose == Purpose::Document {
                         entry.comments.push(
                             "rotary inertias (EM columns 2-4) are not written: they matter for dynamics only".into(),
                         );
@@ -320,41 +321,44 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
                 Kind::Rigid => {}
             }
         }
-        let mut roles = Vec::new();
-        if !flexible_dyne.is_empty() {
-            roles.push(format!(
-                "flexible (DYNE with stiffness, not listed below): {}",
-                join(&flexible_dyne)
-            ));
-        }
-        if !free_dyne.is_empty() {
-            roles.push(format!(
-                "free (DYNE without stiffness, a degree of freedom of the time simulation): {}",
-                join(&free_dyne)
-            ));
-        }
-        if !kept_rigid.is_empty() {
-            roles.push(format!(
-                "rigid although ESTIFF gives stiffness (not listed in SPACAR){}: {}",
-                if matches!(entry.kind, Kind::Beam(_)) {
-                    ""
-                } else {
-                    ", so EA/k is not written"
-                },
-                join(&kept_rigid)
-            ));
-        }
-        if !roles.is_empty() {
-            entry
-                .comments
-                .push(format!("statics: {}", roles.join("; ")));
-        }
-        // the kinematic comment on DYNE lines no longer holds
-        for c in &mut entry.comments {
-            if c.starts_with("DYNE ") {
-                if let Some(p) = c.find(" -> ") {
-                    c.truncate(p);
-                    c.push_str(" -> not listed where the mode has stiffness (a row of the kinematic check like an input; flexible in statics), input otherwise");
+        // the document's comments on the element's roles (an analysis does not write them)
+        if purpose == Purpose::Document {
+            let mut roles = Vec::new();
+            if !flexible_dyne.is_empty() {
+                roles.push(format!(
+                    "flexible (DYNE with stiffness, not listed below): {}",
+                    join(&flexible_dyne)
+                ));
+            }
+            if !free_dyne.is_empty() {
+                roles.push(format!(
+                    "free (DYNE without stiffness, a degree of freedom of the time simulation): {}",
+                    join(&free_dyne)
+                ));
+            }
+            if !kept_rigid.is_empty() {
+                roles.push(format!(
+                    "rigid although ESTIFF gives stiffness (not listed in SPACAR){}: {}",
+                    if matches!(entry.kind, Kind::Beam(_)) {
+                        ""
+                    } else {
+                        ", so EA/k is not written"
+                    },
+                    join(&kept_rigid)
+                ));
+            }
+            if !roles.is_empty() {
+                entry
+                    .comments
+                    .push(format!("statics: {}", roles.join("; ")));
+            }
+            // the kinematic comment on DYNE lines no longer holds
+            for c in &mut entry.comments {
+                if c.starts_with("DYNE ") {
+                    if let Some(p) = c.find(" -> ") {
+                        c.truncate(p);
+                        c.push_str(" -> not listed where the mode has stiffness (a row of the kinematic check like an input; flexible in statics), input otherwise");
+                    }
                 }
             }
         }

@@ -3,7 +3,8 @@
 
 use super::*;
 use crate::error::{at_line, InputError};
-use std::collections::{BTreeMap, HashMap};
+use rustc_hash::FxHashMap as HashMap;
+use std::collections::BTreeMap;
 
 /// Where each node number was first used by an element (kind, element number, line).
 type Uses = BTreeMap<u32, (NodeKind, u32, usize)>;
@@ -14,10 +15,10 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     let mut warnings = Vec::new();
 
     // elements: unique numbers, node kinds from the slots
-    let mut element_line: HashMap<u32, usize> = HashMap::new();
+    let mut element_line: HashMap<u32, usize> = HashMap::default();
     let mut uses: Uses = BTreeMap::new();
     for e in &m.elements {
-        let item = format!("{} {}", e.kind.keyword(), e.number);
+        let item = ItemName(e.kind.keyword(), e.number);
         if let Some(first) = element_line.insert(e.number, e.line) {
             return Err(err(
                 e.line,
@@ -57,9 +58,9 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     let kinds = m.node_kinds.clone();
 
     // X lines
-    let mut x_line: HashMap<u32, usize> = HashMap::new();
+    let mut x_line: HashMap<u32, usize> = HashMap::default();
     for p in &m.positions {
-        let item = format!("X {}", p.node);
+        let item = ItemName("X", p.node);
         if let Some(first) = x_line.insert(p.node, p.line) {
             return Err(err(
                 p.line,
@@ -113,15 +114,16 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
 
     // deformation partition
     // the first element of each number (a repeated number is reported above)
-    let mut by_number: HashMap<u32, &Element> = HashMap::with_capacity(m.elements.len());
+    let mut by_number: HashMap<u32, &Element> =
+        HashMap::with_capacity_and_hasher(m.elements.len(), Default::default());
     for e in &m.elements {
         by_number.entry(e.number).or_insert(e);
     }
     let element = |n: u32| by_number.get(&n).copied();
-    let mut mode_kind: HashMap<(u32, u32), (&str, usize)> = HashMap::new();
+    let mut mode_kind: HashMap<(u32, u32), (&str, usize)> = HashMap::default();
     for (kw, lists) in [("RLSE", &m.rlse), ("DYNE", &m.dyne), ("INPUTE", &m.inpute)] {
         for l in lists {
-            let item = format!("{kw} {}", l.element);
+            let item = ItemName(kw, l.element);
             let Some(e) = element(l.element) else {
                 return Err(err(
                     l.line,
@@ -159,11 +161,11 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     }
 
     // coordinate partition
-    let mut coord_kind: HashMap<(u32, u32), (&str, usize)> = HashMap::new();
+    let mut coord_kind: HashMap<(u32, u32), (&str, usize)> = HashMap::default();
     let mut unused_nodes = Vec::new();
     for (kw, lists) in [("FIX", &m.fix), ("INPUTX", &m.inputx), ("DYNX", &m.dynx)] {
         for l in lists {
-            let item = format!("{kw} {}", l.node);
+            let item = ItemName(kw, l.node);
             let Some(&kind) = kinds.get(&l.node) else {
                 if x_line.contains_key(&l.node) {
                     warnings.push(Warning {
@@ -228,13 +230,13 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     }
 
     // static / dynamic data
-    let node_kind = |n: u32, line: usize, item: &str| -> Result<NodeKind, InputError> {
+    let node_kind = |n: u32, line: usize, item: &ItemName| -> Result<NodeKind, InputError> {
         kinds
             .get(&n)
             .copied()
             .ok_or_else(|| err(line, format!("{item}: node {n} is not used by any element")))
     };
-    let mut seen: HashMap<(&str, u32), usize> = HashMap::new();
+    let mut seen: HashMap<(&str, u32), usize> = HashMap::default();
     for (kw, list) in [
         ("ESTIFF", &m.estiff),
         ("EM", &m.em),
@@ -242,7 +244,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
         ("EDAMP", &m.edamp),
     ] {
         for v in list {
-            let item = format!("{kw} {}", v.element);
+            let item = ItemName(kw, v.element);
             let Some(e) = element(v.element) else {
                 return Err(err(
                     v.line,
@@ -278,7 +280,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
         }
     }
     for v in &m.xm {
-        let item = format!("XM {}", v.node);
+        let item = ItemName("XM", v.node);
         let ok = match node_kind(v.node, v.line, &item)? {
             NodeKind::Translational => v.values.len() == 1,
             NodeKind::Rotational => v.values.len() == 6,
@@ -290,7 +292,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     }
     for (kw, list) in [("XF", &m.xf), ("DELXF", &m.delxf)] {
         for v in list {
-            let item = format!("{kw} {}", v.node);
+            let item = ItemName(kw, v.node);
             match (node_kind(v.node, v.line, &item)?, v.values.len()) {
                 (NodeKind::Translational | NodeKind::Rotational, 3) => {}
                 (NodeKind::Rotational, 4) => warnings.push(Warning {
@@ -316,7 +318,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     let is_input_coord = |n: u32, c: u32| matches!(coord_kind.get(&(n, c)), Some(&(k, _)) if k == "INPUTX" || k == "DYNX");
     for (kw, list) in [("INPUTX", &m.inputx_values), ("DELINPX", &m.delinpx)] {
         for v in list {
-            let item = format!("{kw} {}", v.node);
+            let item = ItemName(kw, v.node);
             node_kind(v.node, v.line, &item)?;
             if !is_input_coord(v.node, v.coord) {
                 return Err(err(
@@ -331,7 +333,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     }
     for (kw, list) in [("INPUTE", &m.inpute_values), ("DELINPE", &m.delinpe)] {
         for v in list {
-            let item = format!("{kw} {}", v.element);
+            let item = ItemName(kw, v.element);
             let is_input = matches!(mode_kind.get(&(v.element, v.mode)), Some(&(k, _)) if k == "INPUTE" || k == "DYNE");
             if !is_input {
                 return Err(err(
@@ -364,7 +366,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
         }
     }
     for v in &m.startdx {
-        let item = format!("STARTDX {}", v.number);
+        let item = ItemName("STARTDX", v.number);
         node_kind(v.number, v.line, &item)?;
         if !matches!(coord_kind.get(&(v.number, v.index)), Some(&(k, _)) if k == "DYNX") {
             return Err(err(
@@ -377,7 +379,7 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
         }
     }
     for s in &m.state_space {
-        let item = format!("state-space line {}", s.index);
+        let item = ItemName("state-space line", s.index);
         let k = node_kind(s.node, s.line, &item)?;
         if s.dir > k.n_coords() {
             return Err(err(
@@ -429,4 +431,14 @@ pub(super) fn validate(m: &mut SpacarModel) -> Result<(), InputError> {
     }
     m.warnings.extend(warnings);
     Ok(())
+}
+
+/// An item of the file as messages name it (`BEAM 3`, `X 7`): written only when a message is.
+#[derive(Clone, Copy)]
+struct ItemName<'a>(&'a str, u32);
+
+impl std::fmt::Display for ItemName<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} {}", self.0, self.1)
+    }
 }

@@ -13,7 +13,7 @@ use super::*;
 use crate::limits::{MAX_BUCKLING, MAX_ITERATIONS, MAX_SEGMENTS, MAX_STEPS};
 use flexmbd_core::model::{ElementSpec, Item};
 use flexmbd_core::{Model, ModelBuilder, ModelError};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// What is wrong with a spec.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,19 +84,18 @@ impl ModelSpec {
 
     fn build_with(&self, dynamic_inputs: bool) -> Result<ModelFile, SpecError> {
         let mut b = ModelBuilder::new(&self.name);
-        // where each item the compiled model may name was written
-        let mut at_of: HashMap<Item, Option<Pos>> = HashMap::new();
+        b.reserve(self.nodes.len(), self.elements.len());
         for n in &self.nodes {
-            at_of.insert(Item::Node(n.name.clone()), n.src.at);
             match &n.place {
                 NodePlace::Position { x, rot } => b.add_node(&n.name, *x, *rot),
                 NodePlace::At(host) => b.add_node_at(&n.name, host),
             }
             .map_err(model_err(&n.src))?;
         }
-        let chains = self.segment_nodes(&mut b, &mut at_of)?;
+        let chains = self.segment_nodes(&mut b)?;
         let mut beams: Vec<(String, &ElementEntrySpec, &BeamSpec)> = Vec::new();
-        let mut parts_of: Vec<(String, &ElementEntrySpec)> = Vec::new();
+        let mut parts_of: Vec<(String, &ElementEntrySpec)> =
+            Vec::with_capacity(self.elements.len());
         for (e, chain) in self.elements.iter().zip(&chains) {
             let spec = match &e.kind {
                 ElementKind::Truss { ea } => ElementSpec::Truss { ea: *ea },
@@ -117,7 +116,6 @@ impl ModelSpec {
             for (id, nodes) in parts {
                 b.add_element(&id, &nodes, spec.clone(), &e.free, &e.input)
                     .map_err(model_err(&e.src))?;
-                at_of.insert(Item::Element(id.clone()), e.src.at);
                 parts_of.push((id.clone(), e));
                 if let ElementKind::Beam(s) = &e.kind {
                     beams.push((id, e, s));
@@ -127,8 +125,9 @@ impl ModelSpec {
 
         let materials = read_materials(&self.materials)?;
         let sections = read_sections(&self.sections)?;
+        let mut made = Default::default();
         for (id, e, s) in &beams {
-            if let Some(props) = beam_constants(s, &materials, &sections)
+            if let Some(props) = beam_constants(s, &materials, &sections, &mut made)
                 .map_err(|m| invalid(e.src.at, format!("element `{}`: {m}", e.name)))?
             {
                 b.set_beam_props(id, props).map_err(model_err(&e.src))?;
@@ -149,7 +148,6 @@ impl ModelSpec {
         }
 
         for f in &self.fix {
-            at_of.insert(Item::Fix(f.node.clone()), f.src.at);
             b.fix(&f.node, f.dofs.as_deref())
                 .map_err(model_err(&f.src))?;
         }
@@ -159,28 +157,23 @@ impl ModelSpec {
             &[]
         };
         for i in self.inputs.iter().chain(dynamic) {
-            at_of.entry(Item::Input(i.node.clone())).or_insert(i.src.at);
             b.input(&i.node, i.dofs.as_deref())
                 .map_err(model_err(&i.src))?;
         }
         for l in &self.loads {
-            at_of.insert(Item::Load(l.node.clone()), l.src.at);
             b.add_load(&l.node, l.force, l.moment)
                 .map_err(model_err(&l.src))?;
         }
         for m in &self.masses {
-            at_of.insert(Item::Mass(m.node.clone()), m.src.at);
             b.add_point_mass(&m.node, m.m).map_err(model_err(&m.src))?;
         }
         for m in &self.inertias {
-            at_of.insert(Item::Mass(m.node.clone()), m.src.at);
             b.add_inertia(&m.node, m.i).map_err(model_err(&m.src))?;
         }
         self.check_prescribed_once()?;
         for p in &self.prescribed {
             match &p.target {
                 PrescribeTarget::Coordinate { node, dof } => {
-                    at_of.insert(Item::Input(node.clone()), p.src.at);
                     b.prescribe_coordinate(node, *dof, p.value)
                 }
                 PrescribeTarget::Deformation { element, mode } => {
@@ -195,7 +188,7 @@ impl ModelSpec {
         let settings = self.static_settings(&mut b)?;
 
         let model = b.build().map_err(|error| SpecError {
-            at: at_of.get(&error.item()).copied().flatten(),
+            at: self.place_of(&error.item(), dynamic_inputs),
             kind: SpecErrorKind::Model(error),
         })?;
         if let Some(message) = crate::error::no_elements(&model) {
@@ -222,14 +215,58 @@ impl ModelSpec {
         })
     }
 
+    /// Where `item`, named by an error of the compiled model, was written: the last definition
+    /// of a node or element (a segment `id:k` of beam `id` at the beam), the fix of a node, the
+    /// last prescribed value of a node else its first input entry, its last load, its last
+    /// inertia else point mass. Looked up only for an error: a valid model of 10^5 items keeps
+    /// no table of places.
+    fn place_of(&self, item: &Item, dynamic_inputs: bool) -> Option<Pos> {
+        fn last<'a, T: 'a>(
+            list: impl DoubleEndedIterator<Item = &'a T>,
+            hit: impl Fn(&T) -> bool,
+            src: impl Fn(&T) -> &Src,
+        ) -> Option<Option<Pos>> {
+            list.rev().find(|x| hit(x)).map(|x| src(x).at)
+        }
+        let segment_of = |name: &str| {
+            let (beam, k) = name.rsplit_once(':')?;
+            k.parse::<usize>().ok()?;
+            last(self.elements.iter(), |e| e.name == beam, |e| &e.src)
+        };
+        let place = match item {
+            Item::Node(n) => {
+                last(self.nodes.iter(), |x| x.name == *n, |x| &x.src).or_else(|| segment_of(n))
+            }
+            Item::Element(id) => {
+                last(self.elements.iter(), |e| e.name == *id, |e| &e.src).or_else(|| segment_of(id))
+            }
+            Item::Fix(n) => last(self.fix.iter(), |f| f.node == *n, |f| &f.src),
+            Item::Input(n) => {
+                let prescribed = self.prescribed.iter().rev().find(
+                    |p| matches!(&p.target, PrescribeTarget::Coordinate { node, .. } if node == n),
+                );
+                let dynamic: &[DofEntry] = if dynamic_inputs {
+                    &self.dynamic_inputs
+                } else {
+                    &[]
+                };
+                prescribed.map(|p| p.src.at).or_else(|| {
+                    let mut all = self.inputs.iter().chain(dynamic);
+                    all.find(|i| i.node == *n).map(|i| i.src.at)
+                })
+            }
+            Item::Load(n) => last(self.loads.iter(), |l| l.node == *n, |l| &l.src),
+            Item::Mass(n) => last(self.inertias.iter(), |m| m.node == *n, |m| &m.src)
+                .or_else(|| last(self.masses.iter(), |m| m.node == *n, |m| &m.src)),
+            Item::Model => None,
+        };
+        place.flatten()
+    }
+
     /// The intermediate nodes of beams split into segments (`id:1`, … at equal spacing), added
     /// to `b`; per element the chain of its nodes, `None` when it is not split (one segment,
     /// or end nodes whose position is not known: the builder then reports them).
-    fn segment_nodes(
-        &self,
-        b: &mut ModelBuilder,
-        at_of: &mut HashMap<Item, Option<Pos>>,
-    ) -> Result<Vec<Option<Vec<String>>>, SpecError> {
+    fn segment_nodes(&self, b: &mut ModelBuilder) -> Result<Vec<Option<Vec<String>>>, SpecError> {
         let place: HashMap<&str, &NodePlace> = self
             .nodes
             .iter()
@@ -275,7 +312,6 @@ impl ModelSpec {
                 let name = format!("{}:{k}", e.name);
                 let x: [f64; 3] = std::array::from_fn(|i| p[i] + f * (q[i] - p[i]));
                 b.add_node(&name, x, false).map_err(model_err(&e.src))?;
-                at_of.insert(Item::Node(name.clone()), e.src.at);
                 chain.push(name);
             }
             chain.push(e.nodes[1].clone());
@@ -306,7 +342,7 @@ impl ModelSpec {
             }
             current.to_string()
         };
-        let mut seen: HashMap<(String, String), Option<usize>> = HashMap::new();
+        let mut seen: HashMap<(String, String), Option<usize>> = HashMap::default();
         for (k, p) in self.prescribed.iter().enumerate() {
             let (what, key) = match &p.target {
                 PrescribeTarget::Coordinate { node, dof } => {

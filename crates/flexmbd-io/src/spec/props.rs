@@ -4,12 +4,15 @@
 use super::build::SpecError;
 use super::{BeamSpec, MaterialSpec, SectionSpec, ShapeSpec};
 use flexmbd_core::section::{BeamProps, Material, Shape};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Materials by name.
 pub(super) type Materials = HashMap<String, Material>;
 /// Sections by name, with "include shear flexibility".
 pub(super) type Sections = HashMap<String, (Shape, bool)>;
+/// The beam constants of each (section, material) pair met so far: a model of 10^5 beams of
+/// one section computes them once.
+pub(super) type SectionProps<'a> = HashMap<(&'a str, &'a str), BeamProps>;
 
 fn positive(what: &str, v: f64) -> Result<f64, String> {
     if v.is_finite() && v > 0.0 {
@@ -29,7 +32,7 @@ fn fail(item: &str, name: &str, src: &super::Src) -> impl Fn(String) -> SpecErro
 
 /// Check the materials: E > 0, G > 0 or −1 < ν < 0.5 (not both), ρ ≥ 0, each defined once.
 pub(super) fn read_materials(list: &[MaterialSpec]) -> Result<Materials, SpecError> {
-    let mut out = HashMap::new();
+    let mut out = HashMap::default();
     for s in list {
         let fail = fail("material", &s.name, &s.src);
         let e = positive("E", s.e).map_err(&fail)?;
@@ -65,7 +68,7 @@ pub(super) fn read_materials(list: &[MaterialSpec]) -> Result<Materials, SpecErr
 /// Check the sections: positive dimensions, a tube's inner diameter below its outer one, a
 /// shear factor ≥ 0, each defined once.
 pub(super) fn read_sections(list: &[SectionSpec]) -> Result<Sections, SpecError> {
-    let mut out = HashMap::new();
+    let mut out = HashMap::default();
     for s in list {
         let fail = fail("section", &s.name, &s.src);
         let shape = match s.shape {
@@ -113,10 +116,11 @@ pub(super) fn read_sections(list: &[SectionSpec]) -> Result<Sections, SpecError>
 
 /// The beam's stiffness and mass constants: from `section` + `material`, or given directly;
 /// `None` without either. `Err` is the message (the caller names the element).
-pub(super) fn beam_constants(
-    s: &BeamSpec,
+pub(super) fn beam_constants<'a>(
+    s: &'a BeamSpec,
     materials: &Materials,
     sections: &Sections,
+    made: &mut SectionProps<'a>,
 ) -> Result<Option<BeamProps>, String> {
     let direct = [s.ea, s.gj, s.eiy, s.eiz];
     let extra = s.shear.is_some() || s.rho_i.is_some();
@@ -139,7 +143,9 @@ pub(super) fn beam_constants(
             let (shape, shear) = sections
                 .get(sec)
                 .ok_or_else(|| format!("section `{sec}` is not defined"))?;
-            BeamProps::from_section(m, shape, !shear)
+            *made
+                .entry((sec, mat))
+                .or_insert_with(|| BeamProps::from_section(m, shape, !shear))
         }
         (Some(_), None) => return Err("a `section` needs a `material`".into()),
         (None, Some(_)) => return Err("a `material` needs a `section`".into()),
