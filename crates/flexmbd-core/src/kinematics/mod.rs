@@ -21,6 +21,7 @@ mod present;
 pub mod screw;
 pub mod sparse;
 pub mod update;
+mod wires;
 
 pub use present::{normalize_signed, present_motion, present_self_stress, PRESENT_ZERO};
 
