@@ -1,12 +1,8 @@
-//! `flexmbd simulate` on SPACAR `.dat` files (mode 1, docs/spacar-import.md §7).
-//!
-//! `mass_spring.dat` (flexmbd's own fixture in `crates/flexmbd-io/tests/models`, written for the
-//! tests) is a point mass m = 2 kg (`XM 2 2.0`) on a massless spring of EA = 400 N and length
-//! 0.5 m (`TRUSS 1 1 2`, `ESTIFF 1 400`, X lines 0 and 0.5), sliding along x (`FIX 2 2 3`),
-//! loaded by a constant force F = 8 N from t = 0 (`XF 2 8 0 0`), simulated to 0.7 s with 700
-//! output steps (`TIMESTEP 0.7 700`). The closed form of the undamped oscillator under a step
-//! load, independent of flexmbd: u(t) = F/k (1 − cos ωt), k = EA/L = 800 N/m, ω = √(k/m), so the
-//! period is T = 2π√(m/k) = 0.314159 s and the largest displacement 2F/k = 0.02 m at T/2.
+//! `flexmbd simulate` on SPACAR `.dat` files (mode 1, docs/spacar-import.md §7): the
+//! command-line concerns (the file read by its extension with its time-simulation data, the
+//! JSON on stdout, exit code 2 at the line of what cannot be mapped). The motion of
+//! `mass_spring.dat` against its closed form is checked in process in
+//! `crates/flexmbd-io/tests/spacar_simulate.rs`.
 
 mod common;
 use common::*;
@@ -20,11 +16,15 @@ fn fixture(name: &str) -> PathBuf {
     .join(name)
 }
 
+/// One run on `mass_spring.dat` (the first 10 ms of its `TIMESTEP 0.7 700`: 1 ms outputs):
+/// exit 0, no warning, the JSON document of the complete run.
 #[test]
-fn mass_spring_dat_oscillates_with_the_closed_form_period() {
+fn mass_spring_dat_runs_from_its_own_settings() {
     let (out, json) = run_json(&[
         "simulate".as_ref(),
         fixture("mass_spring.dat").as_os_str(),
+        "--t-end".as_ref(),
+        "0.01".as_ref(),
         "--json".as_ref(),
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -32,47 +32,7 @@ fn mass_spring_dat_oscillates_with_the_closed_form_period() {
     assert!(!stderr.contains("warning"), "{stderr}");
     let json = json.expect("JSON on stdout");
     assert_eq!(json["complete"], true);
-    let frames = json["frames"].as_array().unwrap();
-    // TIMESTEP 0.7 700: t = 0, 0.001, …, 0.7
-    assert_eq!(frames.len(), 701);
-    assert!((frames[700]["t"].as_f64().unwrap() - 0.7).abs() < 1e-12);
-
-    let (m, k, f) = (2.0f64, 400.0 / 0.5, 8.0);
-    let period = 2.0 * std::f64::consts::PI * (m / k).sqrt();
-    let t = |fr: &serde_json::Value| fr["t"].as_f64().unwrap();
-    // node "2" (the second node), its x displacement and velocity
-    let u = |fr: &serde_json::Value| fr["nodes"][1]["position"][0].as_f64().unwrap() - 0.5;
-    let v = |fr: &serde_json::Value| fr["nodes"][1]["velocity"][0].as_f64().unwrap();
-    // the turning points: the velocity changes sign (maxima at T/2, 3T/2; minima at T, 2T)
-    let (mut maxima, mut minima) = (Vec::new(), Vec::new());
-    for w in frames.windows(2) {
-        let (a, b) = (v(&w[0]), v(&w[1]));
-        let at = || t(&w[0]) + a / (a - b) * (t(&w[1]) - t(&w[0]));
-        if a > 0.0 && b <= 0.0 {
-            maxima.push(at());
-        } else if a < 0.0 && b >= 0.0 {
-            minima.push(at());
-        }
-    }
-    assert_eq!(
-        (maxima.len(), minima.len()),
-        (2, 2),
-        "{maxima:?} {minima:?}"
-    );
-    let close = |x: f64, want: f64| (x - want).abs() < 1e-3 * period;
-    assert!(close(maxima[0], 0.5 * period), "{maxima:?}, T = {period}");
-    assert!(close(minima[0], period), "{minima:?}, T = {period}");
-    assert!(close(maxima[1] - maxima[0], period), "{maxima:?}");
-    assert!(close(minima[1] - minima[0], period), "{minima:?}");
-    // the largest displacement 2F/k, and back to rest at the spring's length at T
-    let top = frames.iter().map(u).fold(f64::MIN, f64::max);
-    assert!((top - 2.0 * f / k).abs() < 1e-3 * 2.0 * f / k, "{top}");
-    let bottom = frames
-        .iter()
-        .filter(|fr| (t(fr) - period).abs() < 0.01)
-        .map(u)
-        .fold(f64::MAX, f64::min);
-    assert!(bottom.abs() < 1e-3 * 2.0 * f / k, "{bottom}");
+    assert_eq!(json["frames"].as_array().unwrap().len(), 11);
 }
 
 /// A public model whose loads come from a MATLAB routine is refused at that line (exit 2).
