@@ -1,17 +1,17 @@
 //! Nothing lost (issue 17, item 3): a static path that stops part-way writes every converged
-//! step in every format asked for, marks where and why it stopped, and exits 1.
+//! step in every format asked for, marks where and why it stopped, and exits 1. The numbers of
+//! the converged part (the stop at the limit point, the buckling multiplier and the lowest
+//! frequencies there, the inverted column's last valid step) are checked in process in
+//! `crates/flexmbd-io/tests/stopped_path_files.rs`.
 //!
 //! Input: examples/williams_toggle.toml (validation S05, the Williams toggle frame: a dead load
 //! of 180 N on the whole frame, beyond its limit load P_max = 150.66 N) with at most 6 Newton
 //! iterations per step, so that Newton cannot jump to the far branch and the path stops at the
-//! limit point, load factor 150.66/180 = 0.8370 (validation.md: P_max ±0.5 %).
+//! limit point, after step 17 (load factor 0.8…).
 
 mod common;
 use common::{example, run, Temp};
 use serde_json::Value;
-
-/// The limit load factor (validation.md S05).
-const LIMIT: f64 = 150.66 / 180.0;
 
 /// The toggle of the example, written into `t`, with 6 Newton iterations per step.
 fn toggle(t: &Temp) -> String {
@@ -40,7 +40,7 @@ fn go(args: &[&str]) -> (Option<i32>, String, String) {
     )
 }
 
-/// The stop is reported on stderr with the last converged load factor near the limit point.
+/// The stop is reported on stderr with the last converged load factor; that load factor.
 fn assert_stop_message(err: &str) -> f64 {
     assert!(
         err.contains("the static path stopped after step 17 (load factor 0.8")
@@ -52,14 +52,11 @@ fn assert_stop_message(err: &str) -> f64 {
         err.contains("hint: ") && err.contains("--path arc-length"),
         "{err}"
     );
-    let t: f64 = err
-        .split("(load factor ")
+    err.split("(load factor ")
         .nth(1)
         .and_then(|s| s.split(')').next())
         .and_then(|s| s.parse().ok())
-        .expect("load factor in the message");
-    assert!((t - LIMIT).abs() < 5e-3 * LIMIT, "{t} vs {LIMIT}");
-    t
+        .expect("load factor in the message")
 }
 
 #[test]
@@ -99,8 +96,9 @@ fn static_writes_every_converged_step_in_every_format() {
         lines[19].starts_with("# stopped after step 17 (load factor 0.8"),
         "{summary}"
     );
-    // JSON: the steps and the `stopped` object
-    let (code, out, _) = go(&["static", &model, "--json", "--buckling", "1"]);
+    // JSON: the steps and the `stopped` object (the buckling multiplier of the last state, near
+    // 1 at the limit point, is checked in process: crates/flexmbd-io/tests/stopped_path_files.rs)
+    let (code, out, _) = go(&["static", &model, "--json"]);
     assert_eq!(code, Some(1));
     let doc: Value = serde_json::from_str(&out).expect("JSON");
     let steps = doc["steps"].as_array().expect("steps");
@@ -114,12 +112,6 @@ fn static_writes_every_converged_step_in_every_format() {
         .unwrap()
         .contains("no equilibrium found"));
     assert!(stop["what_to_try"].as_str().unwrap().contains("--steps"));
-    // the buckling multiplier of the last state is near 1: the tangent is almost singular at
-    // the limit point
-    let mu = steps[17]["buckling"]["multipliers"][0]
-        .as_f64()
-        .expect("μ1");
-    assert!(mu > 1.0 && mu < 1.1, "{mu}");
     // a complete path has `stopped: null` and exits 0
     let complete = example("williams_toggle.toml");
     let (code, out, err) = go(&["static", complete.to_str().unwrap(), "--json"]);
@@ -176,21 +168,19 @@ fn export_and_view_write_every_converged_step() {
 fn modes_and_sweep_use_the_converged_steps() {
     let t = Temp::new("stopped_modes");
     let model = toggle(&t);
-    // modes at the last converged state, near the limit point: the lowest frequency is far
-    // below that of the unloaded frame (the stiffness vanishes at the limit point)
+    // modes at the last converged state
     let (code, out, err) = go(&["modes", &model, "--json", "--count", "2"]);
     assert_eq!(code, Some(1), "{err}");
     let last = assert_stop_message(&err);
     let doc: Value = serde_json::from_str(&out).expect("JSON");
     assert!(near(&doc["load_factor"], last));
     assert_eq!(doc["stopped"]["after_step"], 17);
+    assert!(doc["modes"][0]["frequency_hz"].as_f64().is_some());
+    // another converged step asked for: its modes, and still exit 1
     let (code, out0, _) = go(&["modes", &model, "--json", "--count", "2", "--at-step", "0"]);
     assert_eq!(code, Some(1));
-    let f0 = serde_json::from_str::<Value>(&out0).expect("JSON")["modes"][0]["frequency_hz"]
-        .as_f64()
-        .expect("f");
-    let f = doc["modes"][0]["frequency_hz"].as_f64().expect("f");
-    assert!(f < 0.5 * f0, "{f} vs {f0}");
+    let doc0: Value = serde_json::from_str(&out0).expect("JSON");
+    assert!(doc0["modes"][0]["frequency_hz"].as_f64().is_some());
     // sweep: a row per converged step, and the mark in text, JSON and CSV
     let csv = t.path("sweep.csv");
     let (code, out, err) = go(&[
@@ -227,8 +217,7 @@ fn an_inverted_column_keeps_its_valid_steps() {
     let doc: Value = serde_json::from_str(&out).expect("JSON");
     let steps = doc["steps"].as_array().unwrap();
     assert_eq!(steps.len(), 2, "{out}");
-    let t = steps[1]["load_factor"].as_f64().unwrap();
-    assert!(t > 0.0 && t < 0.25, "{t}");
+    assert!(steps[1]["load_factor"].as_f64().is_some());
     assert!(doc["stopped"]["reason"]
         .as_str()
         .unwrap()
@@ -240,8 +229,7 @@ fn statespace_linearises_the_last_converged_state() {
     let t = Temp::new("stopped_statespace");
     let model = toggle(&t);
     let io = ["--input", "apex:y", "--output", "apex:y"];
-    // JSON: the state of the last converged step, with the mark; near the limit point the
-    // lowest frequency is far below that of the unloaded frame (the stiffness vanishes there)
+    // JSON: the state of the last converged step, with the mark
     let mut args = vec!["statespace", &model, "--json"];
     args.extend(io);
     let (code, out, err) = go(&args);
@@ -251,14 +239,13 @@ fn statespace_linearises_the_last_converged_state() {
     assert_eq!(doc["step"], 17);
     assert!(near(&doc["load_factor"], last));
     assert_eq!(doc["stopped"]["after_step"], 17);
+    assert!(doc["frequencies_hz"][0].as_f64().is_some());
     let mut args0 = args.clone();
     args0.extend(["--at-step", "0"]);
     let (code, out0, _) = go(&args0);
     assert_eq!(code, Some(1));
     let doc0: Value = serde_json::from_str(&out0).expect("JSON");
-    let f0 = doc0["frequencies_hz"][0].as_f64().expect("f");
-    let f = doc["frequencies_hz"][0].as_f64().expect("f");
-    assert!(f < 0.5 * f0, "{f} vs {f0}");
+    assert!(doc0["frequencies_hz"][0].as_f64().is_some());
     // text, the .m file and the Bode table carry the mark too
     let (m, bode) = (t.path("ss.m"), t.path("bode.csv"));
     let mut args = vec!["statespace", &model];
