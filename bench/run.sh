@@ -97,7 +97,7 @@ run_files() {
   mkdir -p "$OUTDIR"
   # shellcheck disable=SC2086
   python3 -B "$BENCH/strip_files.py" --flexmbd "$ROOT/target/release/flexmbd" --n $FSIZES \
-    --out "$OUTDIR/strip_files.jsonl" --plot "$OUTDIR/strip_files.png" 2>"$OUTDIR/strip_files.log"
+    --read-bench --out "$OUTDIR/strip_files.jsonl" --plot "$OUTDIR/strip_files.png" 2>"$OUTDIR/strip_files.log"
 }
 if [ "$ONLY_FILES" -eq 1 ]; then
   run_files

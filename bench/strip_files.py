@@ -3,7 +3,9 @@
 (issue 14): the SPACAR `.dat` reader (`flexmbd convert`), and `check`, `static` and
 `modes --count 10` from the `.dat` file and from a TOML file, each with its wall time and peak
 memory (`/usr/bin/time`). The files list every node and beam (no `segments`), as a user's
-generated model would, so that the readers see N items.
+generated model would, so that the readers see N items. With `--read-bench`, also the reading
+alone in process (`read dat`, `read toml`: the text, the parse and the build of the model as
+`static` and `modes` do; `cargo bench -p flexmbd-io --bench read_model`, best of three).
 
     python3 bench/strip_files.py --flexmbd target/release/flexmbd \\
         --n 1000 3000 10000 30000 100000 --out results/strip_files.jsonl --plot results/strip_files.png
@@ -89,6 +91,9 @@ def main():
     ap.add_argument("--out")
     ap.add_argument("--plot", help="PNG of time and memory against N (matplotlib)")
     ap.add_argument("--from", dest="from_file", help="tabulate and plot an earlier --out")
+    ap.add_argument("--read-bench", action="store_true",
+                    help="also time the reading in process (cargo bench -p flexmbd-io --bench "
+                    "read_model: text, parse, build; best of three): runs `read dat`, `read toml`")
     a = ap.parse_args()
     records = []
     if a.from_file:
@@ -118,6 +123,18 @@ def main():
                     rec = {"n": n, "run": name, **r}
                     records.append(rec)
                     print(json.dumps(rec), file=sys.stderr, flush=True)
+                if a.read_bench:
+                    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+                    p = subprocess.run(["cargo", "bench", "-q", "-p", "flexmbd-io", "--bench",
+                                        "read_model", "--", dat, files["toml", False]],
+                                       cwd=root, capture_output=True, text=True)
+                    for fmt, line in zip(("dat", "toml"), p.stdout.splitlines()):
+                        b = json.loads(line)
+                        rec = {"n": n, "run": f"read {fmt}", "wall_s": b["read_s"],
+                               "peak_mib": float("nan"), "rc": p.returncode, "message": "",
+                               "stages_s": {k: b[k] for k in ("text_s", "parse_s", "build_s")}}
+                        records.append(rec)
+                        print(json.dumps(rec), file=sys.stderr, flush=True)
         if a.out:
             with open(a.out, "w") as f:
                 for r in records:
@@ -155,9 +172,10 @@ def main():
             x = [p[0] for p in pts]
             ls = "--" if name.endswith("toml") else "-"
             ax1.loglog(x, [p[1]["wall_s"] for p in pts], ls, marker="o", label=name)
-            ax2.loglog(x, [p[1]["peak_mib"] for p in pts], ls, marker="o", label=name)
+            if not name.startswith("read"):  # in process: no memory of its own
+                ax2.loglog(x, [p[1]["peak_mib"] for p in pts], ls, marker="o", label=name)
         ax1.set_xlabel("beams N")
-        ax1.set_ylabel("whole-process wall time [s]")
+        ax1.set_ylabel("wall time [s] (read: in process)")
         ax2.set_xlabel("beams N")
         ax2.set_ylabel("peak resident memory [MiB]")
         for ax in (ax1, ax2):
