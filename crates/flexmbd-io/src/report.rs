@@ -43,7 +43,7 @@ impl<'a> CheckReport<'a> {
             rank_tol,
             analysis: &c.analysis,
             advice: &c.advice,
-            auto: c.chosen.as_deref().map(|chosen| (chosen, &c.before)),
+            auto: c.chosen.as_deref().zip(c.before.as_ref()),
             screws: Some(&c.screws),
             freedom: c.freedom.as_ref(),
             wires: &c.wires,

@@ -62,13 +62,14 @@ pub struct ClassifyError {
 /// The result of [`classify`].
 #[derive(Clone, Debug)]
 pub struct Classification {
-    /// The analysis of the model's own partition.
-    pub before: ConstraintAnalysis,
+    /// The analysis of the model's own partition when the generalised coordinates were chosen
+    /// automatically (`None` without the automatic choice: it is `analysis`, not kept twice).
+    pub before: Option<ConstraintAnalysis>,
     /// The generalised coordinates chosen automatically, when asked for.
     pub chosen: Option<Vec<Action>>,
     /// The partition the advice is for (the model's, or with the chosen coordinates).
     pub partition: Partition,
-    /// The analysis of that partition (the same as `before` without the automatic choice).
+    /// The analysis of that partition.
     pub analysis: ConstraintAnalysis,
     /// Verified suggestions per motion and self-stress state of `analysis`.
     pub advice: Vec<StateAdvice>,
@@ -120,10 +121,11 @@ pub fn classify_intended(
         stage(Stage::Auto);
         let c =
             auto_generalised(model, &model.partition, &x, &opts.check).map_err(at(Stage::Auto))?;
-        (c.partition, c.analysis, Some(c.chosen))
+        (c.partition, c.analysis, Some((c.chosen, before)))
     } else {
-        (model.partition.clone(), before.clone(), None)
+        (model.partition.clone(), before, None)
     };
+    let (chosen, before) = chosen.unzip();
     let screws = screws(model, &partition, &x, &analysis).map_err(at(Stage::Check))?;
     let freedom = if intended.is_empty() {
         None

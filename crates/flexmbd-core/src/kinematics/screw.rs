@@ -659,7 +659,9 @@ fn state_wrenches(
                     }
                 }
                 total = (add(total.0, f), add(total.1, m));
-                if b.element_ids.contains(&el) {
+                // an element that does not touch the body has no wrench on it (and one of size
+                // zero is never listed): no name is formatted for it
+                if b.element_ids.contains(&el) || (f == [0.0; 3] && m == [0.0; 3]) {
                     continue;
                 }
                 found.push((
