@@ -445,15 +445,19 @@ impl FreeRows {
 /// Indices of significant entries with their magnitudes, largest first.
 fn ranked(v: &[f64]) -> Vec<(usize, f64)> {
     let max = v.iter().fold(0.0f64, |m, a| m.max(a.abs()));
-    let mut idx: Vec<(usize, f64)> = v
+    // largest first; equal magnitudes (to 1e-6) keep their model order (the key, made once
+    // per entry, is unique with the index: an unstable sort gives that one order)
+    let mut idx: Vec<(std::cmp::Reverse<u64>, usize, f64)> = v
         .iter()
         .enumerate()
         .filter(|(_, a)| a.abs() > CANDIDATE_FLOOR * max)
-        .map(|(i, a)| (i, a.abs()))
+        .map(|(i, a)| {
+            let a = a.abs();
+            (std::cmp::Reverse((a / max * 1e6).round() as u64), i, a)
+        })
         .collect();
-    // largest first; equal magnitudes (to 1e-6) keep their model order
-    idx.sort_by_key(|&(i, a)| (std::cmp::Reverse((a / max * 1e6).round() as u64), i));
-    idx
+    idx.sort_unstable_by_key(|&(key, i, _)| (key, i));
+    idx.into_iter().map(|(_, i, a)| (i, a)).collect()
 }
 
 /// The first `max` candidates, in order, whose predicted counts may be `want` and whose
