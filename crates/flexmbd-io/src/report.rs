@@ -277,12 +277,16 @@ pub fn fmt_num(v: f64) -> String {
 /// The first line of a text report and the blank line after it: `flexmbd COMMAND: MODEL  (FILE)`
 /// (without `: MODEL` when the model has no name).
 pub(crate) fn heading(command: &str, model: &Model, file: &str) -> String {
-    let name = if model.name.is_empty() {
+    format!("flexmbd {command}{}  ({file})\n\n", model_name(model))
+}
+
+/// `": name"` of a named model, empty for one without a name (the headings' model part).
+pub(crate) fn model_name(model: &Model) -> String {
+    if model.name.is_empty() {
         String::new()
     } else {
         format!(": {}", model.name)
-    };
-    format!("flexmbd {command}{name}  ({file})\n\n")
+    }
 }
 
 /// Left-aligned text table with a header row.

@@ -38,14 +38,6 @@ fn finite_or_null(v: f64) -> Value {
     }
 }
 
-fn title(model: &Model) -> String {
-    if model.name.is_empty() {
-        String::new()
-    } else {
-        format!(": {}", model.name)
-    }
-}
-
 /// Input and output descriptions as JSON objects.
 fn io_json(model: &Model, ss: &StateSpace) -> (Vec<Value>, Vec<Value>) {
     let inputs = ss
@@ -189,7 +181,12 @@ fn m_string(s: &str) -> String {
 /// The state-space model as a MATLAB/Octave script.
 pub fn statespace_m(model: &Model, origin: Origin, ss: &StateSpace) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "% flexmbd statespace{}  ({})", title(model), origin.file);
+    let _ = writeln!(
+        s,
+        "% flexmbd statespace{}  ({})",
+        crate::report::model_name(model),
+        origin.file
+    );
     let _ = writeln!(
         s,
         "% linearised at step {} (load factor {}); damping ratio zeta = {}",
@@ -306,7 +303,7 @@ pub fn bode_csv(model: &Model, ss: &StateSpace, freqs: &[f64], stop: Option<&Sto
 /// Short text summary: modes kept, inputs and outputs with their numbers, the DC gain.
 pub fn statespace_text(model: &Model, origin: Origin, ss: &StateSpace) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "flexmbd statespace{}  ({})\n", title(model), origin.file);
+    s.push_str(&crate::report::heading("statespace", model, origin.file));
     let n = ss.n_modes();
     let _ = writeln!(
         s,
@@ -461,7 +458,7 @@ pub fn sweep_text(
     stop: Option<&StopNote>,
 ) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "flexmbd sweep{}  ({file})\n", title(model));
+    s.push_str(&crate::report::heading("sweep", model, file));
     let mut header: Vec<String> = vec!["step".into(), "load factor".into()];
     header.extend((1..=count).map(|k| format!("f{k} [Hz]")));
     for n in nodes {

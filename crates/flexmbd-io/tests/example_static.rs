@@ -19,16 +19,7 @@ const W: f64 = 0.02;
 const T: f64 = 0.0003;
 
 mod common;
-use common::example;
-
-fn node<'a>(step: &'a Value, name: &str) -> &'a Value {
-    step["nodes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|n| n["node"] == name)
-        .expect("node")
-}
+use common::{example, node};
 
 #[test]
 fn parallel_leaf_stroke_matches_closed_forms() {

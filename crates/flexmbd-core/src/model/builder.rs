@@ -9,32 +9,6 @@ use rustc_hash::FxHashMap as HashMap;
 /// engineering are far longer than a nanometre; anything shorter is an input error.
 pub const MIN_ELEMENT_LENGTH: f64 = 1e-9;
 
-/// Element type and data as given by the user, before compilation.
-#[derive(Clone, Debug)]
-pub enum ElementSpec {
-    /// Truss between two nodes.
-    Truss {
-        /// EA [N].
-        ea: f64,
-    },
-    /// Spatial beam.
-    Beam {
-        /// Orientation vector (local y); `None` for SPACAR's default.
-        orient: Option<[f64; 3]>,
-        /// c_t [m²].
-        ct: f64,
-    },
-    /// Hinge with an axis.
-    Hinge {
-        /// Axis (need not be unit).
-        axis: [f64; 3],
-        /// Torsion spring k [N·m/rad].
-        k: f64,
-    },
-    /// Rigid body over its nodes.
-    Rigid,
-}
-
 #[derive(Clone, Debug)]
 struct PendingElement {
     name: String,

@@ -14,11 +14,37 @@ mod builder;
 mod error;
 mod loads;
 
-pub use builder::{ElementSpec, ModelBuilder, MIN_ELEMENT_LENGTH};
+pub use builder::{ModelBuilder, MIN_ELEMENT_LENGTH};
 pub use error::{Item, ModelError};
 pub use loads::{Loads, NodalLoad, Prescribed, Spin, Target};
 
 use crate::elements::{Element, ElementKind, NodeId};
+
+/// Element type and data as given by the user, before compilation.
+#[derive(Clone, Debug)]
+pub enum ElementSpec {
+    /// Truss between two nodes.
+    Truss {
+        /// EA [N].
+        ea: f64,
+    },
+    /// Spatial beam.
+    Beam {
+        /// Orientation vector (local y); `None` for SPACAR's default.
+        orient: Option<[f64; 3]>,
+        /// c_t [m²].
+        ct: f64,
+    },
+    /// Hinge with an axis.
+    Hinge {
+        /// Axis (need not be unit).
+        axis: [f64; 3],
+        /// Torsion spring k [N·m/rad].
+        k: f64,
+    },
+    /// Rigid body over its nodes.
+    Rigid,
+}
 
 /// Partition letter of a nodal coordinate (paper eq. (4)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
