@@ -806,6 +806,31 @@ a = ["y"]  # <-
     );
 }
 
+/// Errors found only when the model is compiled (which nodes carry rotations is known then):
+/// the place is looked up from the item the error names, at the entry's table header.
+#[test]
+fn compile_errors_name_the_entry() {
+    // a moment on a node that only a truss uses: it has no rotation coordinates
+    check(
+        &format!("{TRUSS}[[load]]  # <-\nnode = \"b\"\nmoment = [0.0, 0.0, 1.0]\n"),
+        &["load on node `b`", "a moment needs a rotational node"],
+    );
+    // an inertia tensor on such a node
+    check(
+        &format!(
+            "{TRUSS}[[mass]]\nnode = \"b\"\nm = 1.0\n[[inertia]]  # <-\nnode = \"b\"\nI = [1.0, 0.0, 0.0, 1.0, 0.0, 1.0]\n"
+        ),
+        &["`b`", "inertia", "is a rotation"],
+    );
+    // a prescribed rotation of such a node, after an input entry of the node
+    check(
+        &format!(
+            "{TRUSS}[inputs]\nb = [\"x\"]\n[[prescribe]]  # <-\nnode = \"b\"\ndof = \"rz\"\nvalue = 0.1\n"
+        ),
+        &["inputs entry `b`", "`rz` is a rotation"],
+    );
+}
+
 #[test]
 fn duplicate_fix_entry() {
     check(
