@@ -295,10 +295,11 @@ pub(super) fn to_spec(m: &SpacarModel, comments: bool) -> Result<ModelSpec, Inpu
     for e in &m.elements {
         let n = e.number;
         let estiff = by.estiff.get(&n).map(|v| v.values.as_slice());
-        let mut notes = Vec::new();
-        if comments {
-            notes = element_notes(&by, e, estiff);
-        }
+        let mut notes = if comments {
+            element_notes(&by, e, estiff)
+        } else {
+            Vec::new()
+        };
         let free = modes(&[&by.rlse], n, 6);
         let input = modes(&[&by.dyne, &by.inpute], n, 6);
         let (nodes, spec_el) = match &e.kind {
@@ -418,14 +419,14 @@ pub(super) fn to_spec(m: &SpacarModel, comments: bool) -> Result<ModelSpec, Inpu
             if d.is_empty() {
                 continue;
             }
-            let text = match &l.coords {
+            let text = || match &l.coords {
                 Some(c) => format!("{kw} {} {} (line {})", l.node, fmt_modes(c), l.line),
                 None => format!("{kw} {} (line {})", l.node, l.line),
             };
             let entry = DofEntry {
                 node: name,
                 dofs: Some(d),
-                comment: comments.then_some(text),
+                comment: comments.then(text),
                 src: Src::line(l.line),
             };
             match target {
