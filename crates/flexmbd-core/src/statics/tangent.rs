@@ -260,8 +260,14 @@ pub(crate) fn assemble_values(
         let layout = pat.layout();
         (layout.rows.len(), &layout.elem_start)
     };
-    // every element entry is written by its element: no need to clear a reused buffer
+    // every element entry is written by its element: no need to clear a reused buffer; room
+    // for the entries [`apply_loads`] appends (at most 16 per moment, 12 per normalisation), so
+    // that appending them does not double the buffer (16 MB at 10⁴ beams)
+    let capacity = n_el + 16 * su.moments.len() + 12 * su.norm.len();
     let mut vals = spare;
+    if vals.capacity() < capacity {
+        vals = Vec::with_capacity(capacity);
+    }
     vals.truncate(n_el);
     vals.resize(n_el, 0.0);
     let mut e = vec![0.0; model.ne];

@@ -40,7 +40,7 @@ const PROBE_MAX: f64 = 1e-6;
 /// The number of eigenvalues below the probe shift τ (module docs), when the listed
 /// `eigenvalues` (ascending) show no gap of their own and do not exhaust the `n_finite`
 /// finite eigenvalues and may be round-off ([`PROBE_MAX`]); `None` otherwise, or when L D Lᵀ
-/// cannot count at τ.
+/// cannot count at τ. The count is made in `op`'s own factorisation, which is left at τ.
 pub(super) fn probe(
     p: &Problem,
     op: &mut Shifted,
@@ -61,7 +61,7 @@ pub(super) fn probe(
         return None;
     }
     let floor = ROUND_OFF_MARGIN * sigma.abs().max(f64::EPSILON * lambda_ref);
-    op.count_below(p, (top / RIGID_BODY_GAP).max(floor))
+    op.count_below_in_place(p, (top / RIGID_BODY_GAP).max(floor))
 }
 
 /// The number of rigid-body modes at the start of a list: the dense path's gap criterion on

@@ -27,8 +27,6 @@ pub(super) struct Shifted {
     pub(super) sym: Option<(SparseLu, Vec<usize>)>,
     /// LU with partial pivoting (created when L D Lᵀ fails).
     pub(super) lu: Option<SparseLu>,
-    /// A copy of the L D Lᵀ for the inertia counts at other shifts ([`Shifted::count_below`]).
-    pub(super) counter: Option<SparseLu>,
     /// Which factorisation holds A(σ): true L D Lᵀ, false LU.
     pub(super) use_sym: bool,
     pub(super) sigma: f64,
@@ -55,7 +53,6 @@ impl Shifted {
         Self {
             sym,
             lu: None,
-            counter: None,
             use_sym: false,
             sigma: f64::NAN,
             below: None,
@@ -142,16 +139,31 @@ impl Shifted {
         self.rhs = rhs;
     }
 
-    /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it (the
-    /// factorisation at σ is kept: a copy of the symbolic structure is used, made once and
-    /// refactored at every count).
+    /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it. The
+    /// factorisation at σ is kept: a copy of it is refactored at `s` and dropped after the
+    /// count, so that it is not held beside the Lanczos basis (as large as the factor at 10⁴
+    /// beams).
     pub(super) fn count_below(&mut self, p: &Problem, s: f64) -> Option<usize> {
         let (lu, slots) = self.sym.as_ref()?;
         self.lower.clear();
         self.lower
             .extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
-        let counter = self.counter.get_or_insert_with(|| lu.clone());
+        let mut counter = lu.clone();
         counter.refactor_symmetric(&self.lower).ok()?;
         counter.negative_pivots().checked_sub(p.n - p.nc)
+    }
+
+    /// [`Shifted::count_below`] in the factorisation itself, without a copy: A(σ) is no longer
+    /// factored afterwards (call [`Shifted::factor`] again before a solve).
+    pub(super) fn count_below_in_place(&mut self, p: &Problem, s: f64) -> Option<usize> {
+        self.sigma = f64::NAN;
+        self.below = None;
+        self.use_sym = false;
+        let (lu, slots) = self.sym.as_mut()?;
+        self.lower.clear();
+        self.lower
+            .extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
+        lu.refactor_symmetric(&self.lower).ok()?;
+        lu.negative_pivots().checked_sub(p.n - p.nc)
     }
 }
