@@ -54,8 +54,10 @@ pub struct CheckOptions {
 /// How [`check`] finds the rank and the null spaces of Dcc.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum CheckMethod {
-    /// Dense below [`SPARSE_ABOVE`] rows or columns (and when the dense analysis fits in
-    /// [`CheckOptions::max_dense_bytes`]), sparse above.
+    /// Dense when the SVD is quick ([`DENSE_WORK_MAX`], [`SPARSE_ABOVE`]) and fits in
+    /// [`CheckOptions::max_dense_bytes`], else sparse; a sparse decision that is not certain is
+    /// made again by the dense SVD when the matrix has at most [`SPARSE_ABOVE`] rows and
+    /// columns and fits ([`CheckMethod::dense_fallback`]).
     #[default]
     Auto,
     /// The dense SVD (all singular values, orthonormal null bases, advice by rank updates).
@@ -64,20 +66,28 @@ pub enum CheckMethod {
     Sparse,
 }
 
-/// [`CheckMethod::Auto`] takes the sparse path when Dcc has more rows or columns than this.
-/// (A dense full SVD of a 2,500 × 2,500 matrix takes several seconds on two cores and grows
-/// with the cube of the size; the sparse path of a truss lattice of that size about 0.05 s.)
+/// [`CheckMethod::Auto`] takes the sparse path when Dcc has more rows or columns than this, and
+/// never falls back to the dense SVD. (A dense full SVD of a 2,500 × 2,500 matrix takes several
+/// seconds on two cores and grows with the cube of the size; the sparse path of a truss lattice
+/// of that size about 0.05 s.)
 pub const SPARSE_ABOVE: usize = 2500;
+
+/// [`CheckMethod::Auto`] tries the sparse path first when the dense SVD's work m·n·min(m, n)
+/// exceeds this: about 0.7 s for the singular values alone of a square Dcc on two cores
+/// (1,998 × 1,998, 8·10⁹: 2.7 s; the sparse path of the same strip 0.02 s, bench/README.md §3).
+pub const DENSE_WORK_MAX: u128 = 2_000_000_000;
 
 /// The default of [`CheckOptions::max_listed_states`].
 pub const DEFAULT_MAX_LISTED_STATES: usize = 50;
 
 impl CheckMethod {
-    /// The path taken for an m × n Dcc.
+    /// The path taken first for an m × n Dcc.
     pub fn resolve(self, m: usize, n: usize, max_dense_bytes: u64) -> CheckMethod {
+        let work = m as u128 * n as u128 * m.min(n) as u128;
         match self {
             CheckMethod::Auto
                 if m.max(n) > SPARSE_ABOVE
+                    || work > DENSE_WORK_MAX
                     || dense_bytes(m, n, max_dense_bytes) > max_dense_bytes =>
             {
                 CheckMethod::Sparse
@@ -85,6 +95,15 @@ impl CheckMethod {
             CheckMethod::Auto => CheckMethod::Dense,
             other => other,
         }
+    }
+
+    /// Whether a sparse decision that is not certain is made again by the dense SVD: the
+    /// automatic choice, on a Dcc of at most [`SPARSE_ABOVE`] rows and columns whose dense
+    /// analysis fits in `max_dense_bytes`.
+    pub fn dense_fallback(self, m: usize, n: usize, max_dense_bytes: u64) -> bool {
+        self == CheckMethod::Auto
+            && m.max(n) <= SPARSE_ABOVE
+            && dense_bytes(m, n, max_dense_bytes) <= max_dense_bytes
     }
 }
 
@@ -651,7 +670,8 @@ pub fn euler_shape(model: &Model, partition: &Partition) -> (usize, usize) {
 
 /// The kinematic analysis at configuration x (paper §3).
 ///
-/// The path is [`CheckOptions::method`] ([`CheckMethod::resolve`]). Dense: a model whose Dcc,
+/// The path is [`CheckOptions::method`] ([`CheckMethod::resolve`], with the automatic choice's
+/// dense fall-back, [`CheckMethod::dense_fallback`]). Dense: a model whose Dcc,
 /// SVD factors and workspace exceed [`CheckOptions::max_dense_bytes`] stops with
 /// [`KinematicsError::TooLarge`] before anything large is allocated (the automatic choice takes
 /// the sparse path instead, [`sparse`]).
@@ -668,7 +688,13 @@ pub fn check(
     let rows = rows(model, partition);
     let (m, n) = (rows.len(), cols.len());
     if opts.method.resolve(m, n, opts.max_dense_bytes) == CheckMethod::Sparse {
-        return sparse::check_sparse(model, partition, x, opts);
+        let a = sparse::check_sparse(model, partition, x, opts)?;
+        let certain = a.sparse.as_ref().is_none_or(|sp| sp.certain);
+        if certain || !opts.method.dense_fallback(m, n, opts.max_dense_bytes) {
+            return Ok(a);
+        }
+        // a decision the sparse bounds leave open, on a matrix the dense SVD can take: all
+        // singular values decide it
     }
     check_dense_size(m, n, opts.max_dense_bytes)?;
     let dcc = dense_from_rows(&rate_rows(model, x, &cols, &row_defs(model, &rows)), n);

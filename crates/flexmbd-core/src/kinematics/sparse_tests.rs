@@ -206,18 +206,75 @@ fn sparse_self_stress_advice_is_confirmed_by_a_dense_reanalysis() {
 }
 
 #[test]
-fn automatic_method_is_sparse_above_the_size_limit() {
+fn automatic_method_is_sparse_above_the_size_and_work_limits() {
     let l = DEFAULT_MAX_DENSE_BYTES;
-    assert_eq!(CheckMethod::Auto.resolve(2500, 2500, l), CheckMethod::Dense);
+    // the dense SVD's work m·n·min(m, n) against DENSE_WORK_MAX = 2·10⁹
+    assert_eq!(CheckMethod::Auto.resolve(1000, 1000, l), CheckMethod::Dense);
+    assert_eq!(CheckMethod::Auto.resolve(2500, 300, l), CheckMethod::Dense);
+    assert_eq!(
+        CheckMethod::Auto.resolve(1400, 1300, l),
+        CheckMethod::Sparse
+    );
+    assert_eq!(
+        CheckMethod::Auto.resolve(2000, 2000, l),
+        CheckMethod::Sparse
+    );
+    assert!(CheckMethod::Auto.dense_fallback(2000, 2000, l));
+    // above SPARSE_ABOVE rows or columns: sparse, without the dense fall-back
     assert_eq!(CheckMethod::Auto.resolve(2501, 100, l), CheckMethod::Sparse);
+    assert!(!CheckMethod::Auto.dense_fallback(2501, 100, l));
+    // the memory limit
     assert_eq!(
         CheckMethod::Auto.resolve(100, 100, 1000),
         CheckMethod::Sparse
     );
+    assert!(!CheckMethod::Auto.dense_fallback(100, 100, 1000));
+    // a method asked for is taken as it is
     assert_eq!(
         CheckMethod::Dense.resolve(10_000, 10_000, l),
         CheckMethod::Dense
     );
+    assert!(!CheckMethod::Sparse.dense_fallback(2000, 2000, l));
+}
+
+#[test]
+fn automatic_method_decides_an_uncertain_sparse_rank_by_the_dense_svd() {
+    // A clamped strip of 211 rigid beams: Dcc 1266 × 1266, past DENSE_WORK_MAX, so the
+    // automatic choice takes the sparse path first. With the threshold set between the two
+    // smallest singular values (from a dense SVD here), and within the sparse path's margin of
+    // the smallest, the sparse decision is not certain, and the automatic choice gives the
+    // dense analysis: the rank that all singular values decide.
+    let m = strip(211, &[], &[]);
+    let x = m.x0();
+    let cols = columns(&m, &m.partition, &x);
+    let rows = rows(&m, &m.partition);
+    assert_eq!((rows.len(), cols.len()), (1266, 1266));
+    assert_eq!(
+        CheckMethod::Auto.resolve(1266, 1266, DEFAULT_MAX_DENSE_BYTES),
+        CheckMethod::Sparse
+    );
+    let dcc = dense_from_rows(&rate_rows(&m, &x, &cols, &row_defs(&m, &rows)), cols.len());
+    let sv = crate::linalg::singular_values(dcc.as_ref()).unwrap();
+    let (s1, last) = (sv[0], sv[sv.len() - 1]);
+    // the threshold 1.5 times below the smallest value: inside the margin of 2 of a certain
+    // decision
+    let tol = last / 1.5;
+    let o = |method| CheckOptions {
+        method,
+        rank_tol: tol / s1,
+        ..Default::default()
+    };
+    let sp = check(&m, &m.partition, &x, &o(CheckMethod::Sparse)).unwrap();
+    assert!(!sp.sparse.as_ref().unwrap().certain);
+    let auto = check(&m, &m.partition, &x, &o(CheckMethod::Auto)).unwrap();
+    assert!(auto.sparse.is_none(), "the dense SVD decided");
+    assert_eq!(auto.rank, sv.iter().filter(|&&v| v > tol).count());
+    assert_eq!(auto.rank, 1266);
+    assert_eq!(auto.singular_values.len(), 1266);
+    // with the default threshold the sparse decision is certain and stands
+    let certain = check(&m, &m.partition, &x, &CheckOptions::default()).unwrap();
+    assert!(certain.sparse.as_ref().is_some_and(|s| s.certain));
+    assert_eq!((certain.rank, certain.n_motions()), (1266, 0));
 }
 
 #[test]
