@@ -218,6 +218,21 @@ pub enum ModalError {
     /// The sparse path found no shift at which the shifted stiffness can be factored.
     #[error("sparse eigen solver: the shifted stiffness matrix [K − σM, Gᵀ; G, 0] is singular at every shift tried, so the model has a motion without both stiffness and inertia, or rigid/prescribed constraints that repeat each other. Check the model with the kinematic check, or use the dense eigen solver, which removes repeated constraints")]
     SparseSingular,
+    /// The sparse path's shift-invert solves lost the digits of a mode: its Ritz value and the
+    /// Rayleigh quotient of its vector disagree ([`sparse::RITZ_AGREEMENT`]).
+    #[error("sparse eigen solver: {inaccurate} of the {listed} modes cannot be resolved in double precision; the first, mode {mode}, has ω² = {ritz:.6e} from the shift-invert iteration but {rayleigh:.6e} as the Rayleigh quotient of its vector. The stiffness matrix spans more decades than double precision holds (e.g. the bending modes of a chain of very many beams much shorter than their cross-section: its condition grows with the cube of the number of elements). The listed modes are not reliable, and lower ones may be missing. Use fewer, longer elements")]
+    SparseInaccurate {
+        /// The first inaccurate mode (1-based, in the ascending list).
+        mode: usize,
+        /// Its ω² from the Lanczos (Ritz) value.
+        ritz: f64,
+        /// Its ω² as the Rayleigh quotient of its vector.
+        rayleigh: f64,
+        /// How many listed modes disagree.
+        inaccurate: usize,
+        /// Modes listed.
+        listed: usize,
+    },
     /// The Lanczos iteration of the sparse path did not converge.
     #[error("sparse eigen solver: only {found} of the {wanted} lowest modes converged after {applications} shift-invert steps (restarted Lanczos, tolerance 1e-10). Ask for fewer modes, or use the dense eigen solver if the model has at most a few thousand degrees of freedom")]
     NotConverged {

@@ -75,7 +75,8 @@ pub(super) fn count(eigenvalues: &[f64], below_gap: Option<usize>) -> usize {
 
 /// The lowest `count` modes of `p` with their rigid-body modes identified: when more eigenvalues
 /// than those asked for lie below the probe shift, the lowest of them are computed too (at most
-/// [`MAX_EXTRA`] more) and counted; the modes returned are the `count` asked for.
+/// [`MAX_EXTRA`] more) and counted; the modes returned are the `count` asked for, after the
+/// check that the elastic ones are resolved ([`SparseModes::check_accuracy`]).
 pub(super) fn modes_listing_rigid(
     p: &Problem,
     model: &Model,
@@ -93,5 +94,6 @@ pub(super) fn modes_listing_rigid(
             sm.rigid = all.rigid.min(listed);
         }
     }
+    sm.check_accuracy()?;
     Ok(sm)
 }

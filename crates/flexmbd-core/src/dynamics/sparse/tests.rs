@@ -602,3 +602,62 @@ fn projected_eigenpairs_small_and_faer_branches_agree() {
         }
     }
 }
+
+#[test]
+fn modes_the_solves_cannot_resolve_are_an_error() {
+    // A half circle of radius 0.3 m in 200 steel beams of 10 mm × 1 µm, clamped at one end: its
+    // lowest modes (ω² ≈ 1e-5 rad²/s², bending of the arc) sit 10²¹ below the beams' axial
+    // stiffness over mass, so the shift-invert solves lose their digits. The Ritz values then
+    // disagree with the Rayleigh quotients of their vectors by tens of percent, and the
+    // analysis stops with an error instead of listing them.
+    let p = BeamProps::from_section(&steel(), &Shape::Rectangle { w: 0.01, t: 1e-6 }, true);
+    let (n, r) = (200, 0.3);
+    let mut b = ModelBuilder::new("thin arc");
+    for i in 0..=n {
+        let a = std::f64::consts::PI * i as f64 / n as f64;
+        b.add_node(
+            &format!("n{i}"),
+            [r * a.sin(), 0.0, r * (1.0 - a.cos())],
+            false,
+        )
+        .unwrap();
+    }
+    for i in 0..n {
+        let name = format!("b{i}");
+        b.add_element(
+            &name,
+            &[&format!("n{i}"), &format!("n{}", i + 1)],
+            ElementSpec::Beam {
+                orient: Some([0.0, 1.0, 0.0]),
+                ct: 0.0,
+            },
+            &[],
+            &[],
+        )
+        .unwrap();
+        b.set_beam_props(&name, p).unwrap();
+    }
+    b.fix("n0", None).unwrap();
+    let model = b.build().unwrap();
+    let step = last_step(&model, 1);
+    let err = modes_with(
+        &model,
+        &step,
+        6,
+        &ModalOptions::with_solver(EigenSolver::Sparse),
+    )
+    .unwrap_err();
+    let ModalError::SparseInaccurate {
+        ritz,
+        rayleigh,
+        inaccurate,
+        listed,
+        ..
+    } = err
+    else {
+        panic!("{err}");
+    };
+    assert!((ritz - rayleigh).abs() > super::RITZ_AGREEMENT * rayleigh.abs());
+    assert!(inaccurate >= 1 && listed == 6);
+    assert!(err.to_string().contains("fewer, longer elements"));
+}
