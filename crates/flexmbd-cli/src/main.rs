@@ -522,7 +522,15 @@ fn run_modes(
     // the size guard of the dense path, before the static solve
     flexmbd_core::dynamics::check_dense_size(&model, count, &modal_opts)
         .context("modal analysis refused")?;
-    let opts = dynamics_cmd::static_options(&settings, steps, path_arg)?;
+    let mut opts = dynamics_cmd::static_options(&settings, steps, path_arg)?;
+    // nothing depends on the load factor: every load step is the first one's equilibrium, so
+    // one step gives the state to linearise about (without solving and keeping the others)
+    if at_step.is_none()
+        && opts.path == flexmbd_core::statics::PathMethod::LoadSteps
+        && !model.loads.scale_with_load_factor()
+    {
+        opts.steps = opts.steps.min(1);
+    }
     let run = partial::Path::of_solution(
         progress::solve_static(&model, &opts),
         "the static equilibrium to linearise about was not found",

@@ -98,4 +98,15 @@ impl Loads {
         };
         (!field.is_zero()).then_some(field)
     }
+
+    /// Whether a static path depends on its load factor t: a non-zero nodal force or moment,
+    /// gravity or a steady rotation, or a non-zero prescribed value. When none does, every
+    /// step of a load-step path is the equilibrium of the first, at every t.
+    pub fn scale_with_load_factor(&self) -> bool {
+        self.nodal
+            .iter()
+            .any(|l| l.force.iter().chain(&l.moment).any(|v| *v != 0.0))
+            || self.acceleration_field().is_some()
+            || self.prescribed.iter().any(|p| p.value != 0.0)
+    }
 }
