@@ -129,3 +129,57 @@ fn coordinate_owner_of_hosted_nodes() {
     assert_eq!(owners, want);
     assert_eq!(m.coordinate_owner(m.nx), None);
 }
+
+/// A static path depends on its load factor only through non-zero loads, gravity or rotation
+/// and non-zero prescribed values; without them every load step is the first one's state.
+#[test]
+fn loads_that_scale_with_the_load_factor() {
+    let chain = || {
+        let mut b = ModelBuilder::new("t");
+        let props = crate::section::BeamProps::from_section(
+            &crate::section::Material {
+                e: 210e9,
+                g: 80e9,
+                rho: 7800.0,
+            },
+            &crate::section::Shape::Rectangle { w: 0.01, t: 0.001 },
+            true,
+        );
+        b.add_beam_chain(
+            "",
+            [0.0; 3],
+            [0.1, 0.0, 0.0],
+            4,
+            Some([0.0, 1.0, 0.0]),
+            Some(props),
+        )
+        .unwrap();
+        b.fix("n0", None).unwrap();
+        b
+    };
+    let m = chain().build().unwrap();
+    assert!(!m.loads.scale_with_load_factor());
+    let opts = crate::statics::StaticOptions {
+        steps: 3,
+        ..Default::default()
+    };
+    let sol = crate::statics::solve(&m, &opts, |_, _| {}).unwrap();
+    assert_eq!(sol.steps.len(), 4);
+    assert!(sol.steps.iter().all(|s| s.x == sol.steps[0].x));
+    let mut b = chain();
+    b.add_load("n4", [0.0; 3], [0.0; 3]).unwrap();
+    b.prescribe_coordinate("n4", Dof::Y, 0.0).unwrap();
+    assert!(!b.build().unwrap().loads.scale_with_load_factor());
+    let mut b = chain();
+    b.add_load("n4", [0.0, 0.0, 1e-3], [0.0; 3]).unwrap();
+    assert!(b.build().unwrap().loads.scale_with_load_factor());
+    let mut b = chain();
+    b.add_load("n4", [0.0; 3], [1e-3, 0.0, 0.0]).unwrap();
+    assert!(b.build().unwrap().loads.scale_with_load_factor());
+    let mut b = chain();
+    b.set_gravity([0.0, 0.0, -9.81]).unwrap();
+    assert!(b.build().unwrap().loads.scale_with_load_factor());
+    let mut b = chain();
+    b.prescribe_coordinate("n4", Dof::Z, 1e-4).unwrap();
+    assert!(b.build().unwrap().loads.scale_with_load_factor());
+}
