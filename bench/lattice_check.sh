@@ -8,8 +8,8 @@
 #   bash bench/lattice_check.sh [options]
 #
 #   --sizes "K ..."    cells per side (default: 2 3 4 6 8 12 16 24 32; k = 32 has 104,544
-#                      columns and 202,784 rows; above 2,500 rows or columns `check` takes its
-#                      sparse path)
+#                      columns and 202,784 rows; above 2,500 rows or columns, or a dense SVD
+#                      work m·n·min(m, n) above 2e9, `check` takes its sparse path)
 #   --plot FILE        also write the log-log plot of time and memory against the number of
 #                      columns (matplotlib; default bench/results/lattice_scaling.png; "" for none)
 #   --strips "N ..."   also N rigid beams in a chain, a regular 6N x 6N Dcc (default: 333, i.e.

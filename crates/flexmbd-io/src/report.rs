@@ -330,6 +330,12 @@ const TEXT_NEAR_RANK: usize = 5;
 /// The rows of a long vector shown in text: the `TEXT_TOP_ENTRIES` largest by magnitude,
 /// largest first, and a closing line for the rest.
 fn top_entries(values: &[f64]) -> (Vec<usize>, Option<String>) {
+    top_of(values, "entries", "  ")
+}
+
+/// [`top_entries`] for a list of `what` (the closing line indented by `indent`): all of them
+/// up to `TEXT_ALL_ENTRIES`, else the `TEXT_TOP_ENTRIES` largest by magnitude.
+pub(crate) fn top_of(values: &[f64], what: &str, indent: &str) -> (Vec<usize>, Option<String>) {
     if values.len() <= TEXT_ALL_ENTRIES {
         return ((0..values.len()).collect(), None);
     }
@@ -342,7 +348,7 @@ fn top_entries(values: &[f64]) -> (Vec<usize>, Option<String>) {
     (
         top,
         Some(format!(
-            "  ... and {rest} more entries of magnitude {} or less (all in --json)\n",
+            "{indent}... and {rest} more {what} of magnitude {} or less (all in --json)\n",
             fmt_num(below)
         )),
     )

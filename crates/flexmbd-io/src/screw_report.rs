@@ -60,9 +60,13 @@ pub fn describe_screw(s: &Screw) -> String {
     }
 }
 
+/// The twists of one motion, one line each: all of them up to `report::TEXT_ALL_ENTRIES`, else
+/// the largest by magnitude and a line for the rest (a lattice of many bodies).
 fn twist_lines(twists: &[BodyTwist], indent: &str) -> String {
+    let mags: Vec<f64> = twists.iter().map(|t| t.screw.magnitude).collect();
+    let (shown, rest) = crate::report::top_of(&mags, "twists", indent);
     let mut s = String::new();
-    for t in twists {
+    for t in shown.iter().map(|&i| &twists[i]) {
         s += &format!("{indent}{}: {}", t.body, describe_screw(&t.screw));
         if t.rigid_residual > flexmbd_core::kinematics::screw::RIGID_TOL {
             s += &format!(
@@ -72,7 +76,7 @@ fn twist_lines(twists: &[BodyTwist], indent: &str) -> String {
         }
         s += "\n";
     }
-    s
+    s + rest.as_deref().unwrap_or("")
 }
 
 /// The screws of the motions and self-stresses.
@@ -111,7 +115,9 @@ pub fn screws_text(sc: &ScrewAnalysis) -> String {
     }
     for (k, st) in sc.self_stresses.iter().enumerate() {
         s += &format!("Self-stress state {} as wrenches on the bodies:\n", k + 1);
-        for w in &st.wrenches {
+        let mags: Vec<f64> = st.wrenches.iter().map(|w| w.screw.magnitude).collect();
+        let (shown, rest) = crate::report::top_of(&mags, "wrenches", "    ");
+        for w in shown.iter().map(|&i| &st.wrenches[i]) {
             s += &format!(
                 "    on {} by {}: {}\n",
                 w.body,
@@ -119,6 +125,7 @@ pub fn screws_text(sc: &ScrewAnalysis) -> String {
                 describe_screw(&w.screw)
             );
         }
+        s += rest.as_deref().unwrap_or("");
     }
     s
 }
@@ -215,4 +222,49 @@ pub fn wires_text(wires: &[WireAdvice]) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd_core::kinematics::screw::{BodyWrench, Screw, SelfStressScrews};
+
+    /// A self-stress state with more wrenches than the text lists in full shows the largest
+    /// (by |F|, largest first) and counts the rest; a short one is listed whole.
+    #[test]
+    fn long_wrench_lists_show_the_largest() {
+        let wrench = |k: usize| BodyWrench {
+            body: "ground".into(),
+            by: format!("b{k}"),
+            support: false,
+            screw: Screw {
+                kind: ScrewKind::Force,
+                point: [k as f64, 0.0, 0.0],
+                direction: [0.0, 0.0, 1.0],
+                pitch: Some(0.0),
+                // magnitudes 1 … 60 in a scrambled order
+                magnitude: ((k * 37) % 60 + 1) as f64,
+            },
+            force: [0.0; 3],
+            moment: [0.0; 3],
+        };
+        let analysis = |n: usize| ScrewAnalysis {
+            length_scale: 1.0,
+            bodies: Vec::new(),
+            motions: Vec::new(),
+            self_stresses: vec![SelfStressScrews {
+                wrenches: (0..n).map(wrench).collect(),
+            }],
+        };
+        let long = screws_text(&analysis(60));
+        let lines: Vec<&str> = long.lines().filter(|l| l.starts_with("    on ")).collect();
+        assert_eq!(lines.len(), crate::report::TEXT_TOP_ENTRIES);
+        assert!(lines[0].ends_with("(|F| 6.000e1)"), "{}", lines[0]);
+        assert!(lines[9].ends_with("(|F| 5.100e1)"), "{}", lines[9]);
+        assert!(long.contains("    ... and 50 more wrenches of magnitude 50"));
+        let short = screws_text(&analysis(crate::report::TEXT_ALL_ENTRIES));
+        let n = short.lines().filter(|l| l.starts_with("    on ")).count();
+        assert_eq!(n, crate::report::TEXT_ALL_ENTRIES);
+        assert!(!short.contains("more wrenches"));
+    }
 }
