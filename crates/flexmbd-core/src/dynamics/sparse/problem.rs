@@ -63,8 +63,17 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64]
 }
 
 impl Problem {
+    /// The problem of a modal analysis alone: the element values of `lin` are released once
+    /// the saddle-point matrix holds them (12 MB at 10⁴ beams; the geometric ones too when
+    /// they are all zero). Static responses ([`super::static_solve`]) need them: those use
+    /// [`Problem::with_rows`].
     pub(super) fn new(t: &Tangent) -> Self {
-        Self::with_rows(t, &[])
+        let mut p = Self::with_rows(t, &[]);
+        p.lin.vals = Vec::new();
+        if p.lin.geo.iter().all(|&v| v == 0.0) {
+            p.lin.geo = Vec::new();
+        }
+        p
     }
 
     /// The problem with constraint rows added after those of the Newton system: row j holds

@@ -23,6 +23,10 @@ const MAX_REFINEMENTS: usize = 8;
 /// material part through the element deformations; plus Gᵀ μ (the multipliers are the
 /// constraint part of z).
 fn saddle_times(p: &Problem, model: &Model, step: &StepResult, z: &[f64]) -> Vec<f64> {
+    debug_assert!(
+        !p.lin.vals.is_empty(),
+        "a problem with its element values (Problem::with_rows)"
+    );
     let nc = p.nc;
     let dx = p.lin.to_x(model, &step.x, &z[..nc]);
     let fm = p.lin.material_forces(model, &step.x, &dx);
