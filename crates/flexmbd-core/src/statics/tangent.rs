@@ -260,9 +260,11 @@ pub(crate) fn assemble_values(
         let layout = pat.layout();
         (layout.rows.len(), &layout.elem_start)
     };
-    // every element entry is written by its element: no need to clear a reused buffer
+    // every element entry is written by its element: no need to clear a reused buffer; room
+    // for the tail of `apply_loads` from the start (no copy of the element entries there)
     let mut vals = spare;
     vals.truncate(n_el);
+    vals.reserve(n_el + tail_capacity(su) - vals.len());
     vals.resize(n_el, 0.0);
     let mut e = vec![0.0; model.ne];
     let mut sigma = vec![0.0; model.ne];
@@ -344,6 +346,7 @@ pub(super) fn apply_loads(
     let mut f_abs = a.int_abs.clone();
     let mut g = vec![0.0; nk];
     a.vals.truncate(a.n_el);
+    a.vals.reserve(tail_capacity(su));
     let vals = &mut a.vals;
     // constraint violations of the elements
     for entry in &model.elements {
@@ -449,6 +452,12 @@ pub(super) fn apply_loads(
     a.g = g;
     a.tail = tail;
     a.balance = balance;
+}
+
+/// The most entries [`apply_loads`] appends after the element entries: 16 per moment and 12
+/// per Euler normalisation (fewer in the reduced system).
+fn tail_capacity(su: &Setup) -> usize {
+    16 * su.moments.len() + 12 * su.norm.len()
 }
 
 /// The generalised forces 2 Λ̄(λ)ᵀ M on the Euler parameters (λ0 at x index `r`) of a moment M
