@@ -7,7 +7,7 @@
 //! the gyroscopic moment −Ω × (I Ω). The loads are computed on the reference configuration and
 //! applied as dead loads growing with the load factor (statics).
 
-use crate::assembly::gather;
+use crate::assembly::{gather_local, SMALL};
 use crate::elements::ElementKind;
 use crate::model::Model;
 
@@ -30,13 +30,13 @@ pub fn field_loads_at(model: &Model, x: &[f64]) -> Vec<([f64; 3], [f64; 3])> {
         }
     };
     let mut per_use = Vec::new();
+    let (mut xs, mut xh) = ([0.0; SMALL], Vec::new());
     for entry in &model.elements {
         let uses = entry.element.node_uses();
         per_use.clear();
         per_use.resize(uses.len(), ([0.0; 3], [0.0; 3]));
-        entry
-            .element
-            .field_loads(&gather(entry, x), &field, &mut per_use);
+        let xk = gather_local(entry, x, &mut xs, &mut xh);
+        entry.element.field_loads(xk, &field, &mut per_use);
         for (u, (f, m)) in uses.iter().zip(&per_use) {
             add(&mut out[u.node].0, *f);
             add(&mut out[u.node].1, *m);

@@ -171,7 +171,7 @@ pub(crate) fn for_each_node_mass(
 
 /// The entries of point masses and inertia tensors (the part of [`for_each_entry`] after the
 /// elements).
-fn for_each_node_entry(
+pub(crate) fn for_each_node_entry(
     model: &Model,
     x: &[f64],
     weight: Option<&[[f64; 3]; 3]>,

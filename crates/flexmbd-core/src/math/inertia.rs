@@ -34,10 +34,12 @@ pub fn d_rotated(l: &[f64], a: [f64; 3]) -> [[f64; 4]; 3] {
         }
     }
     let dn2 = [2.0 * l0, 2.0 * v[0], 2.0 * v[1], 2.0 * v[2]];
+    // (dr − r dn2ᵀ/n²)/n², with one division
+    let inv = 1.0 / n2;
     let mut out = [[0.0; 4]; 3];
     for i in 0..3 {
         for j in 0..4 {
-            out[i][j] = dr[i][j] / n2 - r[i] * dn2[j] / (n2 * n2);
+            out[i][j] = (dr[i][j] - r[i] * dn2[j] * inv) * inv;
         }
     }
     out
@@ -66,6 +68,13 @@ pub fn lambda_block(l: &[f64], i: &[[f64; 3]; 3]) -> [[f64; 4]; 4] {
 pub fn rotated_tensor(l: &[f64], frame: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {
     let lam = [l[0], l[1], l[2], l[3]];
     let axes: [[f64; 3]; 3] = std::array::from_fn(|k| rotate(&lam, frame[k]));
+    principal_tensor(&axes, d)
+}
+
+/// Σₖ dₖ aₖ aₖᵀ: the tensor with principal values `d` along the (unit) `axes`, the rows of
+/// `axes`; [`rotated_tensor`] at the reference orientation (λ = (1, 0, 0, 0), where
+/// [`rotate`] returns the axes unchanged).
+pub fn principal_tensor(axes: &[[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {
     let mut i = [[0.0; 3]; 3];
     for k in 0..3 {
         for r in 0..3 {
@@ -107,17 +116,37 @@ pub fn lambda_body(l: &[f64]) -> [[f64; 4]; 3] {
 
 /// The second derivative of R(λ) a along the Euler-parameter rate `ld`:
 /// ∂²(R(λ) a)/∂λ² [λ̇, λ̇], so that d²(R a)/dt² = ∂(R a)/∂λ λ̈ + this (exact, of the formula of
-/// [`rotate`], by a second-order jet).
+/// [`rotate`], in closed form). With the numerator of [`rotate`] written as the symmetric
+/// bilinear form r(λ) = Q(λ, λ),
+/// Q(p, s) = (p0 s0 − p̄·s̄) a + (p̄·a) s̄ + (s̄·a) p̄ + p0 (s̄ × a) + s0 (p̄ × a),
+/// and n = λᵀλ, R a = r/n has along λ̇ the second derivative
+/// (r'' − 2 r' n'/n − r n''/n + 2 r n'²/n²)/n with r' = 2 Q(λ, λ̇), r'' = 2 Q(λ̇, λ̇),
+/// n' = 2 λᵀλ̇ and n'' = 2 λ̇ᵀλ̇.
 pub fn second_rotated(l: &[f64], ld: &[f64], a: [f64; 3]) -> [f64; 3] {
-    use super::jet::{Jet2, Scalar};
-    let lj: [Jet2<1>; 4] = std::array::from_fn(|i| Jet2 {
-        v: l[i],
-        g: [ld[i]],
-        h: [[0.0]],
-    });
-    let aj = a.map(Jet2::<1>::cst);
-    let r = rotate(&lj, aj);
-    r.map(|c| c.h[0][0])
+    let (l, ld) = ([l[0], l[1], l[2], l[3]], [ld[0], ld[1], ld[2], ld[3]]);
+    let (r, r1, r2) = (
+        rotation_form(&l, &l, a),
+        rotation_form(&l, &ld, a),
+        rotation_form(&ld, &ld, a),
+    );
+    let dot4 = |p: &[f64; 4], s: &[f64; 4]| p[0] * s[0] + p[1] * s[1] + p[2] * s[2] + p[3] * s[3];
+    // n'/n and n''/n, with one division
+    let inv = 1.0 / dot4(&l, &l);
+    let (a1, a2) = (2.0 * dot4(&l, &ld) * inv, 2.0 * dot4(&ld, &ld) * inv);
+    std::array::from_fn(|i| {
+        (2.0 * r2[i] - 4.0 * r1[i] * a1 - r[i] * a2 + 2.0 * r[i] * a1 * a1) * inv
+    })
+}
+
+/// The symmetric bilinear form Q(p, s) of [`second_rotated`], Q(λ, λ) the numerator of
+/// [`rotate`].
+#[inline(always)]
+fn rotation_form(p: &[f64; 4], s: &[f64; 4], a: [f64; 3]) -> [f64; 3] {
+    let (pv, sv) = ([p[1], p[2], p[3]], [s[1], s[2], s[3]]);
+    let c0 = p[0] * s[0] - dot(pv, sv);
+    let (pa, sa) = (dot(pv, a), dot(sv, a));
+    let (px, sx) = (cross(pv, a), cross(sv, a));
+    std::array::from_fn(|i| c0 * a[i] + pa * sv[i] + sa * pv[i] + p[0] * sx[i] + s[0] * px[i])
 }
 
 /// The velocity-dependent inertia force on the Euler parameters of a body with the inertia
@@ -218,6 +247,35 @@ mod tests {
                     (h[j] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
                     "{j}: {} vs {fd}",
                     h[j]
+                );
+            }
+        }
+    }
+
+    /// The closed form against the second-order jet of [`rotate`] (exact derivatives of the
+    /// same formula), for Euler parameters of any length.
+    #[test]
+    fn second_rotated_equals_the_jet_of_rotate() {
+        use crate::math::jet::{Jet2, Scalar};
+        let mut rng = crate::elements::testing::Rng(29);
+        for _ in 0..20 {
+            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let ld: [f64; 4] = std::array::from_fn(|_| rng.next());
+            let a: [f64; 3] = std::array::from_fn(|_| rng.next());
+            let lj: [Jet2<1>; 4] = std::array::from_fn(|i| Jet2 {
+                v: l[i],
+                g: [ld[i]],
+                h: [[0.0]],
+            });
+            let want = rotate(&lj, a.map(Jet2::<1>::cst)).map(|c| c.h[0][0]);
+            let got = second_rotated(&l, &ld, a);
+            let scale = want.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+            for i in 0..3 {
+                assert!(
+                    (got[i] - want[i]).abs() <= 1e-12 * scale,
+                    "{i}: {} vs {}",
+                    got[i],
+                    want[i]
                 );
             }
         }

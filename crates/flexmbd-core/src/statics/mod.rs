@@ -41,7 +41,7 @@
 //! chords (`chord_consistent_scale`); a load step starts from the last converged state (a
 //! secant predictor only with prescribed coordinates).
 
-use crate::assembly::gather;
+use crate::assembly::{gather, gather_local, SMALL};
 use crate::elements::ElementKind;
 use crate::math::lambda_bar;
 use crate::model::{CoordKind, DefKind, Model, Target};
@@ -355,9 +355,12 @@ pub fn non_finite_parts(st: &StepResult) -> Vec<&'static str> {
 
 /// The first element (name) that is inverted at `x`, having been valid at `prev`.
 pub(crate) fn inverted_element(model: &Model, x: &[f64], prev: &[f64]) -> Option<String> {
+    let (mut xs, mut ps) = ([0.0; SMALL], [0.0; SMALL]);
+    let (mut xh, mut ph) = (Vec::new(), Vec::new());
     model.elements.iter().find_map(|entry| {
-        let (xk, pk) = (gather(entry, x), gather(entry, prev));
-        entry.element.inverted(&xk, &pk).then(|| entry.name.clone())
+        let xk = gather_local(entry, x, &mut xs, &mut xh);
+        let pk = gather_local(entry, prev, &mut ps, &mut ph);
+        entry.element.inverted(xk, pk).then(|| entry.name.clone())
     })
 }
 

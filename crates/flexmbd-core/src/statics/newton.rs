@@ -173,9 +173,13 @@ impl KktSolver {
         };
         for try_diag in [true, false] {
             let sym = try_diag && self.symmetric;
+            // an attempt without a factorisation to refactor gathers nothing
+            if (try_diag && self.diag.is_none()) || (!try_diag && !self.have_pivots) {
+                continue;
+            }
             if sym {
                 gather_sum(&mut self.lower, &self.lower_ptr, &self.lower_src, vals);
-            } else {
+            } else if !self.csc_current {
                 self.gather_csc(vals);
             }
             let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
@@ -184,10 +188,8 @@ impl KktSolver {
                     Some(d) => d,
                     None => continue,
                 }
-            } else if self.have_pivots {
-                &mut self.lu
             } else {
-                continue;
+                &mut self.lu
             };
             let r = if sym {
                 lu.refactor_symmetric(&self.lower)

@@ -97,46 +97,19 @@ pub(super) fn element_local(
     let s = &su.s_eff[el];
     let ne = e_out.len();
     let free = &su.pattern.elem_free[el];
-    // σ = S_eff e, plus multipliers on constrained modes
-    let stress = |e: &[f64], sigma: &mut [f64]| -> f64 {
-        let mut energy = 0.0;
-        for a in 0..ne {
-            sigma[a] = (0..ne).map(|b| s[(a, b)] * e[b]).sum();
-            energy += 0.5 * sigma[a] * e[a];
-            if let Some(c) = su.constraint[entry.ie + a] {
-                sigma[a] += mu[c];
-            }
-        }
-        energy
-    };
     // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
+    let constrained = &su.constraint[entry.ie..entry.ie + ne];
     let write =
         |vals: &mut [f64], k: &dyn Fn(usize, usize) -> f64, d: &dyn Fn(usize, usize) -> f64| {
-            let mut i = 0;
-            for &(a, _) in free {
-                for &(b, _) in free {
-                    vals[i] = k(a, b);
-                    i += 1;
-                }
-            }
-            for m in 0..ne {
-                if su.constraint[entry.ie + m].is_some() {
-                    for &(b, _) in free {
-                        let v = d(m, b);
-                        vals[i] = v;
-                        vals[i + 1] = v;
-                        i += 2;
-                    }
-                }
-            }
-            debug_assert_eq!(i, vals.len());
+            write_entries(vals, free, constrained, k, d)
         };
     if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
         // closed-form derivatives in fixed-size arrays (elements/beam/closed_form.rs)
         let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
         let first = cf.first(&xk);
         e_out.copy_from_slice(&first.e);
-        let energy = stress(&first.e, sigma_out);
+        let s6: [[f64; 6]; 6] = std::array::from_fn(|a| std::array::from_fn(|b| s[(a, b)]));
+        let energy = stress(&first.e, sigma_out, |a, b| s6[a][b], constrained, mu);
         let d = &first.d;
         for (c, f) in f_out.iter_mut().enumerate() {
             *f = (0..6).map(|a| d[a][c] * sigma_out[a]).sum();
@@ -144,7 +117,6 @@ pub(super) fn element_local(
         if part == Part::Residual {
             return energy;
         }
-        let s6: [[f64; 6]; 6] = std::array::from_fn(|a| std::array::from_fn(|b| s[(a, b)]));
         let w: [f64; 6] = std::array::from_fn(|a| sigma_out[a]);
         if reduced && su.red.beam_full[el] && part == Part::Full {
             // Tᵀ K T directly in the tangent coordinates of both rotations
@@ -176,7 +148,8 @@ pub(super) fn element_local(
                 &mut kt,
             );
         } else {
-            write(vals, &|a, b| k[a][b], &|m, b| d[m][b]);
+            // the closed form's arrays directly (inlined, no dynamic calls per entry)
+            write_entries(vals, free, constrained, |a, b| k[a][b], |m, b| d[m][b]);
         }
         return energy;
     }
@@ -184,7 +157,7 @@ pub(super) fn element_local(
     let e = entry.element.deformations(&xk);
     let d = entry.element.jacobian(&xk);
     e_out.copy_from_slice(&e);
-    let energy = stress(&e, sigma_out);
+    let energy = stress(&e, sigma_out, |a, b| s[(a, b)], constrained, mu);
     for (c, f) in f_out.iter_mut().enumerate() {
         *f = (0..ne).map(|a| d[(a, c)] * sigma_out[a]).sum();
     }
@@ -220,6 +193,58 @@ pub(super) fn element_local(
         write(vals, &|a, b| k[(a, b)], &|m, b| d[(m, b)]);
     }
     energy
+}
+
+/// σ = S_eff e (`s(a, b)` the entries of S_eff), plus the multipliers `mu` on the modes with a
+/// constraint row (`constrained`); returns the elastic energy ½ eᵀ S_eff e.
+#[inline]
+fn stress(
+    e: &[f64],
+    sigma: &mut [f64],
+    s: impl Fn(usize, usize) -> f64,
+    constrained: &[Option<usize>],
+    mu: &[f64],
+) -> f64 {
+    let ne = e.len();
+    let mut energy = 0.0;
+    for a in 0..ne {
+        sigma[a] = (0..ne).map(|b| s(a, b) * e[b]).sum();
+        energy += 0.5 * sigma[a] * e[a];
+        if let Some(c) = constrained[a] {
+            sigma[a] += mu[c];
+        }
+    }
+    energy
+}
+
+/// An element's KKT entries in [`Pattern`] order: K (`k(a, b)`) on its free local coordinates
+/// `free`, then the pairs (G, Gᵀ) (`d(m, b)`) of each mode m with a constraint row.
+#[inline]
+fn write_entries(
+    vals: &mut [f64],
+    free: &[(usize, usize)],
+    constrained: &[Option<usize>],
+    k: impl Fn(usize, usize) -> f64,
+    d: impl Fn(usize, usize) -> f64,
+) {
+    let mut i = 0;
+    for &(a, _) in free {
+        for &(b, _) in free {
+            vals[i] = k(a, b);
+            i += 1;
+        }
+    }
+    for (m, c) in constrained.iter().enumerate() {
+        if c.is_some() {
+            for &(b, _) in free {
+                let v = d(m, b);
+                vals[i] = v;
+                vals[i + 1] = v;
+                i += 2;
+            }
+        }
+    }
+    debug_assert_eq!(i, vals.len());
 }
 
 /// Multiply the entries that element `el` wrote into `vals` (the full, unreduced system of
@@ -261,9 +286,9 @@ pub(crate) fn assemble_values(
         (layout.rows.len(), &layout.elem_start)
     };
     // every element entry is written by its element: no need to clear a reused buffer; room
-    // for the entries [`apply_loads`] appends (at most 16 per moment, 12 per normalisation), so
-    // that appending them does not double the buffer (16 MB at 10⁴ beams)
-    let capacity = n_el + 16 * su.moments.len() + 12 * su.norm.len();
+    // for the entries [`apply_loads`] appends, so that appending them does not double the
+    // buffer (16 MB at 10⁴ beams), and a new buffer when it is short (nothing to copy)
+    let capacity = n_el + tail_capacity(su);
     let mut vals = spare;
     if vals.capacity() < capacity {
         vals = Vec::with_capacity(capacity);
@@ -350,6 +375,7 @@ pub(super) fn apply_loads(
     let mut f_abs = a.int_abs.clone();
     let mut g = vec![0.0; nk];
     a.vals.truncate(a.n_el);
+    a.vals.reserve(tail_capacity(su));
     let vals = &mut a.vals;
     // constraint violations of the elements
     for entry in &model.elements {
@@ -455,6 +481,12 @@ pub(super) fn apply_loads(
     a.g = g;
     a.tail = tail;
     a.balance = balance;
+}
+
+/// The most entries [`apply_loads`] appends after the element entries: 16 per moment and 12
+/// per Euler normalisation (fewer in the reduced system).
+fn tail_capacity(su: &Setup) -> usize {
+    16 * su.moments.len() + 12 * su.norm.len()
 }
 
 /// The generalised forces 2 Λ̄(λ)ᵀ M on the Euler parameters (λ0 at x index `r`) of a moment M

@@ -22,7 +22,8 @@
 use super::Beam;
 use crate::elements::AccelerationField;
 use crate::math::inertia::{
-    d_rotated, lambda_block, lambda_inertia_force, rotated_tensor, second_rotated, unit,
+    d_rotated, lambda_block, lambda_inertia_force, principal_tensor, rotated_tensor,
+    second_rotated, unit,
 };
 use crate::math::{cross, dot, rotate};
 use crate::section::BeamProps;
@@ -42,7 +43,12 @@ const HERMITE_INTEGRAL: [f64; 4] = [0.5, 1.0 / 12.0, 0.5, -1.0 / 12.0];
 /// The lumped rotary inertia at one end of a beam (half the element's, ρI l₀/2 about its
 /// current axes) as a tensor in global axes, with the end's Euler parameters `l`.
 fn end_inertia(b: &Beam, p: &BeamProps, l: &[f64]) -> [[f64; 3]; 3] {
-    rotated_tensor(l, &b.frame, p.rho_i.map(|v| v * b.l0 / 2.0))
+    rotated_tensor(l, &b.frame, end_principal(b, p))
+}
+
+/// The principal values of the lumped rotary inertia at one end, ρI l₀/2.
+fn end_principal(b: &Beam, p: &BeamProps) -> [f64; 3] {
+    p.rho_i.map(|v| v * b.l0 / 2.0)
 }
 
 /// The mass matrix of a beam with section data on its 14 local coordinates
@@ -153,8 +159,8 @@ pub(crate) fn inertia_forces(b: &Beam, xk: &[f64], vk: &[f64], ak: &[f64]) -> Op
             }
         }
     }
-    let identity = [1.0, 0.0, 0.0, 0.0];
-    let i_body = end_inertia(b, p, &identity);
+    // the end's tensor in its own axes: `end_inertia` at the reference orientation
+    let i_body = principal_tensor(&b.frame, end_principal(b, p));
     for r0 in [3usize, 10] {
         let (l, ld, ldd) = (&xk[r0..r0 + 4], &vk[r0..r0 + 4], &ak[r0..r0 + 4]);
         let g = lambda_inertia_force(l, ld, ldd, &i_body);

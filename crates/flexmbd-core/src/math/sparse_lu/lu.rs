@@ -15,6 +15,7 @@ impl SparseLu {
         self.factored = false;
         self.symmetric_factors = false;
         self.diagonal_structure = false;
+        self.a_step.clear();
         self.pinv.iter_mut().for_each(|p| *p = usize::MAX);
         self.mark.iter_mut().for_each(|m| *m = usize::MAX);
         self.l_idx.clear();
@@ -57,7 +58,7 @@ impl SparseLu {
                 let u = x[r];
                 for p in self.l_ptr[s]..self.l_ptr[s + 1] {
                     // L rows are still in A numbering during the factorisation
-                    x[self.l_idx[p]] -= self.l_val[p] * u;
+                    x[self.l_idx[p] as usize] -= self.l_val[p] * u;
                 }
             }
             // pivot: the largest candidate
@@ -94,10 +95,10 @@ impl SparseLu {
             for &r in &self.reach {
                 let s = self.pinv[r];
                 if r != piv && s == usize::MAX {
-                    self.l_idx.push(r);
+                    self.l_idx.push(r as u32);
                     self.l_val.push(x[r] / d);
                 } else if r != piv {
-                    self.u_idx.push(s);
+                    self.u_idx.push(s as u32);
                     self.u_val.push(x[r]);
                 }
                 x[r] = 0.0;
@@ -107,7 +108,7 @@ impl SparseLu {
         }
         // L rows to step numbering; U columns sorted by step (valid elimination order)
         for r in self.l_idx.iter_mut() {
-            *r = self.pinv[*r];
+            *r = self.pinv[*r as usize] as u32;
         }
         sort_columns(&self.u_ptr, &mut self.u_idx, &mut self.u_val);
         self.factored = true;
@@ -131,22 +132,29 @@ impl SparseLu {
         self.symmetric_factors = false;
         self.u_val.resize(self.u_idx.len(), 0.0);
         let n = self.n;
+        let nnz = col_ptr[n];
+        if self.a_step.len() != nnz {
+            self.a_step.clear();
+            self.a_step
+                .extend(row_idx[..nnz].iter().map(|&r| self.pinv[r] as u32));
+        }
         let x = &mut self.work;
         let mut min_ratio: f64 = 1.0;
         for k in 0..n {
             let col = self.q[k];
-            for p in col_ptr[col]..col_ptr[col + 1] {
-                x[self.pinv[row_idx[p]]] += val[p];
+            let (lo, hi) = (col_ptr[col], col_ptr[col + 1]);
+            for (&s, &v) in self.a_step[lo..hi].iter().zip(&val[lo..hi]) {
+                x[s as usize] += v;
             }
             let (ulo, uhi) = (self.u_ptr[k], self.u_ptr[k + 1]);
             for p in ulo..uhi {
-                let s = self.u_idx[p];
+                let s = self.u_idx[p] as usize;
                 let u = x[s];
                 x[s] = 0.0;
                 self.u_val[p] = u;
                 let (llo, lhi) = (self.l_ptr[s], self.l_ptr[s + 1]);
                 for (&i, &l) in self.l_idx[llo..lhi].iter().zip(&self.l_val[llo..lhi]) {
-                    x[i] -= l * u;
+                    x[i as usize] -= l * u;
                 }
             }
             let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
@@ -190,7 +198,7 @@ impl SparseLu {
             let v = y[k];
             if v != 0.0 {
                 for (&i, &l) in column(k) {
-                    y[i] -= l * v;
+                    y[i as usize] -= l * v;
                 }
             }
         }
@@ -199,7 +207,7 @@ impl SparseLu {
             for k in (0..n).rev() {
                 let mut v = y[k] / self.u_diag[k];
                 for (&i, &l) in column(k) {
-                    v -= l * y[i];
+                    v -= l * y[i as usize];
                 }
                 y[k] = v;
             }
@@ -209,7 +217,7 @@ impl SparseLu {
                 y[k] = v;
                 if v != 0.0 {
                     for p in self.u_ptr[k]..self.u_ptr[k + 1] {
-                        y[self.u_idx[p]] -= self.u_val[p] * v;
+                        y[self.u_idx[p] as usize] -= self.u_val[p] * v;
                     }
                 }
             }
@@ -230,7 +238,7 @@ impl SparseLu {
 pub(super) fn pivot_step(
     x: &mut [f64],
     k: usize,
-    l_idx: &[usize],
+    l_idx: &[u32],
     l_val: &mut [f64],
     tol: f64,
     min_ratio: &mut f64,
@@ -239,7 +247,7 @@ pub(super) fn pivot_step(
     x[k] = 0.0;
     let mut cmax: f64 = 0.0;
     for &i in l_idx {
-        cmax = cmax.max(x[i].abs());
+        cmax = cmax.max(x[i as usize].abs());
     }
     let ok = d.abs() >= tol * cmax && d != 0.0 && d.is_finite() && cmax.is_finite();
     if d.abs() < *min_ratio * cmax {
@@ -247,6 +255,7 @@ pub(super) fn pivot_step(
     }
     let inv = 1.0 / d;
     for (&i, l) in l_idx.iter().zip(l_val) {
+        let i = i as usize;
         *l = x[i] * inv;
         x[i] = 0.0;
     }
@@ -261,7 +270,7 @@ pub(super) fn dfs(
     k: usize,
     pinv: &[usize],
     l_ptr: &[usize],
-    l_idx: &[usize],
+    l_idx: &[u32],
     mark: &mut [usize],
     stack: &mut Vec<usize>,
     pstack: &mut Vec<usize>,
@@ -288,7 +297,7 @@ pub(super) fn dfs(
             let end = l_ptr[s + 1];
             let mut p = pstack[top];
             while p < end {
-                let child = l_idx[p];
+                let child = l_idx[p] as usize;
                 p += 1;
                 if mark[child] != k {
                     mark[child] = k;

@@ -55,13 +55,18 @@ pub struct SparseLu {
     /// Row i of A is pivot row of step `pinv[i]` (valid after a successful factorisation).
     pinv: Vec<usize>,
     l_ptr: Vec<usize>,
-    l_idx: Vec<usize>,
+    /// Row steps of L's entries (u32: half the memory traffic of the solves).
+    l_idx: Vec<u32>,
     l_val: Vec<f64>,
     u_ptr: Vec<usize>,
     /// Strictly upper entries, ascending step order within each column.
-    u_idx: Vec<usize>,
+    u_idx: Vec<u32>,
     u_val: Vec<f64>,
     u_diag: Vec<f64>,
+    /// The step of every entry of A's row indices (`pinv[row_idx[p]]`, CSC order) for
+    /// [`SparseLu::refactor`]; empty until the first refactorisation after the pivot order is
+    /// set.
+    a_step: Vec<u32>,
     /// Dense work vector (kept zero between uses) and DFS work.
     work: Vec<f64>,
     mark: Vec<usize>,
@@ -143,6 +148,7 @@ pub(crate) fn csc_residual(
 impl SparseLu {
     /// Analyse the structure (COLAMD column order) of an n × n CSC matrix.
     pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, String> {
+        check_size(n)?;
         let nnz = col_ptr[n];
         let diag_pref = (0..n).all(|j| {
             row_idx[col_ptr[j]..col_ptr[j + 1]]
@@ -175,6 +181,7 @@ impl SparseLu {
     /// they couple, so that L D Lᵀ with diagonal pivots exists. Follow with
     /// [`SparseLu::set_diagonal_pivots`].
     pub fn with_order(n: usize, q: Vec<usize>) -> Result<Self, String> {
+        check_size(n)?;
         let mut seen = vec![false; n];
         if q.len() != n
             || q.iter()
@@ -199,6 +206,7 @@ impl SparseLu {
             u_idx: Vec::new(),
             u_val: Vec::new(),
             u_diag: vec![0.0; n],
+            a_step: Vec::new(),
             work: vec![0.0; n],
             mark: vec![usize::MAX; n],
             stack: Vec::with_capacity(n),
@@ -241,6 +249,16 @@ impl SparseLu {
     }
 }
 
+/// The factors store their row indices as u32.
+fn check_size(n: usize) -> Result<(), String> {
+    if n > u32::MAX as usize {
+        return Err(format!(
+            "{n} unknowns: too many for the sparse LU (at most 2^32 - 1)"
+        ));
+    }
+    Ok(())
+}
+
 /// Longest slice that [`sort_small`] sorts by insertion.
 const INSERTION_MAX: usize = 32;
 
@@ -267,8 +285,8 @@ pub fn sort_small_by<T>(v: &mut [T], mut less: impl FnMut(&T, &T) -> bool) {
 }
 
 /// Sort the entries of every column (`ptr`: column starts, n + 1 of them) by index.
-fn sort_columns(ptr: &[usize], idx: &mut [usize], val: &mut [f64]) {
-    let mut pairs: Vec<(usize, f64)> = Vec::new();
+fn sort_columns(ptr: &[usize], idx: &mut [u32], val: &mut [f64]) {
+    let mut pairs: Vec<(u32, f64)> = Vec::new();
     for col in ptr.windows(2) {
         let (lo, hi) = (col[0], col[1]);
         pairs.clear();

@@ -52,6 +52,7 @@ impl SparseLu {
     fn symbolic_cholesky(&mut self, col_ptr: &[usize], row_idx: &[usize]) {
         const NONE: usize = usize::MAX;
         let n = self.n;
+        self.a_step.clear();
         for k in 0..n {
             self.pinv[self.q[k]] = k;
         }
@@ -90,7 +91,7 @@ impl SparseLu {
                 }
                 while mark[i] != k {
                     mark[i] = k;
-                    self.u_idx.push(i);
+                    self.u_idx.push(i as u32);
                     l_count[i] += 1;
                     i = parent[i];
                     debug_assert!(i != NONE);
@@ -109,8 +110,8 @@ impl SparseLu {
         self.l_idx.resize(self.l_ptr[n], 0);
         for k in 0..n {
             for p in self.u_ptr[k]..self.u_ptr[k + 1] {
-                let j = self.u_idx[p];
-                self.l_idx[fill[j]] = k;
+                let j = self.u_idx[p] as usize;
+                self.l_idx[fill[j]] = k as u32;
                 fill[j] += 1;
             }
         }
@@ -191,18 +192,18 @@ impl SparseLu {
                 x[s as usize] += a;
             }
             for p in self.u_ptr[k]..self.u_ptr[k + 1] {
-                let s = self.u_idx[p];
+                let s = self.u_idx[p] as usize;
                 // L(:, s) from row k on (its columns are sorted by row)
                 let start = self.next[s];
                 let end = self.l_ptr[s + 1];
-                debug_assert_eq!(self.l_idx[start], k);
+                debug_assert_eq!(self.l_idx[start] as usize, k);
                 let u = self.u_diag[s] * self.l_val[start];
                 x[k] -= self.l_val[start] * u;
                 for (&i, &l) in self.l_idx[start + 1..end]
                     .iter()
                     .zip(&self.l_val[start + 1..end])
                 {
-                    x[i] -= l * u;
+                    x[i as usize] -= l * u;
                 }
                 self.next[s] = start + 1;
             }

@@ -138,10 +138,12 @@ impl Engine<'_> {
 
     /// Evaluate at a state.
     pub(super) fn evaluate(&self, x: &[f64], v: &[f64], a: &[f64], mu: &[f64], t: f64) -> Eval {
-        self.evaluate_part(x, v, a, mu, t, Part::Full)
+        self.evaluate_part(x, v, a, mu, t, Part::Full, Vec::new())
     }
 
-    /// [`Engine::evaluate`] with the tangent (`Part::Full`) or without it (`Part::Residual`).
+    /// [`Engine::evaluate`] with the tangent (`Part::Full`) or without it (`Part::Residual`);
+    /// `spare` is a buffer to reuse for the tangent's entries.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn evaluate_part(
         &self,
         x: &[f64],
@@ -150,13 +152,10 @@ impl Engine<'_> {
         mu: &[f64],
         t: f64,
         part: Part,
+        spare: Vec<f64>,
     ) -> Eval {
         let model = self.model;
-        let asm = if part == Part::Full {
-            assemble(model, &self.su, x, mu, 0.0)
-        } else {
-            assemble_values(model, &self.su, x, mu, 0.0, part, false, Vec::new())
-        };
+        let asm = assemble_values(model, &self.su, x, mu, 0.0, part, false, spare);
         // the damping matrix Σₑ (β + τₑ) Dₑᵀ Sₑ Dₑ
         let km = (self.stiffness_damping() && part == Part::Full).then(|| {
             let mut vals = assemble_values(
@@ -205,20 +204,51 @@ impl Engine<'_> {
 
     /// The matrix values for the coefficients, at x and t.
     pub(super) fn values(&self, ev: &Eval, x: &[f64], t: f64, c: Coefs) -> Vec<f64> {
+        let mut vals = Vec::new();
+        self.values_into(ev, x, t, c, &mut vals);
+        vals
+    }
+
+    /// [`Engine::values`] into a reused buffer.
+    pub(super) fn values_into(&self, ev: &Eval, x: &[f64], t: f64, c: Coefs, vals: &mut Vec<f64>) {
         let nf = self.su.nf;
-        let mut vals = vec![0.0; self.n_vals];
         debug_assert_eq!(ev.asm.vals.len(), self.n_pat);
-        for (i, (&(r, col), &v)) in self.entries.iter().zip(&ev.asm.vals).enumerate() {
-            vals[i] = if r < nf && col < nf {
-                c.k * v + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
-            } else {
-                v
-            };
-        }
+        vals.clear();
+        vals.extend(
+            self.in_free
+                .iter()
+                .zip(&ev.asm.vals)
+                .enumerate()
+                .map(|(i, (&free, &v))| {
+                    if free {
+                        c.k * v + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
+                    } else {
+                        v
+                    }
+                }),
+        );
+        vals.resize(self.n_vals, 0.0);
         if c.m != 0.0 {
+            // element by element (in parallel for large models), each into its own slots
+            let ms = &self.mass;
+            let last = ms.first + ms.piece_start[ms.piece_start.len() - 1];
+            let pieces = split_at_starts(&mut vals[ms.first..last], &ms.piece_start);
+            map_elements(&self.model.elements, pieces, |el, entry, piece| {
+                let local = &ms.local[ms.entry_start[el]..ms.entry_start[el + 1]];
+                if local.is_empty() {
+                    return;
+                }
+                element_mass(entry, x, None, true, |me| {
+                    for (&o, &v) in local.iter().zip(me) {
+                        if o != NO_SLOT {
+                            piece[o as usize] += c.m * v;
+                        }
+                    }
+                });
+            });
             let mut k = 0;
-            for_each_entry(self.model, x, None, true, |_, _, v| {
-                if let Some(s) = self.mass_slot[k] {
+            for_each_node_entry(self.model, x, None, true, |_, _, v| {
+                if let Some(s) = ms.node[k] {
                     vals[s] += c.m * v;
                 }
                 k += 1;
@@ -243,7 +273,6 @@ impl Engine<'_> {
         for u in 0..nf {
             vals[self.diag_start + u] = c.diag;
         }
-        vals
     }
 
     /// G w and, with `quad`, also Σ vᵀ ∂²g v: the constraint rows applied to a vector on all

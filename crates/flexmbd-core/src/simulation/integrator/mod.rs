@@ -6,13 +6,14 @@ use super::{
     Start, StartVelocity, Stopped, TimeFunction,
 };
 use crate::assembly::loads::field_loads_at;
-use crate::assembly::mass::{for_each_entry, inertia_forces, mass_times};
+use crate::assembly::mass::{element_mass, for_each_node_entry, inertia_forces, mass_times};
+use crate::assembly::{map_elements, split_at_starts};
 use crate::elements::ElementKind;
 use crate::math::lambda_bar;
 use crate::model::{Model, Target};
 use crate::statics::{
-    assemble, assemble_part, assemble_values, inverted_element, scale_elements, setup, solve,
-    Assembled, KktSolver, Part, Setup, StaticOptions,
+    assemble_part, assemble_values, inverted_element, scale_elements, setup, solve, Assembled,
+    KktSolver, Part, Setup, StaticOptions,
 };
 
 /// Modified Newton: a new iteration matrix when the corrections shrink by less than this
@@ -115,8 +116,10 @@ struct Engine<'a> {
     l_ref: f64,
     /// Number of triplets of the assembly.
     n_pat: usize,
-    /// Value slot of every mass entry (order of `for_each_entry`), `None` off the free block.
-    mass_slot: Vec<Option<usize>>,
+    /// Whether each assembly entry lies in the free block (scaled by the coefficient of K).
+    in_free: Vec<bool>,
+    /// The value slots of the mass entries.
+    mass: MassSlots,
     /// First slot of the moment load stiffness (16 per moment; `None` off the free block).
     moment_slot: Vec<[[Option<usize>; 4]; 4]>,
     /// First slot of the diagonal entries (one per free coordinate).
@@ -139,6 +142,30 @@ struct Engine<'a> {
     carry_fails: bool,
     /// Steps since a carried matrix was last given the chance to serve a whole step.
     since_probe: usize,
+    /// The iteration matrix values of the last rebuild (a buffer reused over the steps).
+    vals_buf: Vec<f64>,
+    /// The assembly's matrix entries of the last rebuild, handed back to the next one.
+    asm_spare: Vec<f64>,
+}
+
+/// No value slot: a mass entry off the free block.
+const NO_SLOT: u32 = u32::MAX;
+
+/// Where the mass entries go among the iteration matrix values (the order of
+/// `for_each_entry`): each element's entries on the free block in consecutive slots, so that
+/// every element can add its own in parallel, then the node masses.
+struct MassSlots {
+    /// Per local entry of an element's mass matrix (row-major on its `xmap`): the slot relative
+    /// to the element's first, or [`NO_SLOT`]; element el's are
+    /// `local[entry_start[el]..entry_start[el + 1]]` (empty for an element without mass).
+    local: Vec<u32>,
+    entry_start: Vec<usize>,
+    /// The slots of element el are `first + piece_start[el]..first + piece_start[el + 1]`.
+    piece_start: Vec<usize>,
+    first: usize,
+    /// The slot of every node mass entry (order of `for_each_node_entry`), `None` off the free
+    /// block.
+    node: Vec<Option<usize>>,
 }
 
 /// Every this many steps a carried matrix that failed lately is tried again for a whole step.
@@ -286,8 +313,12 @@ impl<'a> Engine<'a> {
                 carry_failed = true;
             }
             stale |= !rebuild;
-            let part = if rebuild { Part::Full } else { Part::Residual };
-            let ev = self.evaluate_part(&n1.x, &n1.v, &n1.acc, &n1.mu, t1, part);
+            let (part, spare) = if rebuild {
+                (Part::Full, std::mem::take(&mut self.asm_spare))
+            } else {
+                (Part::Residual, Vec::new())
+            };
+            let mut ev = self.evaluate_part(&n1.x, &n1.v, &n1.acc, &n1.mu, t1, part, spare);
             if !finite(&ev.balance) || !finite(&ev.g) {
                 self.jac_h = None;
                 return Err("the forces became non-finite during the Newton iteration".into());
@@ -313,9 +344,12 @@ impl<'a> Engine<'a> {
             let solved = if !rebuild {
                 self.solver.solve_again(&mut rhs).is_ok()
             } else {
-                let vals = self.values(&ev, &n1.x, t1, coefs);
+                let mut vals = std::mem::take(&mut self.vals_buf);
+                self.values_into(&ev, &n1.x, t1, coefs, &mut vals);
+                self.asm_spare = std::mem::take(&mut ev.asm.vals);
                 stats.matrix_updates += 1;
                 let ok = self.solver.solve(&vals, &mut rhs).is_ok();
+                self.vals_buf = vals;
                 self.jac_h = ok.then_some(h);
                 ok
             };

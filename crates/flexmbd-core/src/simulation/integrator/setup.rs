@@ -176,14 +176,40 @@ impl<'a> Engine<'a> {
         let asm = assemble_part(model, &su, &x0, &vec![0.0; su.nk], 0.0, Part::Full);
         let n_pat = asm.triplets.len();
         let mut rows: Vec<(usize, usize)> = asm.triplets.iter().map(|t| (t.row, t.col)).collect();
-        let mut mass_slot = Vec::new();
-        for_each_entry(model, &x0, None, true, |r, c, _| {
+        // the mass entries in the order of `for_each_entry`: element by element (the free
+        // pairs of an element in consecutive slots), then the point masses and inertia tensors
+        let mut mass = MassSlots {
+            local: Vec::new(),
+            entry_start: vec![0],
+            piece_start: vec![0],
+            first: rows.len(),
+            node: Vec::new(),
+        };
+        for entry in &model.elements {
+            let start = rows.len();
+            element_mass(entry, &x0, None, true, |me| {
+                let n = entry.xmap.len();
+                for i in 0..me.len() {
+                    let (r, c) = (entry.xmap[i / n], entry.xmap[i % n]);
+                    match (su.unknown[r], su.unknown[c]) {
+                        (Some(a), Some(b)) => {
+                            mass.local.push((rows.len() - start) as u32);
+                            rows.push((a, b));
+                        }
+                        _ => mass.local.push(NO_SLOT),
+                    }
+                }
+            });
+            mass.entry_start.push(mass.local.len());
+            mass.piece_start.push(rows.len() - mass.first);
+        }
+        for_each_node_entry(model, &x0, None, true, |r, c, _| {
             match (su.unknown[r], su.unknown[c]) {
                 (Some(a), Some(b)) => {
-                    mass_slot.push(Some(rows.len()));
+                    mass.node.push(Some(rows.len()));
                     rows.push((a, b));
                 }
-                _ => mass_slot.push(None),
+                _ => mass.node.push(None),
             }
         });
         let mut moment_slot = Vec::new();
@@ -204,6 +230,13 @@ impl<'a> Engine<'a> {
             rows.push((u, u));
         }
         let n = su.nf + su.nk;
+        if rows.len() > NO_SLOT as usize {
+            return Err(SimError::Initial("too many matrix entries".into()));
+        }
+        let in_free = rows[..n_pat]
+            .iter()
+            .map(|&(r, c)| r < su.nf && c < su.nf)
+            .collect();
         let entries = |f: &mut dyn FnMut(usize, usize)| {
             for &(r, c) in &rows {
                 f(r, c);
@@ -223,7 +256,8 @@ impl<'a> Engine<'a> {
             atol,
             l_ref,
             n_pat,
-            mass_slot,
+            in_free,
+            mass,
             moment_slot,
             diag_start,
             n_vals: rows.len(),
@@ -235,6 +269,8 @@ impl<'a> Engine<'a> {
             full_newton: false,
             carry_fails: false,
             since_probe: 0,
+            vals_buf: Vec::new(),
+            asm_spare: Vec::new(),
         })
     }
 }
