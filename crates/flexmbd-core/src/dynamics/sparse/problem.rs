@@ -18,6 +18,10 @@ pub(super) struct Problem {
     pub(super) extra_k: Vec<(usize, usize, f64)>,
     /// The node of every coordinate.
     pub(super) group: Vec<usize>,
+    /// The point of every coordinate: its node, or the host of a node placed `at` another (a
+    /// SPACAR rotational node), so that the fill-reducing order keeps a point's translations and
+    /// rotations together ([`Problem::saddle_order`]).
+    pub(super) point: Vec<usize>,
     /// Size of the saddle-point system.
     pub(super) n: usize,
     /// Number of coordinates (the first `nc` unknowns).
@@ -227,10 +231,15 @@ impl Problem {
         };
         let (m_ptr, m_idx, m_val) = block(&m);
         let group = lin.coord_nodes(model);
+        let point = group
+            .iter()
+            .map(|&g| model.nodes.get(g).and_then(|n| n.host).unwrap_or(g))
+            .collect();
         Self {
             lin,
             extra_k,
             group,
+            point,
             n,
             nc,
             col_ptr,

@@ -41,7 +41,7 @@ pub(super) struct Shifted {
 
 impl Shifted {
     pub(super) fn new(p: &Problem) -> Self {
-        let sym = p.saddle_order(&p.group).ok().and_then(|order| {
+        let sym = p.saddle_order(&p.point).ok().and_then(|order| {
             let mut lu = SparseLu::with_order(p.n, order).ok()?;
             if !lu.set_diagonal_pivots(&p.col_ptr, &p.row_idx) {
                 return None;
