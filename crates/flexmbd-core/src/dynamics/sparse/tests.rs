@@ -603,6 +603,22 @@ fn projected_eigenpairs_small_and_faer_branches_agree() {
     }
 }
 
+/// Beams `b0` … `b{n−1}` from node `{prefix}i` to `{prefix}{i+1}` with the section data
+/// `props`, their y axes along global y.
+fn add_chain(b: &mut ModelBuilder, prefix: &str, n: usize, props: BeamProps) {
+    for i in 0..n {
+        let name = format!("b{i}");
+        let nodes = [format!("{prefix}{i}"), format!("{prefix}{}", i + 1)];
+        let beam = ElementSpec::Beam {
+            orient: Some([0.0, 1.0, 0.0]),
+            ct: 0.0,
+        };
+        b.add_element(&name, &[&nodes[0], &nodes[1]], beam, &[], &[])
+            .unwrap();
+        b.set_beam_props(&name, props).unwrap();
+    }
+}
+
 #[test]
 fn modes_the_solves_cannot_resolve_are_an_error() {
     // A half circle of radius 0.3 m in 200 steel beams of 10 mm × 1 µm, clamped at one end: its
@@ -622,21 +638,7 @@ fn modes_the_solves_cannot_resolve_are_an_error() {
         )
         .unwrap();
     }
-    for i in 0..n {
-        let name = format!("b{i}");
-        b.add_element(
-            &name,
-            &[&format!("n{i}"), &format!("n{}", i + 1)],
-            ElementSpec::Beam {
-                orient: Some([0.0, 1.0, 0.0]),
-                ct: 0.0,
-            },
-            &[],
-            &[],
-        )
-        .unwrap();
-        b.set_beam_props(&name, p).unwrap();
-    }
+    add_chain(&mut b, "n", n, p);
     b.fix("n0", None).unwrap();
     let model = b.build().unwrap();
     let step = last_step(&model, 1);
@@ -682,21 +684,7 @@ fn hosted_rotation_nodes_keep_the_fine_strip_accurate() {
         .unwrap();
         b.add_node_at(&format!("r{i}"), &format!("t{i}")).unwrap();
     }
-    for i in 0..n {
-        let name = format!("b{i}");
-        b.add_element(
-            &name,
-            &[&format!("r{i}"), &format!("r{}", i + 1)],
-            ElementSpec::Beam {
-                orient: Some([0.0, 1.0, 0.0]),
-                ct: 0.0,
-            },
-            &[],
-            &[],
-        )
-        .unwrap();
-        b.set_beam_props(&name, p).unwrap();
-    }
+    add_chain(&mut b, "r", n, p);
     b.fix("t0", None).unwrap();
     b.fix("r0", None).unwrap();
     let model = b.build().unwrap();
