@@ -99,10 +99,6 @@ pub(super) fn element_local(
     let free = &su.pattern.elem_free[el];
     // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
     let constrained = &su.constraint[entry.ie..entry.ie + ne];
-    let write =
-        |vals: &mut [f64], k: &dyn Fn(usize, usize) -> f64, d: &dyn Fn(usize, usize) -> f64| {
-            write_entries(vals, free, constrained, k, d)
-        };
     if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
         // closed-form derivatives in fixed-size arrays (elements/beam/closed_form.rs)
         let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
@@ -190,7 +186,7 @@ pub(super) fn element_local(
             &mut kt,
         );
     } else {
-        write(vals, &|a, b| k[(a, b)], &|m, b| d[(m, b)]);
+        write_entries(vals, free, constrained, |a, b| k[(a, b)], |m, b| d[(m, b)]);
     }
     energy
 }
@@ -374,8 +370,8 @@ pub(super) fn apply_loads(
     let mut balance = a.int_force.clone();
     let mut f_abs = a.int_abs.clone();
     let mut g = vec![0.0; nk];
+    // (room for the entries appended here: `assemble_values` made the buffer with it)
     a.vals.truncate(a.n_el);
-    a.vals.reserve(tail_capacity(su));
     let vals = &mut a.vals;
     // constraint violations of the elements
     for entry in &model.elements {

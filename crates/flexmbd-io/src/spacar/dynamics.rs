@@ -89,7 +89,7 @@ impl Problems {
 /// The time simulation of `m`.
 pub(super) fn convert(m: &SpacarModel) -> Result<Dynamic, InputError> {
     let c = statics::convert(m, Purpose::Dynamic)?;
-    let map = NodeMap::new(m)?;
+    let map = c.map;
     let mut p = Problems {
         warnings: c.warnings,
         ..Default::default()

@@ -191,7 +191,15 @@ fn fmt_modes(v: &[u32]) -> String {
 /// `comments`: write the SPACAR provenance of every item as comments (the document of
 /// `convert`); an analysis of the file skips them (most of the mapping's time on 10^5 beams).
 pub(super) fn to_spec(m: &SpacarModel, comments: bool) -> Result<ModelSpec, InputError> {
-    let map = NodeMap::new(m)?;
+    to_spec_with(m, comments, &NodeMap::new(m)?)
+}
+
+/// [`to_spec`] with the node map of `m` already made.
+pub(super) fn to_spec_with(
+    m: &SpacarModel,
+    comments: bool,
+    map: &NodeMap,
+) -> Result<ModelSpec, InputError> {
     let err = |line: usize, msg: String| at_line(&m.file, line, 1, msg);
     let x_of: HashMap<u32, &Position> = m.positions.iter().map(|p| (p.node, p)).collect();
 
@@ -437,7 +445,7 @@ pub(super) fn to_spec(m: &SpacarModel, comments: bool) -> Result<ModelSpec, Inpu
         }
     }
 
-    spec.header = header(m, &map, None, false);
+    spec.header = header(m, map, None, false);
     Ok(spec)
 }
 

@@ -50,6 +50,8 @@ pub(super) struct Conversion {
     pub warnings: Vec<Warning>,
     /// Warnings that concern the TOML file only (what the format cannot express).
     pub toml_warnings: Vec<Warning>,
+    /// The node map the spec was made with (for the time simulation's data).
+    pub map: NodeMap,
 }
 
 /// Values of an `(item, index)` with an initial value and increments.
@@ -101,8 +103,8 @@ pub(super) enum Purpose {
 
 /// The static data of `m` on top of its kinematic spec.
 pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, InputError> {
-    let mut spec = super::mapping::to_spec(m, purpose == Purpose::Document)?;
     let map = NodeMap::new(m)?;
+    let mut spec = super::mapping::to_spec_with(m, purpose == Purpose::Document, &map)?;
     let err = |line: usize, msg: String| at_line(&m.file, line, 1, msg);
     let mut warnings = Vec::new();
     let mut toml_warnings = Vec::new();
@@ -437,6 +439,7 @@ pub(super) fn convert(m: &SpacarModel, purpose: Purpose) -> Result<Conversion, I
         spec,
         warnings,
         toml_warnings,
+        map,
     })
 }
 

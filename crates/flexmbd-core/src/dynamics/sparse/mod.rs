@@ -266,10 +266,11 @@ fn modes_of(
     let lambda_ref = eigenvalue_scale(&kd, &md);
     // massless directions: the finite eigenvalues all lie below a shift far above them, counted
     // in the factorisation itself before it is made at the shift of the iteration, so that no
-    // copy of it is needed (when L D Lᵀ cannot count there — a coordinate with neither stiffness nor mass of its own,
-    // held only through constraints, is a zero pivot at any shift — the finite eigenvalues are
-    // at most as many as the coordinates with mass: M is positive semi-definite, so a zero
-    // diagonal entry is a zero row, and its rank on the constrained space is no larger)
+    // copy of it is needed (when L D Lᵀ cannot count there — a coordinate with neither
+    // stiffness nor mass of its own, held only through constraints, is a zero pivot at any
+    // shift — the finite eigenvalues are at most as many as the coordinates with mass: M is
+    // positive semi-definite, so a zero diagonal entry is a zero row, and its rank on the
+    // constrained space is no larger)
     let massless = match op.count_below_in_place(p, 1e8 * lambda_ref) {
         Some(finite) if finite <= ndof => ndof - finite,
         _ => ndof - md.iter().filter(|&&m| m > 0.0).count().min(ndof),

@@ -145,12 +145,7 @@ impl Shifted {
     /// beams).
     pub(super) fn count_below(&mut self, p: &Problem, s: f64) -> Option<usize> {
         let (lu, slots) = self.sym.as_ref()?;
-        self.lower.clear();
-        self.lower
-            .extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
-        let mut counter = lu.clone();
-        counter.refactor_symmetric(&self.lower).ok()?;
-        counter.negative_pivots().checked_sub(p.n - p.nc)
+        inertia_count(&mut lu.clone(), slots, &mut self.lower, p, s)
     }
 
     /// [`Shifted::count_below`] in the factorisation itself, without a copy: A(σ) is no longer
@@ -160,10 +155,22 @@ impl Shifted {
         self.below = None;
         self.use_sym = false;
         let (lu, slots) = self.sym.as_mut()?;
-        self.lower.clear();
-        self.lower
-            .extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
-        lu.refactor_symmetric(&self.lower).ok()?;
-        lu.negative_pivots().checked_sub(p.n - p.nc)
+        inertia_count(lu, slots, &mut self.lower, p, s)
     }
+}
+
+/// The eigenvalues below `s` by the inertia of A(s) = [K − sM, Gᵀ; G, 0], refactored in `lu`
+/// (the L D Lᵀ structure; `slots` the CSC positions of its lower triangle, `lower` a buffer for
+/// the values): its negative pivots less one per constraint.
+fn inertia_count(
+    lu: &mut SparseLu,
+    slots: &[usize],
+    lower: &mut Vec<f64>,
+    p: &Problem,
+    s: f64,
+) -> Option<usize> {
+    lower.clear();
+    lower.extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
+    lu.refactor_symmetric(lower).ok()?;
+    lu.negative_pivots().checked_sub(p.n - p.nc)
 }

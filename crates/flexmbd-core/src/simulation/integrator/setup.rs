@@ -231,7 +231,11 @@ impl<'a> Engine<'a> {
         }
         let n = su.nf + su.nk;
         if rows.len() > NO_SLOT as usize {
-            return Err(SimError::Initial("too many matrix entries".into()));
+            return Err(SimError::Initial(format!(
+                "the iteration matrix would have {} entries, more than its 32-bit mass slots \
+                 address ({NO_SLOT})",
+                rows.len()
+            )));
         }
         let in_free = rows[..n_pat]
             .iter()
