@@ -218,9 +218,10 @@ pub enum ModalError {
     /// The sparse path found no shift at which the shifted stiffness can be factored.
     #[error("sparse eigen solver: the shifted stiffness matrix [K − σM, Gᵀ; G, 0] is singular at every shift tried, so the model has a motion without both stiffness and inertia, or rigid/prescribed constraints that repeat each other. Check the model with the kinematic check, or use the dense eigen solver, which removes repeated constraints")]
     SparseSingular,
-    /// The sparse path's shift-invert solves lost the digits of a mode: its Ritz value and the
-    /// Rayleigh quotient of its vector disagree ([`sparse::RITZ_AGREEMENT`]).
-    #[error("sparse eigen solver: {inaccurate} of the {listed} modes cannot be resolved in double precision; the first, mode {mode}, has ω² = {ritz:.6e} from the shift-invert iteration but {rayleigh:.6e} as the Rayleigh quotient of its vector. The stiffness matrix spans more decades than double precision holds (e.g. the bending modes of a chain of very many beams much shorter than their cross-section: its condition grows with the cube of the number of elements). The listed modes are not reliable, and lower ones may be missing. Use fewer, longer elements")]
+    /// The sparse path's shift-invert solves lost the digits of a mode, also when refined: its
+    /// Ritz value and the Rayleigh quotient of its vector disagree
+    /// ([`sparse::RITZ_AGREEMENT`]).
+    #[error("sparse eigen solver: {inaccurate} of the {listed} modes cannot be resolved in double precision, also with the solves refined through the element deformations; the first, mode {mode}, has ω² = {ritz:.6e} from the shift-invert iteration but {rayleigh:.6e} as the Rayleigh quotient of its vector. The stiffness matrix spans more decades than double precision holds (e.g. the bending modes of a chain of very many beams much shorter than their cross-section: its condition grows with the cube of the number of elements). The listed modes are not reliable, and lower ones may be missing. Use fewer, longer elements")]
     SparseInaccurate {
         /// The first inaccurate mode (1-based, in the ascending list).
         mode: usize,

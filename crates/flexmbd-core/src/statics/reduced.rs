@@ -104,30 +104,6 @@ impl ReducedLinear {
         material_energy2(model, &self.su, x, shapes)
     }
 
-    /// The material stiffness times a displacement, K_m δx = Σ Dᵀ S (D δx) over the elements'
-    /// flexible deformations, as forces in x (length nx). Evaluated through the deformations δe
-    /// = D δx, for the reason given at [`ReducedLinear::material_energy2`]: the product with the
-    /// assembled K_m loses the small elastic forces of a smooth displacement to round-off.
-    pub(crate) fn material_forces(&self, model: &Model, x: &[f64], dx: &[f64]) -> Vec<f64> {
-        let mut f = vec![0.0; model.nx];
-        for (el, entry) in model.elements.iter().enumerate() {
-            let s = &self.su.s_eff[el];
-            let ne = entry.element.ne();
-            if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
-                continue;
-            }
-            let d = entry.element.jacobian(&gather(entry, x));
-            let de = deformation_change(entry, &d, dx);
-            let sigma: Vec<f64> = (0..ne)
-                .map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum())
-                .collect();
-            for (c, &i) in entry.xmap.iter().enumerate() {
-                f[i] += (0..ne).map(|r| d[(r, c)] * sigma[r]).sum::<f64>();
-            }
-        }
-        f
-    }
-
     /// Whether the model has applied moments (also those of a spin): their load stiffness is
     /// not symmetric.
     pub(crate) fn has_moment_loads(&self) -> bool {
@@ -286,6 +262,91 @@ impl ReducedLinear {
             }
         }
         dx
+    }
+}
+
+/// The material stiffness times displacements, K_m δx = Σ Dᵀ S (D δx) over the elements'
+/// flexible deformations, evaluated through the deformations δe = D δx for the reason given at
+/// [`ReducedLinear::material_energy2`], with the elements'
+/// deformation Jacobians D computed once and kept (ne × nxe values per element with stiffness,
+/// 84 for a beam). For the refined solves of the sparse modes, which take hundreds of these
+/// products.
+pub(crate) struct MaterialOperator {
+    /// Per element with stiffness: its index, and the offset of its D (row-major) in `d`.
+    elements: Vec<(usize, usize)>,
+    d: Vec<f64>,
+}
+
+impl MaterialOperator {
+    /// K_m δx = Σ Dᵀ S (D δx) as forces in x, into `f` (length nx, overwritten).
+    pub(crate) fn forces(&self, model: &Model, su: &Setup, dx: &[f64], f: &mut [f64]) {
+        f.iter_mut().for_each(|v| *v = 0.0);
+        let mut de = Vec::new();
+        let mut sig = Vec::new();
+        for &(el, off) in &self.elements {
+            let entry = &model.elements[el];
+            let s = &su.s_eff[el];
+            let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
+            let d = &self.d[off..off + ne * nxe];
+            de.clear();
+            de.extend(d.chunks_exact(nxe).map(|row| {
+                row.iter()
+                    .zip(&entry.xmap)
+                    .map(|(a, &i)| a * dx[i])
+                    .sum::<f64>()
+            }));
+            sig.clear();
+            sig.extend((0..ne).map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
+            for (c, &i) in entry.xmap.iter().enumerate() {
+                f[i] += (0..ne).map(|r| d[r * nxe + c] * sig[r]).sum::<f64>();
+            }
+        }
+    }
+}
+
+impl ReducedLinear {
+    /// The material stiffness at the state `x` as a [`MaterialOperator`].
+    pub(crate) fn material_operator(&self, model: &Model, x: &[f64]) -> MaterialOperator {
+        let stiff: Vec<usize> = (0..model.elements.len())
+            .filter(|&el| {
+                let s = &self.su.s_eff[el];
+                let ne = model.elements[el].element.ne();
+                (0..ne).any(|a| (0..ne).any(|b| s[(a, b)] != 0.0))
+            })
+            .collect();
+        let jac = |&el: &usize| -> Vec<f64> {
+            let entry = &model.elements[el];
+            if let (Some(cf), 6, 14) = (
+                entry.element.closed_form(),
+                entry.element.ne(),
+                entry.xmap.len(),
+            ) {
+                let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+                return cf.first(&xk).d.iter().flatten().copied().collect();
+            }
+            let d = entry.element.jacobian(&gather(entry, x));
+            (0..d.nrows())
+                .flat_map(|r| (0..d.ncols()).map(move |c| (r, c)))
+                .map(|(r, c)| d[(r, c)])
+                .collect()
+        };
+        let blocks: Vec<Vec<f64>> = if stiff.len() < 256 {
+            stiff.iter().map(jac).collect()
+        } else {
+            stiff.par_iter().with_min_len(64).map(jac).collect()
+        };
+        let mut elements = Vec::with_capacity(stiff.len());
+        let mut d = Vec::with_capacity(blocks.iter().map(Vec::len).sum());
+        for (&el, b) in stiff.iter().zip(&blocks) {
+            elements.push((el, d.len()));
+            d.extend_from_slice(b);
+        }
+        MaterialOperator { elements, d }
+    }
+
+    /// The setup the values were assembled with (the effective stiffnesses).
+    pub(crate) fn setup(&self) -> &Setup {
+        &self.su
     }
 }
 

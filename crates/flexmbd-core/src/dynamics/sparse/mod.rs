@@ -53,6 +53,7 @@
 mod basis;
 mod lanczos;
 mod problem;
+mod refined;
 mod shifted;
 
 use super::ModalError;
@@ -163,8 +164,14 @@ pub(crate) fn sparse_modes_held(
     rows: &[Vec<f64>],
 ) -> Result<(SparseModes, SparseProblem), ModalError> {
     let p = Problem::with_rows(t, rows);
-    let sm = modes_of(&p, t.model(), t.step(), count)?;
-    sm.check_accuracy()?;
+    let checked = |refine| {
+        let sm = modes_of(&p, t.model(), t.step(), count, refine)?;
+        sm.check_accuracy().map(|()| sm)
+    };
+    let sm = match checked(false) {
+        Err(ModalError::SparseInaccurate { .. }) => checked(true)?,
+        r => r?,
+    };
     Ok((sm, SparseProblem(p)))
 }
 
@@ -242,11 +249,13 @@ fn eigenvalue_scale(kd: &[f64], md: &[f64]) -> f64 {
 }
 
 /// The lowest `count` eigenpairs of the problem `p` of `model` at `step`.
+/// `refine`: refined solves (`refined` module), for when the plain ones lose the modes' digits.
 fn modes_of(
     p: &Problem,
     model: &Model,
     step: &StepResult,
     count: usize,
+    refine: bool,
 ) -> Result<SparseModes, ModalError> {
     let nc = p.nc;
     let n_constraints = p.n - nc;
@@ -261,7 +270,16 @@ fn modes_of(
         return Err(ModalError::NoMass);
     }
     let ndof = nc - n_constraints;
-    let mut op = Shifted::new(p);
+    let exact_parts = refine.then(|| {
+        (
+            p.lin.material_operator(model, &step.x),
+            p.constraint_entries(),
+        )
+    });
+    let mut op = match &exact_parts {
+        Some((km, g)) => Shifted::refined(p, refined::Exact { model, step, km, g }),
+        None => Shifted::new(p),
+    };
     let (kd, md) = p.diagonals();
     let lambda_ref = eigenvalue_scale(&kd, &md);
     // massless directions: the finite eigenvalues all lie below a shift far above them, counted
@@ -280,9 +298,13 @@ fn modes_of(
     let mut shifts = vec![0.0];
     let floor = f64::EPSILON * lambda_ref / nc as f64;
     shifts.extend((0..12).map(|i| -floor * 100f64.powi(i)));
+    // (refined solves are needed where the factorisation's round-off reaches the lowest
+    // eigenvalues: there its inertia may count eigenvalues below a shift that has none, so it
+    // does not choose the shift; the solves make the operator right for any accurate factor)
+    let inertia_ok = |op: &Shifted| refine || op.below == Some(0);
     let mut chosen = None;
     for &s in &shifts {
-        if op.factor(p, s, false) && op.below == Some(0) {
+        if op.factor(p, s, false) && inertia_ok(&op) {
             chosen = Some(s);
             break;
         }
@@ -342,7 +364,7 @@ fn modes_of(
     let barely_regular = sigma < 0.0 && -sigma < 1e-3 * (l1 - sigma);
     if dominated || barely_regular {
         let s2 = (l1 - 0.1 * (lk - l1)).min(-0.5 * l1.abs());
-        if op.factor(p, s2, false) && op.below == Some(0) {
+        if op.factor(p, s2, false) && inertia_ok(&op) {
             let budget = max_applications.saturating_sub(applications).max(1);
             let (f2, t2, a2) = lanczos_runs(p, &mut op, want, budget)?;
             (found, thetas, sigma, applications) = (f2, t2, s2, applications + a2);

@@ -36,9 +36,6 @@ pub(super) struct Problem {
     pub(super) m_ptr: Vec<usize>,
     pub(super) m_idx: Vec<usize>,
     pub(super) m_val: Vec<f64>,
-    /// Constraint rows added after those of the Newton system ([`Problem::with_rows`]), as
-    /// (row, coordinate, coefficient).
-    pub(super) added: Vec<(usize, usize, f64)>,
 }
 
 /// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
@@ -249,12 +246,29 @@ impl Problem {
             m_ptr,
             m_idx,
             m_val,
-            added,
         }
     }
 
     pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
         csc_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
+    }
+
+    /// The entries (row, column, value) of the saddle-point matrix in the constraint rows or
+    /// columns: G, Gᵀ (with the added rows) and the constraint diagonal.
+    pub(super) fn constraint_entries(&self) -> Vec<(usize, usize, f64)> {
+        let nc = self.nc;
+        (0..self.n)
+            .flat_map(|c| {
+                let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+                let first = if c >= nc {
+                    lo
+                } else {
+                    lo + self.row_idx[lo..hi].partition_point(|&r| r < nc)
+                };
+                (first..hi).map(move |q| (self.row_idx[q], c, self.k[q]))
+            })
+            .filter(|e| e.2 != 0.0)
+            .collect()
     }
 
     /// Diagonal entries of K and M of the coordinates.

@@ -76,21 +76,35 @@ pub(super) fn count(eigenvalues: &[f64], below_gap: Option<usize>) -> usize {
 /// The lowest `count` modes of `p` with their rigid-body modes identified: when more eigenvalues
 /// than those asked for lie below the probe shift, the lowest of them are computed too (at most
 /// [`MAX_EXTRA`] more) and counted; the modes returned are the `count` asked for, after the
-/// check that the elastic ones are resolved ([`SparseModes::check_accuracy`]).
+/// check that the elastic ones are resolved ([`SparseModes::check_accuracy`]); when they are
+/// not, all again with refined solves.
 pub(super) fn modes_listing_rigid(
     p: &Problem,
     model: &Model,
     step: &StepResult,
     count: usize,
 ) -> Result<SparseModes, ModalError> {
-    let mut sm = modes_of(p, model, step, count)?;
+    match listing(p, model, step, count, false) {
+        Err(ModalError::SparseInaccurate { .. }) => listing(p, model, step, count, true),
+        r => r,
+    }
+}
+
+fn listing(
+    p: &Problem,
+    model: &Model,
+    step: &StepResult,
+    count: usize,
+    refine: bool,
+) -> Result<SparseModes, ModalError> {
+    let mut sm = modes_of(p, model, step, count, refine)?;
     let listed = sm.eigenvalues.len();
     let more = sm
         .below_gap
         .filter(|&c| sm.rigid == 0 && c > listed && c <= listed + MAX_EXTRA);
     if let Some(c) = more {
         // a failure of the longer run leaves the modes asked for without the flag
-        if let Ok(all) = modes_of(p, model, step, c) {
+        if let Ok(all) = modes_of(p, model, step, c, refine) {
             sm.rigid = all.rigid.min(listed);
         }
     }

@@ -3,6 +3,7 @@
 //! the shift-invert operator.
 
 use super::problem::Problem;
+use super::refined::{refined_solve, Exact};
 use crate::math::sparse_lu::{csc_residual, SparseLu};
 
 /// Accepted componentwise backward error of a solve with a new factorisation.
@@ -21,7 +22,7 @@ impl Rng {
 }
 
 /// A factorisation of the shifted saddle-point matrix A(σ) = [K − σM, Gᵀ; G, 0].
-pub(super) struct Shifted {
+pub(super) struct Shifted<'a> {
     /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused), and the
     /// CSC positions of the lower triangle it reads.
     pub(super) sym: Option<(SparseLu, Vec<usize>)>,
@@ -37,9 +38,12 @@ pub(super) struct Shifted {
     pub(super) rhs: Vec<f64>,
     /// The lower triangle handed to the L D Lᵀ refactorisations (reused).
     pub(super) lower: Vec<f64>,
+    /// When set, the operator's solves are refined (`refined` module) with products through
+    /// the element deformations of this model and state.
+    pub(super) exact: Option<Exact<'a>>,
 }
 
-impl Shifted {
+impl<'a> Shifted<'a> {
     pub(super) fn new(p: &Problem) -> Self {
         let sym = p.saddle_order(&p.point).ok().and_then(|order| {
             let mut lu = SparseLu::with_order(p.n, order).ok()?;
@@ -59,6 +63,15 @@ impl Shifted {
             vals: vec![0.0; p.k.len()],
             rhs: vec![0.0; p.n],
             lower: Vec::new(),
+            exact: None,
+        }
+    }
+
+    /// The operator with refined solves ([`Shifted::exact`]).
+    pub(super) fn refined(p: &Problem, exact: Exact<'a>) -> Self {
+        Self {
+            exact: Some(exact),
+            ..Self::new(p)
         }
     }
 
@@ -104,12 +117,13 @@ impl Shifted {
         let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
         let b: Vec<f64> = (0..p.n).map(|_| rng.next()).collect();
         let mut z = b.clone();
-        self.solve(&mut z);
+        self.solve_factored(&mut z);
         z.iter().all(|v| v.is_finite())
             && csc_residual(&p.col_ptr, &p.row_idx, &self.vals, &z, &b).1 <= MAX_BACKWARD_ERROR
     }
 
-    pub(super) fn solve(&mut self, b: &mut [f64]) {
+    /// A solve with the factorisation alone.
+    pub(super) fn solve_factored(&mut self, b: &mut [f64]) {
         if self.use_sym {
             if let Some((lu, _)) = &mut self.sym {
                 lu.solve(b);
@@ -119,12 +133,22 @@ impl Shifted {
         }
     }
 
+    /// A solve of the operator: refined when [`Shifted::exact`] is set.
+    pub(super) fn solve(&mut self, p: &Problem, b: &mut [f64]) {
+        match self.exact {
+            Some(ex) => {
+                refined_solve(self, p, ex, b);
+            }
+            None => self.solve_factored(b),
+        }
+    }
+
     /// The shift-invert operator on coordinates: u = first nc of A(σ)⁻¹ [M v; 0].
     pub(super) fn apply(&mut self, p: &Problem, v: &[f64], out: &mut [f64]) {
         let mut rhs = std::mem::take(&mut self.rhs);
         p.m_times(v, &mut rhs[..p.nc]);
         rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
-        self.solve(&mut rhs);
+        self.solve(p, &mut rhs);
         out.copy_from_slice(&rhs[..p.nc]);
         self.rhs = rhs;
     }
@@ -134,7 +158,7 @@ impl Shifted {
         let mut rhs = std::mem::take(&mut self.rhs);
         rhs[..p.nc].copy_from_slice(mv);
         rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
-        self.solve(&mut rhs);
+        self.solve(p, &mut rhs);
         out.copy_from_slice(&rhs[..p.nc]);
         self.rhs = rhs;
     }
