@@ -45,11 +45,20 @@ def dist(a, b):
 
 
 def time_at(runs, target):
-    """Wall time for a tip error `target`: the cheapest run whose error is at or below it (None
-    if no run is as accurate). Time need not fall with h: at large steps Newton needs more
-    iterations per step."""
-    ok = [r["wall_s"] for r in runs if r.get("error_m") is not None and r["error_m"] <= target]
-    return min(ok) if ok else None
+    """Wall time for a tip error `target`: the cheapest of the runs whose error is at or below
+    it and of the log-log interpolations between neighbouring steps whose errors bracket it
+    (error and time each a power of h between two runs; None if no run is as accurate). Time
+    need not fall with h: at large steps Newton needs more iterations per step; and the error
+    need not fall with h either (Exudyn's stops near its Newton tolerance), so only bracketing
+    neighbours are interpolated, never extrapolated."""
+    ok = [r for r in runs if r.get("error_m") is not None and r.get("wall_s")]
+    best = [r["wall_s"] for r in ok if r["error_m"] <= target]
+    by_h = sorted(ok, key=lambda r: -r["h"])
+    for a, b in zip(by_h, by_h[1:]):
+        if a["error_m"] > target >= b["error_m"] > 0:
+            s = math.log(target / a["error_m"]) / math.log(b["error_m"] / a["error_m"])
+            best.append(math.exp(math.log(a["wall_s"]) + s * math.log(b["wall_s"] / a["wall_s"])))
+    return min(best) if best else None
 
 
 def table(records, targets):
