@@ -372,6 +372,7 @@ pub const MAX_ITERATIONS: usize = 1_000_000;
 
 mod reduced;
 mod reduction;
+mod refined;
 mod setup;
 mod tangent;
 pub(crate) use reduced::*;

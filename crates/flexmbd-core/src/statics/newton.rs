@@ -4,6 +4,7 @@
 //! iteration at a fixed load factor ([`newton`]). The arc-length iteration (`arc.rs`) uses the
 //! same pieces with the load factor as an unknown.
 
+use super::refined::{refine_direction, REFINE_AFTER};
 use super::{
     apply_loads, assemble_values, chord_consistent_scale, inf_norm, normalise_lambda, rot_basis,
     solve_single_multipliers, Assembled, Part, Setup, StaticOptions,
@@ -47,6 +48,9 @@ pub(crate) struct KktSolver {
     /// The factorisation the last successful [`KktSolver::solve`] used: 1 `diag`, 2 `lu`
     /// (0: none), for [`KktSolver::solve_again`].
     used: u8,
+    /// A Newton solve with this matrix structure needed refined directions
+    /// ([`super::refined`]) to converge: the next ones refine from their first iteration.
+    pub(super) refine: bool,
 }
 
 impl KktSolver {
@@ -142,6 +146,7 @@ impl KktSolver {
             csc_current: false,
             inertia: None,
             used: 0,
+            refine: false,
         })
     }
 
@@ -502,14 +507,20 @@ pub(super) fn newton(
     let mut last_inc = f64::INFINITY;
     let k_ref = reference_stiffness(su, &a);
     let mut r_start: f64 = 0.0;
+    let mut refined = false;
     for it in 0..=opts.max_iterations {
         match check(su, opts, &a, k_ref, last_inc, it, &mut r_start) {
             Status::Converged(residual) => {
+                if refined {
+                    if let Some(k) = kkt {
+                        k.refine = true;
+                    }
+                }
                 return Newton::Converged {
                     iterations: it,
                     residual,
                     state: Box::new(a),
-                }
+                };
             }
             Status::Failed(reason) => return Newton::Failed { reason },
             Status::Iterate => {}
@@ -523,10 +534,17 @@ pub(super) fn newton(
             },
         };
         let mut dr = reduced_rhs(su, x, &a.r, &a.g);
+        let refine = it >= REFINE_AFTER || solver.refine;
+        let b = refine.then(|| dr.clone());
         if solver.solve(&a.vals, &mut dr).is_err() || dr.iter().any(|v| !v.is_finite()) {
             return Newton::Failed {
                 reason: SINGULAR.into(),
             };
+        }
+        if let Some(b) = b {
+            // still not converged: the factorisation may have lost the direction's digits
+            // (fine meshes), so refine it (`refined` module)
+            refined |= refine_direction(model, su, x, mu, t, &a, solver, &b, &mut dr);
         }
         let dz = expand(su, x, mu, &a.r, &dr);
         // backtracking line search on the merit ‖r‖² + (k_ref ‖g‖)², k_ref a stiffness that

@@ -161,7 +161,7 @@ impl ReducedLinear {
     /// The reduced index of x coordinate `i` when it is an unknown of its own (a free
     /// translation, or an Euler parameter of a node that is not reduced).
     pub(crate) fn coord_index(&self, i: usize) -> Option<usize> {
-        self.su.unknown[i].and_then(|u| self.su.red.map[u])
+        coord_index(&self.su, i)
     }
 
     /// Entries (row, column, value) of Tᵀ B T for a 4 × 4 block B on the Euler parameters of
@@ -232,37 +232,55 @@ impl ReducedLinear {
     /// Generalised forces on the reduced coordinates of a force vector `f` in x (length nx):
     /// the transpose of [`ReducedLinear::to_x`], so that uᵀ (this) = (to_x u)ᵀ f.
     pub(crate) fn force_to_coords(&self, x: &[f64], f: &[f64]) -> Vec<f64> {
-        let mut fc = vec![0.0; self.n_coords()];
-        for (i, fi) in f.iter().enumerate() {
-            if let Some(m) = self.coord_index(i) {
-                fc[m] += fi;
-            }
-        }
-        for &(r, d0, _) in &self.su.red.nodes {
-            let nb = rot_basis(&x[r..r + 4]);
-            for (j, v) in fc[d0..d0 + 3].iter_mut().enumerate() {
-                *v += (0..4).map(|i| nb[i][j] * f[r + i]).sum::<f64>();
-            }
-        }
-        fc
+        force_to_coords(&self.su, x, f)
     }
 
     /// δx (length nx) of a vector `u` of the coordinate unknowns at the state `x`.
     pub(crate) fn to_x(&self, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
-        let mut dx = vec![0.0; model.nx];
-        for (i, d) in dx.iter_mut().enumerate() {
-            if let Some(m) = self.coord_index(i) {
-                *d = u[m];
-            }
-        }
-        for &(r, d0, _) in &self.su.red.nodes {
-            let nb = rot_basis(&x[r..r + 4]);
-            for i in 0..4 {
-                dx[r + i] = (0..3).map(|j| nb[i][j] * u[d0 + j]).sum();
-            }
-        }
-        dx
+        to_x(&self.su, model, x, u)
     }
+}
+
+/// The reduced index of x coordinate `i` when it is an unknown of its own (a free translation,
+/// or an Euler parameter of a node that is not reduced).
+fn coord_index(su: &Setup, i: usize) -> Option<usize> {
+    su.unknown[i].and_then(|u| su.red.map[u])
+}
+
+/// Generalised forces on the reduced coordinates (the first `su.red.nfr` unknowns of the
+/// reduced Newton system) of a force vector `f` in x (length nx) at the state `x`: the
+/// transpose of [`to_x`], so that uᵀ (this) = (to_x u)ᵀ f.
+pub(crate) fn force_to_coords(su: &Setup, x: &[f64], f: &[f64]) -> Vec<f64> {
+    let mut fc = vec![0.0; su.red.nfr];
+    for (i, fi) in f.iter().enumerate() {
+        if let Some(m) = coord_index(su, i) {
+            fc[m] += fi;
+        }
+    }
+    for &(r, d0, _) in &su.red.nodes {
+        let nb = rot_basis(&x[r..r + 4]);
+        for (j, v) in fc[d0..d0 + 3].iter_mut().enumerate() {
+            *v += (0..4).map(|i| nb[i][j] * f[r + i]).sum::<f64>();
+        }
+    }
+    fc
+}
+
+/// δx (length nx) of a vector `u` of the reduced coordinate unknowns at the state `x`.
+pub(crate) fn to_x(su: &Setup, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
+    let mut dx = vec![0.0; model.nx];
+    for (i, d) in dx.iter_mut().enumerate() {
+        if let Some(m) = coord_index(su, i) {
+            *d = u[m];
+        }
+    }
+    for &(r, d0, _) in &su.red.nodes {
+        let nb = rot_basis(&x[r..r + 4]);
+        for i in 0..4 {
+            dx[r + i] = (0..3).map(|j| nb[i][j] * u[d0 + j]).sum();
+        }
+    }
+    dx
 }
 
 /// The material stiffness times displacements, K_m δx = Σ Dᵀ S (D δx) over the elements'
@@ -307,9 +325,22 @@ impl MaterialOperator {
 impl ReducedLinear {
     /// The material stiffness at the state `x` as a [`MaterialOperator`].
     pub(crate) fn material_operator(&self, model: &Model, x: &[f64]) -> MaterialOperator {
+        MaterialOperator::new(model, &self.su, x)
+    }
+
+    /// The setup the values were assembled with (the effective stiffnesses).
+    pub(crate) fn setup(&self) -> &Setup {
+        &self.su
+    }
+}
+
+impl MaterialOperator {
+    /// The material stiffness of the elements of `su` (their effective stiffnesses) at the
+    /// state `x`.
+    pub(crate) fn new(model: &Model, su: &Setup, x: &[f64]) -> Self {
         let stiff: Vec<usize> = (0..model.elements.len())
             .filter(|&el| {
-                let s = &self.su.s_eff[el];
+                let s = &su.s_eff[el];
                 let ne = model.elements[el].element.ne();
                 (0..ne).any(|a| (0..ne).any(|b| s[(a, b)] != 0.0))
             })
@@ -342,11 +373,6 @@ impl ReducedLinear {
             d.extend_from_slice(b);
         }
         MaterialOperator { elements, d }
-    }
-
-    /// The setup the values were assembled with (the effective stiffnesses).
-    pub(crate) fn setup(&self) -> &Setup {
-        &self.su
     }
 }
 
