@@ -10,9 +10,11 @@ in-process solve (`t_solve_s` of the peer script, without Python start-up and mo
 which favours Exudyn.
 
 Usage: sim_pendulum_accuracy.py --flexmbd BIN --peers DIR [--python PY] [--n N ...]
-       [--h H ...] [--t-end T] [--targets E ...] [--out FILE]
+       [--h H ...] [--t-end T] [--targets E ...] [--out FILE] [--refs FILE]
        sim_pendulum_accuracy.py --from FILE   (the tables of an earlier --out)
-Prints two tables (runs; time at equal error and the ratio); --out writes JSON lines.
+Prints two tables (runs; time at equal error and the ratio); --out writes JSON lines. --refs
+keeps the reference runs (their tips; only their accuracy matters, not their time) in a JSON
+file, reused when the program, N, t_end and step match: at N = 1000 they take minutes.
 """
 import argparse
 import json
@@ -90,6 +92,7 @@ def main():
                     help="simulated time [s]; over 1 s the swinging chain is so sensitive that "
                          "the tip does not converge monotonically in h (default 0.25)")
     ap.add_argument("--out")
+    ap.add_argument("--refs", help="JSON file of reference runs, read and extended")
     a = ap.parse_args()
     if a.from_file:
         with open(a.from_file) as f:
@@ -98,6 +101,10 @@ def main():
     if not (a.flexmbd and a.peers):
         ap.error("--flexmbd and --peers are needed for a run")
     records = []
+    refs = {}
+    if a.refs and os.path.exists(a.refs):
+        with open(a.refs) as f:
+            refs = json.load(f)
     with tempfile.TemporaryDirectory() as tmp:
         for n in a.n:
             t_end = a.t_end
@@ -106,7 +113,12 @@ def main():
                    "h_ref": h_ref}
             for name, run in (("flexmbd", lambda h: run_flexmbd(a.flexmbd, n, t_end, h, tmp)),
                               ("exudyn", lambda h: run_exudyn(a.python, a.peers, n, h, t_end))):
-                ref = run(h_ref)
+                key = f"{name} n={n} t_end={t_end} h={h_ref}"
+                ref = refs.get(key) or run(h_ref)
+                if a.refs and ref["status"] == "ok" and key not in refs:
+                    refs[key] = ref
+                    with open(a.refs, "w") as f:
+                        json.dump(refs, f, indent=1)
                 runs = []
                 for h in a.h:
                     r = run(h)
