@@ -164,14 +164,10 @@ pub(crate) fn sparse_modes_held(
     rows: &[Vec<f64>],
 ) -> Result<(SparseModes, SparseProblem), ModalError> {
     let p = Problem::with_rows(t, rows);
-    let checked = |refine| {
+    let sm = plain_then_refined(|refine| {
         let sm = modes_of(&p, t.model(), t.step(), count, refine)?;
         sm.check_accuracy().map(|()| sm)
-    };
-    let sm = match checked(false) {
-        Err(ModalError::SparseInaccurate { .. }) => checked(true)?,
-        r => r?,
-    };
+    })?;
     Ok((sm, SparseProblem(p)))
 }
 
@@ -246,6 +242,17 @@ fn eigenvalue_scale(kd: &[f64], md: &[f64]) -> f64 {
     let m_max = md.iter().copied().fold(0.0f64, f64::max);
     let across = if m_max > 0.0 { k_max / m_max } else { 0.0 };
     own.max(across).max(f64::MIN_POSITIVE)
+}
+
+/// `modes(refine)` with plain solves, and again with refined ones (`refined` module) when the
+/// plain ones lost the modes' digits (the accuracy check's error).
+fn plain_then_refined<T>(
+    mut modes: impl FnMut(bool) -> Result<T, ModalError>,
+) -> Result<T, ModalError> {
+    match modes(false) {
+        Err(ModalError::SparseInaccurate { .. }) => modes(true),
+        r => r,
+    }
 }
 
 /// The lowest `count` eigenpairs of the problem `p` of `model` at `step`.

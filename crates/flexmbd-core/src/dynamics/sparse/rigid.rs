@@ -19,7 +19,7 @@
 //! (no inertia count, too many eigenvalues below τ) no mode is flagged, as on the dense path
 //! when there is no gap.
 
-use super::{modes_of, Problem, Shifted, SparseModes};
+use super::{modes_of, plain_then_refined, Problem, Shifted, SparseModes};
 use crate::dynamics::{rigid_body_count, ModalError, RIGID_BODY_GAP};
 use crate::model::Model;
 use crate::statics::StepResult;
@@ -84,30 +84,19 @@ pub(super) fn modes_listing_rigid(
     step: &StepResult,
     count: usize,
 ) -> Result<SparseModes, ModalError> {
-    match listing(p, model, step, count, false) {
-        Err(ModalError::SparseInaccurate { .. }) => listing(p, model, step, count, true),
-        r => r,
-    }
-}
-
-fn listing(
-    p: &Problem,
-    model: &Model,
-    step: &StepResult,
-    count: usize,
-    refine: bool,
-) -> Result<SparseModes, ModalError> {
-    let mut sm = modes_of(p, model, step, count, refine)?;
-    let listed = sm.eigenvalues.len();
-    let more = sm
-        .below_gap
-        .filter(|&c| sm.rigid == 0 && c > listed && c <= listed + MAX_EXTRA);
-    if let Some(c) = more {
-        // a failure of the longer run leaves the modes asked for without the flag
-        if let Ok(all) = modes_of(p, model, step, c, refine) {
-            sm.rigid = all.rigid.min(listed);
+    plain_then_refined(|refine| {
+        let mut sm = modes_of(p, model, step, count, refine)?;
+        let listed = sm.eigenvalues.len();
+        let more = sm
+            .below_gap
+            .filter(|&c| sm.rigid == 0 && c > listed && c <= listed + MAX_EXTRA);
+        if let Some(c) = more {
+            // a failure of the longer run leaves the modes asked for without the flag
+            if let Ok(all) = modes_of(p, model, step, c, refine) {
+                sm.rigid = all.rigid.min(listed);
+            }
         }
-    }
-    sm.check_accuracy()?;
-    Ok(sm)
+        sm.check_accuracy()?;
+        Ok(sm)
+    })
 }
