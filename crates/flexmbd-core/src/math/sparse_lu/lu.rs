@@ -147,10 +147,7 @@ impl SparseLu {
                 x[s as usize] += v;
             }
             let (ulo, uhi) = (self.u_ptr[k], self.u_ptr[k + 1]);
-            for (&s, u_out) in self.u_idx[ulo..uhi]
-                .iter()
-                .zip(&mut self.u_val[ulo..uhi])
-            {
+            for (&s, u_out) in self.u_idx[ulo..uhi].iter().zip(&mut self.u_val[ulo..uhi]) {
                 let s = s as usize;
                 let u = x[s];
                 x[s] = 0.0;

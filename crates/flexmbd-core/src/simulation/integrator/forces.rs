@@ -61,7 +61,10 @@ impl Engine<'_> {
         }
         if model.loads.gravity != [0.0; 3] {
             let s = self.exc.gravity.eval(t)[0];
-            for (node, (force, moment)) in field_loads_at(model, x).iter().enumerate() {
+            for (node, (force, moment)) in field_loads_with(model, x, &self.element_nodes)
+                .iter()
+                .enumerate()
+            {
                 let n = &model.nodes[node];
                 for j in 0..3 {
                     f[n.ix_pos + j] += s * force[j];
@@ -101,7 +104,7 @@ impl Engine<'_> {
     /// Whether any damping is proportional to the material stiffness (β > 0 or an element
     /// with τ > 0).
     pub(super) fn stiffness_damping(&self) -> bool {
-        self.opts.rayleigh[1] > 0.0 || self.model.elements.iter().any(|e| e.damping > 0.0)
+        self.stiffness_damping
     }
 
     /// K_m w = Dᵀ S D w on all of x: the material stiffness applied to a vector, element by
