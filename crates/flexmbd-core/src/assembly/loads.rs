@@ -8,7 +8,7 @@
 //! applied as dead loads growing with the load factor (statics).
 
 use crate::assembly::{gather_local, SMALL};
-use crate::elements::ElementKind;
+use crate::elements::{ElementKind, NodeId};
 use crate::model::Model;
 
 /// The nodal loads of gravity and of the model's spin on the reference configuration: per node
@@ -20,6 +20,25 @@ pub fn field_loads(model: &Model) -> Vec<([f64; 3], [f64; 3])> {
 /// The nodal loads of gravity and of the model's spin at the coordinates `x` (the loads follow
 /// the configuration: time simulation); [`field_loads`] is this on the reference configuration.
 pub fn field_loads_at(model: &Model, x: &[f64]) -> Vec<([f64; 3], [f64; 3])> {
+    field_loads_with(model, x, &element_nodes(model))
+}
+
+/// The nodes of every element, in the order of its [`ElementKind::node_uses`]: made once for
+/// [`field_loads_with`] at many states.
+pub fn element_nodes(model: &Model) -> Vec<Vec<NodeId>> {
+    model
+        .elements
+        .iter()
+        .map(|entry| entry.element.node_uses().iter().map(|u| u.node).collect())
+        .collect()
+}
+
+/// [`field_loads_at`] with the elements' nodes `nodes` of [`element_nodes`].
+pub fn field_loads_with(
+    model: &Model,
+    x: &[f64],
+    nodes: &[Vec<NodeId>],
+) -> Vec<([f64; 3], [f64; 3])> {
     let mut out = vec![([0.0; 3], [0.0; 3]); model.nodes.len()];
     let Some(field) = model.loads.acceleration_field() else {
         return out;
@@ -31,15 +50,14 @@ pub fn field_loads_at(model: &Model, x: &[f64]) -> Vec<([f64; 3], [f64; 3])> {
     };
     let mut per_use = Vec::new();
     let (mut xs, mut xh) = ([0.0; SMALL], Vec::new());
-    for entry in &model.elements {
-        let uses = entry.element.node_uses();
+    for (entry, nodes) in model.elements.iter().zip(nodes) {
         per_use.clear();
-        per_use.resize(uses.len(), ([0.0; 3], [0.0; 3]));
+        per_use.resize(nodes.len(), ([0.0; 3], [0.0; 3]));
         let xk = gather_local(entry, x, &mut xs, &mut xh);
         entry.element.field_loads(xk, &field, &mut per_use);
-        for (u, (f, m)) in uses.iter().zip(&per_use) {
-            add(&mut out[u.node].0, *f);
-            add(&mut out[u.node].1, *m);
+        for (&node, (f, m)) in nodes.iter().zip(&per_use) {
+            add(&mut out[node].0, *f);
+            add(&mut out[node].1, *m);
         }
     }
     for &(node, m) in &model.loads.point_masses {

@@ -272,20 +272,24 @@ impl KktSolver {
     }
 }
 
-/// out[k] = Σ vals[src[ptr[k]..ptr[k + 1]]] (in parallel).
+/// out[k] = Σ vals[src[ptr[k]..ptr[k + 1]]] (in parallel in chunks; one chunk on the calling
+/// thread, which does not even start the thread pool for a small matrix).
 fn gather_sum(out: &mut [f64], ptr: &[usize], src: &[u32], vals: &[f64]) {
     const CHUNK: usize = 4096;
-    out.par_chunks_mut(CHUNK)
-        .enumerate()
-        .for_each(|(c, chunk)| {
-            for (o, v) in chunk.iter_mut().enumerate() {
-                let k = c * CHUNK + o;
-                *v = src[ptr[k]..ptr[k + 1]]
-                    .iter()
-                    .map(|&i| vals[i as usize])
-                    .sum();
-            }
-        });
+    let chunk_sums = |(c, chunk): (usize, &mut [f64])| {
+        for (o, v) in chunk.iter_mut().enumerate() {
+            let k = c * CHUNK + o;
+            *v = src[ptr[k]..ptr[k + 1]]
+                .iter()
+                .map(|&i| vals[i as usize])
+                .sum();
+        }
+    };
+    if out.len() <= CHUNK {
+        chunk_sums((0, out));
+    } else {
+        out.par_chunks_mut(CHUNK).enumerate().for_each(chunk_sums);
+    }
 }
 
 fn norm2(v: &[f64]) -> f64 {

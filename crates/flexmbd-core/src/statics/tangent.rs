@@ -43,8 +43,8 @@ pub(crate) enum Part {
     Material,
     /// Σ σᵢ ∂²eᵢ/∂x² + normalisation multipliers + load stiffness (proportional to the load).
     Geometric,
-    /// No tangent: forces, deformations and constraint violations only (the matrix values
-    /// are left as they are; a modified Newton iteration that reuses its matrix).
+    /// No tangent: forces, deformations and constraint violations only, without matrix
+    /// entries (`vals` and `tail` empty; a modified Newton iteration that reuses its matrix).
     Residual,
 }
 
@@ -387,7 +387,9 @@ pub(super) fn apply_loads(
             g[kc] = a.e[i] - target;
         }
     }
-    let mut tail = Vec::new();
+    // the matrix entries (none for the residual alone), in room made for them
+    let entries = part != Part::Residual;
+    let mut tail = Vec::with_capacity(if entries { tail_capacity(su) } else { 0 });
     // external dead forces
     for i in 0..model.nx {
         balance[i] -= t * su.f_dead[i];
@@ -400,6 +402,9 @@ pub(super) fn apply_loads(
             let f = t * f1[c];
             balance[r + c] -= f;
             f_abs[r + c] += f.abs();
+        }
+        if !entries {
+            continue;
         }
         let am = [
             [0.0, -m[0], -m[1], -m[2]],
@@ -444,6 +449,9 @@ pub(super) fn apply_loads(
         g[kc] = l.iter().map(|v| v * v).sum::<f64>() - 1.0;
         for i in 0..4 {
             balance[r + i] += 2.0 * mu[kc] * l[i];
+        }
+        if !entries {
+            continue;
         }
         if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
             // Nᵀ (2μ I) N = 2μ I on the rotation increments (N orthonormal)

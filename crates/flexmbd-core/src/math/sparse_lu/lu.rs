@@ -147,11 +147,11 @@ impl SparseLu {
                 x[s as usize] += v;
             }
             let (ulo, uhi) = (self.u_ptr[k], self.u_ptr[k + 1]);
-            for p in ulo..uhi {
-                let s = self.u_idx[p] as usize;
+            for (&s, u_out) in self.u_idx[ulo..uhi].iter().zip(&mut self.u_val[ulo..uhi]) {
+                let s = s as usize;
                 let u = x[s];
                 x[s] = 0.0;
-                self.u_val[p] = u;
+                *u_out = u;
                 let (llo, lhi) = (self.l_ptr[s], self.l_ptr[s + 1]);
                 for (&i, &l) in self.l_idx[llo..lhi].iter().zip(&self.l_val[llo..lhi]) {
                     x[i as usize] -= l * u;
@@ -212,12 +212,15 @@ impl SparseLu {
                 y[k] = v;
             }
         } else {
+            // the entries of column k of U as slices, as those of L
+            let (u_ptr, u_idx, u_val) = (&self.u_ptr, &self.u_idx, &self.u_val);
             for k in (0..n).rev() {
                 let v = y[k] / self.u_diag[k];
                 y[k] = v;
                 if v != 0.0 {
-                    for p in self.u_ptr[k]..self.u_ptr[k + 1] {
-                        y[self.u_idx[p] as usize] -= self.u_val[p] * v;
+                    let (lo, hi) = (u_ptr[k], u_ptr[k + 1]);
+                    for (&i, &u) in u_idx[lo..hi].iter().zip(&u_val[lo..hi]) {
+                        y[i as usize] -= u * v;
                     }
                 }
             }

@@ -61,7 +61,10 @@ impl Engine<'_> {
         }
         if model.loads.gravity != [0.0; 3] {
             let s = self.exc.gravity.eval(t)[0];
-            for (node, (force, moment)) in field_loads_at(model, x).iter().enumerate() {
+            for (node, (force, moment)) in field_loads_with(model, x, &self.element_nodes)
+                .iter()
+                .enumerate()
+            {
                 let n = &model.nodes[node];
                 for j in 0..3 {
                     f[n.ix_pos + j] += s * force[j];
@@ -101,7 +104,7 @@ impl Engine<'_> {
     /// Whether any damping is proportional to the material stiffness (β > 0 or an element
     /// with τ > 0).
     pub(super) fn stiffness_damping(&self) -> bool {
-        self.opts.rayleigh[1] > 0.0 || self.model.elements.iter().any(|e| e.damping > 0.0)
+        self.stiffness_damping
     }
 
     /// K_m w = Dᵀ S D w on all of x: the material stiffness applied to a vector, element by
@@ -209,29 +212,30 @@ impl Engine<'_> {
         vals
     }
 
-    /// [`Engine::values`] into a reused buffer.
+    /// [`Engine::values`] into a reused buffer. Every value slot is written (assigned, or
+    /// cleared and added to), so a buffer of the right length is reused without clearing it.
     pub(super) fn values_into(&self, ev: &Eval, x: &[f64], t: f64, c: Coefs, vals: &mut Vec<f64>) {
         let nf = self.su.nf;
         debug_assert_eq!(ev.asm.vals.len(), self.n_pat);
-        vals.clear();
-        vals.extend(
-            self.in_free
-                .iter()
-                .zip(&ev.asm.vals)
-                .enumerate()
-                .map(|(i, (&free, &v))| {
-                    if free {
-                        c.k * v + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
-                    } else {
-                        v
-                    }
-                }),
-        );
         vals.resize(self.n_vals, 0.0);
+        for (i, ((o, &free), &v)) in vals[..self.n_pat]
+            .iter_mut()
+            .zip(&self.in_free)
+            .zip(&ev.asm.vals)
+            .enumerate()
+        {
+            *o = if free {
+                c.k * v + ev.km.as_ref().map_or(0.0, |km| c.km * km[i])
+            } else {
+                v
+            };
+        }
+        let ms = &self.mass;
+        let last = ms.first + ms.piece_start[ms.piece_start.len() - 1];
+        let node_slots = || ms.node.iter().flatten();
         if c.m != 0.0 {
-            // element by element (in parallel for large models), each into its own slots
-            let ms = &self.mass;
-            let last = ms.first + ms.piece_start[ms.piece_start.len() - 1];
+            // element by element (in parallel for large models), each into its own slots (one
+            // slot per entry of its mass matrix on the free block)
             let pieces = split_at_starts(&mut vals[ms.first..last], &ms.piece_start);
             map_elements(&self.model.elements, pieces, |el, entry, piece| {
                 let local = &ms.local[ms.entry_start[el]..ms.entry_start[el + 1]];
@@ -241,11 +245,12 @@ impl Engine<'_> {
                 element_mass(entry, x, None, true, |me| {
                     for (&o, &v) in local.iter().zip(me) {
                         if o != NO_SLOT {
-                            piece[o as usize] += c.m * v;
+                            piece[o as usize] = c.m * v;
                         }
                     }
                 });
             });
+            node_slots().for_each(|&s| vals[s] = 0.0);
             let mut k = 0;
             for_each_node_entry(self.model, x, None, true, |_, _, v| {
                 if let Some(s) = ms.node[k] {
@@ -253,6 +258,9 @@ impl Engine<'_> {
                 }
                 k += 1;
             });
+        } else {
+            vals[ms.first..last].fill(0.0);
+            node_slots().for_each(|&s| vals[s] = 0.0);
         }
         for (&(_, m, li), slots) in self.moments.iter().zip(&self.moment_slot) {
             let s = self.exc.loads[li].eval(t)[0];
@@ -265,7 +273,7 @@ impl Engine<'_> {
             for i in 0..4 {
                 for j in 0..4 {
                     if let Some(slot) = slots[i][j] {
-                        vals[slot] += -2.0 * s * am[i][j] * c.k;
+                        vals[slot] = -2.0 * s * am[i][j] * c.k;
                     }
                 }
             }

@@ -5,7 +5,7 @@ use super::{
     Energies, Excitation, Frame, Progress, SimError, SimFailure, SimOptions, SimStats, Simulation,
     Start, StartVelocity, Stopped, TimeFunction,
 };
-use crate::assembly::loads::field_loads_at;
+use crate::assembly::loads::{element_nodes, field_loads_with};
 use crate::assembly::mass::{element_mass, for_each_node_entry, inertia_forces, mass_times};
 use crate::assembly::{map_elements, split_at_starts};
 use crate::elements::ElementKind;
@@ -146,6 +146,10 @@ struct Engine<'a> {
     vals_buf: Vec<f64>,
     /// The assembly's matrix entries of the last rebuild, handed back to the next one.
     asm_spare: Vec<f64>,
+    /// The nodes of every element, for the loads of gravity at each state.
+    element_nodes: Vec<Vec<crate::elements::NodeId>>,
+    /// Whether any damping is proportional to the material stiffness.
+    stiffness_damping: bool,
 }
 
 /// No value slot: a mass entry off the free block.

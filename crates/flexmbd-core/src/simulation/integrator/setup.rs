@@ -275,6 +275,9 @@ impl<'a> Engine<'a> {
             since_probe: 0,
             vals_buf: Vec::new(),
             asm_spare: Vec::new(),
+            element_nodes: element_nodes(model),
+            stiffness_damping: opts.rayleigh[1] > 0.0
+                || model.elements.iter().any(|e| e.damping > 0.0),
         })
     }
 }
