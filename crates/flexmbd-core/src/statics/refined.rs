@@ -24,7 +24,7 @@ const REFINED_TOL: f64 = 1e-10;
 /// Refines the Newton direction `dr` (on entry the factorisation's solution of the reduced KKT
 /// system with the right-hand side `b`, by `solver`) at the state (x, μ, load factor t) whose
 /// assembly is `a`. Returns whether it changed (the factorisation's correction was above the
-/// tolerance).
+/// tolerance); unchanged when the solver kept no factorisation to precondition with.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn refine_direction(
     model: &Model,
@@ -37,6 +37,11 @@ pub(super) fn refine_direction(
     b: &[f64],
     dr: &mut [f64],
 ) -> bool {
+    if !solver.reusable() {
+        // the factorisation was not kept (small pivots, accepted for this right-hand side
+        // alone): nothing to precondition with
+        return false;
+    }
     let nfr = su.red.nfr;
     let geo = assemble_values(model, su, x, mu, t, Part::Geometric, true, Vec::new());
     let km = MaterialOperator::new(model, su, x);
