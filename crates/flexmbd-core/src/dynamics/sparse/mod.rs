@@ -306,12 +306,13 @@ fn modes_of(
     let floor = f64::EPSILON * lambda_ref / nc as f64;
     shifts.extend((0..12).map(|i| -floor * 100f64.powi(i)));
     // (refined solves are needed where the factorisation's round-off reaches the lowest
-    // eigenvalues: there its inertia may count eigenvalues below a shift that has none, so it
-    // does not choose the shift; the solves make the operator right for any accurate factor)
-    let inertia_ok = |op: &Shifted| refine || op.below == Some(0);
+    // eigenvalues: there its inertia may count eigenvalues below a shift that has none, so a
+    // shift is also taken when a refined solve at it converges, A(σ) being regular for the
+    // accurate products; not when it is singular, as a free model's at σ = 0)
+    let inertia_ok = |op: &mut Shifted| op.below == Some(0) || (refine && op.regular_refined(p));
     let mut chosen = None;
     for &s in &shifts {
-        if op.factor(p, s, false) && inertia_ok(&op) {
+        if op.factor(p, s, false) && inertia_ok(&mut op) {
             chosen = Some(s);
             break;
         }
@@ -380,7 +381,7 @@ fn modes_of(
     let barely_regular = sigma < 0.0 && -sigma < 1e-3 * (l1 - sigma);
     if dominated || barely_regular {
         let s2 = (l1 - 0.1 * (lk - l1)).min(-0.5 * l1.abs());
-        if op.factor(p, s2, false) && inertia_ok(&op) {
+        if op.factor(p, s2, false) && inertia_ok(&mut op) {
             let budget = max_applications.saturating_sub(applications).max(1);
             let (f2, t2, a2) = lanczos_runs(p, &mut op, want, budget)?;
             (found, thetas, sigma, applications) = (f2, t2, s2, applications + a2);

@@ -78,8 +78,13 @@ pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], ou
 
 /// Solves A(σ) z = b in place (b in, z out): the factorisation's solution in `op`, refined by
 /// [`crate::math::gmres::refine`] with the products of [`saddle_times`] to [`REFINED_TOL`] in
-/// the coordinates.
-pub(super) fn refined_solve(op: &mut Shifted<'_>, p: &Problem, ex: Exact<'_>, b: &mut [f64]) {
+/// the coordinates. Returns the last correction against z.
+pub(super) fn refined_solve(
+    op: &mut Shifted<'_>,
+    p: &Problem,
+    ex: Exact<'_>,
+    b: &mut [f64],
+) -> f64 {
     let sigma = op.sigma;
     let rhs = b.to_vec();
     op.solve_factored(b);
@@ -90,5 +95,6 @@ pub(super) fn refined_solve(op: &mut Shifted<'_>, p: &Problem, ex: Exact<'_>, b:
         REFINED_TOL,
         |v| op.solve_factored(v),
         |v, out| saddle_times(p, ex, sigma, v, out),
-    );
+    )
+    .correction
 }
