@@ -239,6 +239,11 @@ impl ReducedLinear {
     pub(crate) fn to_x(&self, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
         to_x(&self.su, model, x, u)
     }
+
+    /// The setup the values were assembled with (the effective stiffnesses).
+    pub(crate) fn setup(&self) -> &Setup {
+        &self.su
+    }
 }
 
 /// The reduced index of x coordinate `i` when it is an unknown of its own (a free translation,
@@ -250,7 +255,7 @@ fn coord_index(su: &Setup, i: usize) -> Option<usize> {
 /// Generalised forces on the reduced coordinates (the first `su.red.nfr` unknowns of the
 /// reduced Newton system) of a force vector `f` in x (length nx) at the state `x`: the
 /// transpose of [`to_x`], so that uᵀ (this) = (to_x u)ᵀ f.
-pub(crate) fn force_to_coords(su: &Setup, x: &[f64], f: &[f64]) -> Vec<f64> {
+fn force_to_coords(su: &Setup, x: &[f64], f: &[f64]) -> Vec<f64> {
     let mut fc = vec![0.0; su.red.nfr];
     for (i, fi) in f.iter().enumerate() {
         if let Some(m) = coord_index(su, i) {
@@ -267,7 +272,7 @@ pub(crate) fn force_to_coords(su: &Setup, x: &[f64], f: &[f64]) -> Vec<f64> {
 }
 
 /// δx (length nx) of a vector `u` of the reduced coordinate unknowns at the state `x`.
-pub(crate) fn to_x(su: &Setup, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
+fn to_x(su: &Setup, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
     let mut dx = vec![0.0; model.nx];
     for (i, d) in dx.iter_mut().enumerate() {
         if let Some(m) = coord_index(su, i) {
@@ -283,12 +288,16 @@ pub(crate) fn to_x(su: &Setup, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> 
     dx
 }
 
+/// Whether an element has stiffness: a non-zero entry in its effective S.
+fn has_stiffness(s: &Mat<f64>, ne: usize) -> bool {
+    (0..ne).any(|a| (0..ne).any(|b| s[(a, b)] != 0.0))
+}
+
 /// The material stiffness times displacements, K_m δx = Σ Dᵀ S (D δx) over the elements'
 /// flexible deformations, evaluated through the deformations δe = D δx for the reason given at
-/// [`ReducedLinear::material_energy2`], with the elements'
-/// deformation Jacobians D computed once and kept (ne × nxe values per element with stiffness,
-/// 84 for a beam). For the refined solves of the sparse modes, which take hundreds of these
-/// products.
+/// [`ReducedLinear::material_energy2`], with the elements' deformation Jacobians D computed once
+/// and kept (ne × nxe values per element with stiffness, 84 for a beam). For the refined solves
+/// of the sparse modes and of statics' Newton, which take hundreds of these products.
 pub(crate) struct MaterialOperator {
     /// Per element with stiffness: its index, and the offset of its D (row-major) in `d`.
     elements: Vec<(usize, usize)>,
@@ -296,54 +305,11 @@ pub(crate) struct MaterialOperator {
 }
 
 impl MaterialOperator {
-    /// K_m δx = Σ Dᵀ S (D δx) as forces in x, into `f` (length nx, overwritten).
-    pub(crate) fn forces(&self, model: &Model, su: &Setup, dx: &[f64], f: &mut [f64]) {
-        f.iter_mut().for_each(|v| *v = 0.0);
-        let mut de = Vec::new();
-        let mut sig = Vec::new();
-        for &(el, off) in &self.elements {
-            let entry = &model.elements[el];
-            let s = &su.s_eff[el];
-            let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
-            let d = &self.d[off..off + ne * nxe];
-            de.clear();
-            de.extend(d.chunks_exact(nxe).map(|row| {
-                row.iter()
-                    .zip(&entry.xmap)
-                    .map(|(a, &i)| a * dx[i])
-                    .sum::<f64>()
-            }));
-            sig.clear();
-            sig.extend((0..ne).map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
-            for (c, &i) in entry.xmap.iter().enumerate() {
-                f[i] += (0..ne).map(|r| d[r * nxe + c] * sig[r]).sum::<f64>();
-            }
-        }
-    }
-}
-
-impl ReducedLinear {
-    /// The material stiffness at the state `x` as a [`MaterialOperator`].
-    pub(crate) fn material_operator(&self, model: &Model, x: &[f64]) -> MaterialOperator {
-        MaterialOperator::new(model, &self.su, x)
-    }
-
-    /// The setup the values were assembled with (the effective stiffnesses).
-    pub(crate) fn setup(&self) -> &Setup {
-        &self.su
-    }
-}
-
-impl MaterialOperator {
     /// The material stiffness of the elements of `su` (their effective stiffnesses) at the
     /// state `x`.
     pub(crate) fn new(model: &Model, su: &Setup, x: &[f64]) -> Self {
         let stiff: Vec<usize> = (0..model.elements.len())
-            .filter(|&el| {
-                let s = &su.s_eff[el];
-                let ne = model.elements[el].element.ne();
-                (0..ne).any(|a| (0..ne).any(|b| s[(a, b)] != 0.0))
-            })
+            .filter(|&el| has_stiffness(&su.s_eff[el], model.elements[el].element.ne()))
             .collect();
         let jac = |&el: &usize| -> Vec<f64> {
             let entry = &model.elements[el];
@@ -374,6 +340,46 @@ impl MaterialOperator {
         }
         MaterialOperator { elements, d }
     }
+
+    /// K_m δx = Σ Dᵀ S (D δx) as forces in x, into `f` (length nx, overwritten).
+    pub(crate) fn forces(&self, model: &Model, su: &Setup, dx: &[f64], f: &mut [f64]) {
+        f.iter_mut().for_each(|v| *v = 0.0);
+        let mut de = Vec::new();
+        let mut sig = Vec::new();
+        for &(el, off) in &self.elements {
+            let entry = &model.elements[el];
+            let s = &su.s_eff[el];
+            let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
+            let d = &self.d[off..off + ne * nxe];
+            de.clear();
+            de.extend(d.chunks_exact(nxe).map(|row| {
+                row.iter()
+                    .zip(&entry.xmap)
+                    .map(|(a, &i)| a * dx[i])
+                    .sum::<f64>()
+            }));
+            sig.clear();
+            sig.extend((0..ne).map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
+            for (c, &i) in entry.xmap.iter().enumerate() {
+                f[i] += (0..ne).map(|r| d[r * nxe + c] * sig[r]).sum::<f64>();
+            }
+        }
+    }
+
+    /// K_m u on the reduced coordinates (the first `su.red.nfr` unknowns of the reduced Newton
+    /// system) at the state `x`: [`to_x`], [`MaterialOperator::forces`], [`force_to_coords`].
+    pub(crate) fn reduced_forces(
+        &self,
+        model: &Model,
+        su: &Setup,
+        x: &[f64],
+        u: &[f64],
+    ) -> Vec<f64> {
+        let dx = to_x(su, model, x, u);
+        let mut f = vec![0.0; model.nx];
+        self.forces(model, su, &dx, &mut f);
+        force_to_coords(su, x, &f)
+    }
 }
 
 /// Twice the material strain energy Σ δeᵀ S δe of each shape δx (length nx) over the
@@ -389,7 +395,7 @@ pub(crate) fn material_energy2(
         let entry = &model.elements[el];
         let s = &su.s_eff[el];
         let ne = entry.element.ne();
-        if (0..ne).all(|a| (0..ne).all(|b| s[(a, b)] == 0.0)) {
+        if !has_stiffness(s, ne) {
             return vec![0.0; shapes.len()];
         }
         deformation_energies(entry, s, x, shapes)

@@ -9,7 +9,6 @@
 //! normalisation multipliers, load stiffness: small entries) and the constraint rows from
 //! their own assembled values.
 
-use super::reduced::{force_to_coords, to_x};
 use super::{assemble_values, Assembled, KktSolver, MaterialOperator, Part, Setup};
 use crate::math::gmres;
 use crate::model::Model;
@@ -51,12 +50,8 @@ pub(super) fn refine_direction(
     entries.extend_from_slice(&a.tail);
     debug_assert_eq!(entries.len(), a.vals.len());
     debug_assert_eq!(geo.vals.len(), a.vals.len());
-    let mut fm = vec![0.0; model.nx];
     let product = |v: &[f64], out: &mut [f64]| {
-        let dx = to_x(su, model, x, &v[..nfr]);
-        km.forces(model, su, &dx, &mut fm);
-        let f = force_to_coords(su, x, &fm);
-        out[..nfr].copy_from_slice(&f);
+        out[..nfr].copy_from_slice(&km.reduced_forces(model, su, x, &v[..nfr]));
         out[nfr..].iter_mut().for_each(|o| *o = 0.0);
         for (e, &(r, c)) in entries.iter().enumerate() {
             let value = if r >= nfr || c >= nfr {

@@ -60,7 +60,7 @@ use super::ModalError;
 use crate::linalg::EigenError;
 use crate::linearized::Tangent;
 use crate::model::Model;
-use crate::statics::StepResult;
+use crate::statics::{MaterialOperator, StepResult};
 #[cfg(test)]
 use basis::projected_eigen_largest;
 use basis::{projected_eigen, PAR_MIN};
@@ -279,7 +279,7 @@ fn modes_of(
     let ndof = nc - n_constraints;
     let exact_parts = refine.then(|| {
         (
-            p.lin.material_operator(model, &step.x),
+            MaterialOperator::new(model, p.lin.setup(), &step.x),
             p.constraint_entries(),
         )
     });

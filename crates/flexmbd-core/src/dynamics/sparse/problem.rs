@@ -64,28 +64,23 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64]
 }
 
 impl Problem {
-    /// The problem of a modal analysis alone: the element values of `lin` are released once
-    /// the saddle-point matrix holds them (12 MB at 10⁴ beams; the geometric ones too when
-    /// they are all zero). Static responses ([`super::static_solve`]) need them: those use
-    /// [`Problem::with_rows`].
+    /// The problem of a modal analysis alone.
     pub(super) fn new(t: &Tangent) -> Self {
-        let mut p = Self::with_rows(t, &[]);
-        p.lin.vals = Vec::new();
-        if p.lin.geo.iter().all(|&v| v == 0.0) {
-            p.lin.geo = Vec::new();
-        }
-        p
+        Self::with_rows(t, &[])
     }
 
     /// The problem with constraint rows added after those of the Newton system: row j holds
     /// the vector `rows[j]` in x (length nx) mapped onto the coordinate unknowns. The state space uses them to hold again
     /// the coordinates it freed in a copy of the model, so that their multipliers are the
-    /// reactions and their right-hand sides the enforced motions.
+    /// reactions and their right-hand sides the enforced motions. The element values of the
+    /// stage are released once the saddle-point matrix holds them (12 MB at 10⁴ beams; the
+    /// geometric ones too when they are all zero): the products of the refined solves take the
+    /// material part through the deformations and the rest from the matrix.
     pub(super) fn with_rows(t: &Tangent, rows: &[Vec<f64>]) -> Self {
         let (model, step) = (t.model(), t.step());
         // K (with the softening) and M of the stage, in the reduced unknowns
         let SparseTangent {
-            lin,
+            mut lin,
             m_el,
             nodes: mut extra,
         } = t.sparse();
@@ -227,6 +222,10 @@ impl Problem {
             (ptr, idx, val)
         };
         let (m_ptr, m_idx, m_val) = block(&m);
+        lin.vals = Vec::new();
+        if lin.geo.iter().all(|&v| v == 0.0) {
+            lin.geo = Vec::new();
+        }
         let group = lin.coord_nodes(model);
         let point = group
             .iter()

@@ -43,11 +43,8 @@ pub(super) struct Exact<'a> {
 pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], out: &mut [f64]) {
     let nc = p.nc;
     let (model, x) = (ex.model, &ex.step.x);
-    let dx = p.lin.to_x(model, x, &z[..nc]);
-    let mut fm = vec![0.0; model.nx];
-    ex.km.forces(model, p.lin.setup(), &dx, &mut fm);
-    let f = p.lin.force_to_coords(x, &fm);
-    out[..nc].copy_from_slice(&f[..nc]);
+    let f = ex.km.reduced_forces(model, p.lin.setup(), x, &z[..nc]);
+    out[..nc].copy_from_slice(&f);
     out[nc..].iter_mut().for_each(|v| *v = 0.0);
     if !p.lin.geo.is_empty() {
         let mut e = 0;

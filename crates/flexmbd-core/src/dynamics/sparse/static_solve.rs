@@ -10,7 +10,7 @@ use super::refined::Exact;
 use super::shifted::Shifted;
 use crate::dynamics::ModalError;
 use crate::model::Model;
-use crate::statics::StepResult;
+use crate::statics::{MaterialOperator, StepResult};
 
 /// δx (length nx) of the linearised statics of the problem `p` (of `model` at `step`, the one
 /// the modes came from) for each load vector in x (length nx):
@@ -45,7 +45,7 @@ pub(super) fn saddle_solutions(
     step: &StepResult,
     rhs: &[Vec<f64>],
 ) -> Result<Vec<Vec<f64>>, ModalError> {
-    let km = p.lin.material_operator(model, &step.x);
+    let km = MaterialOperator::new(model, p.lin.setup(), &step.x);
     let g = p.constraint_entries();
     let exact = Exact {
         model,
