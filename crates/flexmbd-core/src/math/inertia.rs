@@ -252,6 +252,15 @@ mod tests {
         }
     }
 
+    /// Euler parameters (any length), their rate and a body vector, pseudo-random in (−1, 1).
+    fn random_case(rng: &mut crate::elements::testing::Rng) -> ([f64; 4], [f64; 4], [f64; 3]) {
+        (
+            std::array::from_fn(|_| rng.next()),
+            std::array::from_fn(|_| rng.next()),
+            std::array::from_fn(|_| rng.next()),
+        )
+    }
+
     /// The closed form against the second-order jet of [`rotate`] (exact derivatives of the
     /// same formula), for Euler parameters of any length.
     #[test]
@@ -259,9 +268,7 @@ mod tests {
         use crate::math::jet::{Jet2, Scalar};
         let mut rng = crate::elements::testing::Rng(29);
         for _ in 0..20 {
-            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
-            let ld: [f64; 4] = std::array::from_fn(|_| rng.next());
-            let a: [f64; 3] = std::array::from_fn(|_| rng.next());
+            let (l, ld, a) = random_case(&mut rng);
             let lj: [Jet2<1>; 4] = std::array::from_fn(|i| Jet2 {
                 v: l[i],
                 g: [ld[i]],
@@ -285,9 +292,7 @@ mod tests {
     fn second_rotated_matches_central_differences() {
         let mut rng = crate::elements::testing::Rng(17);
         for _ in 0..10 {
-            let l: [f64; 4] = std::array::from_fn(|_| rng.next());
-            let ld: [f64; 4] = std::array::from_fn(|_| rng.next());
-            let a: [f64; 3] = std::array::from_fn(|_| rng.next());
+            let (l, ld, a) = random_case(&mut rng);
             let s = second_rotated(&l, &ld, a);
             let e = 1e-4;
             let at = |k: f64| {

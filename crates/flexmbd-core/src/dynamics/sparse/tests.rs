@@ -120,6 +120,16 @@ fn assert_orthonormal(model: &Model, step: &StepResult, m: &Modal, tol: f64) {
     }
 }
 
+/// The frequencies of the modes that bend the strip out of its plane (translational kinetic
+/// energy more than 99 % along z), in the order listed.
+fn bending_frequencies(m: &Modal) -> Vec<f64> {
+    m.modes
+        .iter()
+        .filter(|m| z_share(m) > 0.99)
+        .map(|m| m.frequency)
+        .collect()
+}
+
 /// Share of the out-of-plane (z) translations in a mode that moves mostly by translation.
 fn z_share(m: &super::super::Mode) -> f64 {
     let (mut z, mut all) = (0.0, 0.0);
@@ -144,12 +154,7 @@ fn f01_peer_strip_sparse_bending_frequencies_closed_form() {
     let step = last_step(&model, 1);
     let m = run(&model, &step, 10, EigenSolver::Sparse);
     assert_eq!(m.modes.len(), 10);
-    let bending: Vec<f64> = m
-        .modes
-        .iter()
-        .filter(|m| z_share(m) > 0.99)
-        .map(|m| m.frequency)
-        .collect();
+    let bending = bending_frequencies(&m);
     assert!(bending.len() >= 3, "{bending:?}");
     for (got, want) in bending.iter().zip([67.0552, 420.2279, 1176.650]) {
         assert!(
@@ -719,12 +724,7 @@ fn hosted_rotation_nodes_keep_the_fine_strip_accurate() {
     let model = b.build().unwrap();
     let step = last_step(&model, 1);
     let m = run(&model, &step, 3, EigenSolver::Sparse);
-    let bending: Vec<f64> = m
-        .modes
-        .iter()
-        .filter(|m| z_share(m) > 0.99)
-        .map(|m| m.frequency)
-        .collect();
+    let bending = bending_frequencies(&m);
     assert_eq!(
         bending.len(),
         2,
