@@ -51,6 +51,9 @@ pub(crate) struct KktSolver {
     /// A Newton solve with this matrix structure needed refined directions
     /// ([`super::refined`]) to converge: the next ones refine from their first iteration.
     pub(super) refine: bool,
+    /// Keep a refactorisation with small pivots whose solve was accurate for
+    /// [`KktSolver::solve_again`] ([`KktSolver::set_keep_small_pivots`]).
+    keep_small_pivots: bool,
 }
 
 impl KktSolver {
@@ -147,6 +150,7 @@ impl KktSolver {
             inertia: None,
             used: 0,
             refine: false,
+            keep_small_pivots: false,
         })
     }
 
@@ -217,12 +221,16 @@ impl KktSolver {
             }
             let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
             let (res, _) = crate::math::sparse_lu::csc_residual(cp, ri, v, rhs[0], &bs[0]);
-            // accurate for this right-hand side only: not kept for `solve_again`
-            self.used = 0;
+            // accurate for this right-hand side: kept for `solve_again` only when asked
+            // (`keep_small_pivots`)
+            if !self.keep_small_pivots {
+                self.used = 0;
+            }
             if norm2(&res) <= MAX_LINEAR_RESIDUAL * bn {
                 self.inertia = inertia;
                 return Ok(());
             }
+            self.used = 0;
         }
         // factor with pivoting again
         if !self.csc_current {
@@ -238,6 +246,15 @@ impl KktSolver {
         restore(rhs, &mut self.lu);
         self.used = 2;
         Ok(())
+    }
+
+    /// Keep a refactorisation whose pivots were small but whose solve was accurate (see
+    /// [`KktSolver::solve`]) for [`KktSolver::solve_again`]. For a modified Newton iteration
+    /// that judges its corrections by how fast they shrink (the time integrator): a poor
+    /// direction costs it an iteration, never a wrong result. Off by default: a load path's
+    /// eigenvalue iteration needs the solves exact.
+    pub(crate) fn set_keep_small_pivots(&mut self, keep: bool) {
+        self.keep_small_pivots = keep;
     }
 
     /// Whether [`KktSolver::solve_again`] has a factorisation to use.

@@ -20,6 +20,10 @@ use crate::statics::{
 /// factor per iteration (a step that fails with a reused matrix is repeated with full Newton).
 const SLOW: f64 = 0.5;
 
+/// Modified Newton: a new iteration matrix also when the corrections, shrinking at the rate of
+/// the last two, would need more than this many further iterations.
+const SLOW_ITERATIONS: f64 = 4.0;
+
 /// The generalised-α parameters of ρ∞ (Arnold & Brüls 2007; Chung & Hulbert 1993).
 #[derive(Clone, Copy, Debug)]
 struct Params {
@@ -142,6 +146,11 @@ struct Engine<'a> {
     carry_fails: bool,
     /// Steps since a carried matrix was last given the chance to serve a whole step.
     since_probe: usize,
+    /// Steps left in full Newton after a step failed with reused matrices (far from the
+    /// solution, at large steps or in fast motion, reused matrices converge too slowly, and a
+    /// failed step costs its iterations and its repetition); the step after them tries reuse
+    /// again.
+    full_steps: usize,
     /// The iteration matrix values of the last rebuild (a buffer reused over the steps).
     vals_buf: Vec<f64>,
     /// The assembly's matrix entries of the last rebuild, handed back to the next one.
@@ -288,7 +297,8 @@ impl<'a> Engine<'a> {
         // the coordinate with the largest correction (named when Newton fails)
         let mut worst = usize::MAX;
         let mut stale = false;
-        let full = std::mem::take(&mut self.full_newton);
+        let full = std::mem::take(&mut self.full_newton) || self.full_steps > 0;
+        self.full_steps = self.full_steps.saturating_sub(1);
         // a carried matrix that failed lately is rebuilt after the first correction, except
         // in a probe step every PROBE_STEPS
         self.since_probe += 1;
@@ -304,8 +314,11 @@ impl<'a> Engine<'a> {
         // contraction rate of the iteration)
         let mut same_matrix = false;
         for it in 0..=self.opts.max_iterations {
-            // slow: the corrections of one matrix shrank less than twofold
-            let slow = same_matrix && last_inc > SLOW * prev_inc;
+            // slow: the corrections of one matrix shrank less than twofold, or at their rate
+            // would need more than SLOW_ITERATIONS further iterations
+            let slow = same_matrix
+                && (last_inc > SLOW * prev_inc
+                    || last_inc.ln() > SLOW_ITERATIONS * (prev_inc / last_inc).ln());
             let rebuild = full
                 || self.jac_h != Some(h)
                 || slow
@@ -383,6 +396,11 @@ impl<'a> Engine<'a> {
         }
         self.jac_h = None;
         self.failed_stale = stale;
+        if stale {
+            // reused matrices failed: full Newton for the retry and PROBE_STEPS - 1 steps
+            // after it
+            self.full_steps = PROBE_STEPS;
+        }
         stats.newton_iterations += self.opts.max_iterations;
         let place = match self.model.coordinate_owner(worst) {
             Some((node, label)) => {

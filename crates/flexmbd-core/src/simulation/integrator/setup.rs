@@ -246,8 +246,9 @@ impl<'a> Engine<'a> {
                 f(r, c);
             }
         };
-        let solver = KktSolver::from_entries(n, rows.len(), &entries, moments.is_empty())
+        let mut solver = KktSolver::from_entries(n, rows.len(), &entries, moments.is_empty())
             .map_err(SimError::Initial)?;
+        solver.set_keep_small_pivots(true);
         Ok(Self {
             model,
             exc,
@@ -273,6 +274,7 @@ impl<'a> Engine<'a> {
             full_newton: false,
             carry_fails: false,
             since_probe: 0,
+            full_steps: 0,
             vals_buf: Vec::new(),
             asm_spare: Vec::new(),
             element_nodes: element_nodes(model),
