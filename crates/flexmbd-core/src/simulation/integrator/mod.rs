@@ -330,7 +330,10 @@ impl<'a> Engine<'a> {
                 carry_failed = true;
             }
             stale |= !rebuild;
-            let (part, spare) = if rebuild {
+            // converged by the last correction: this evaluation gives the forces at the
+            // solution and builds no matrix
+            let converged = it > 0 && last_inc <= 1.0;
+            let (part, spare) = if rebuild && !converged {
                 (Part::Full, std::mem::take(&mut self.asm_spare))
             } else {
                 (Part::Residual, Vec::new())
@@ -340,7 +343,7 @@ impl<'a> Engine<'a> {
                 self.jac_h = None;
                 return Err("the forces became non-finite during the Newton iteration".into());
             }
-            if it > 0 && last_inc <= 1.0 {
+            if converged {
                 self.carry_fails = carry_failed;
                 for &i in &self.free {
                     n1.aux[i] = aux_pred[i] + (1.0 - p.af) / (1.0 - p.am) * n1.acc[i];
