@@ -59,6 +59,9 @@ impl SparseTangent {
         // centrifugal softening of a steady rotation (model::Spin): −Ω² M_P on the elements, on
         // the element pattern, counted with the geometric part (it enters the Rayleigh quotients)
         let w = model.loads.spin.map(|sp| sp.projector());
+        if w.is_some() && lin.geo.is_empty() {
+            lin.geo = vec![0.0; lin.vals.len()];
+        }
         if let Some(w) = &w {
             for (el, r) in &ranges {
                 let entry = &model.elements[*el];

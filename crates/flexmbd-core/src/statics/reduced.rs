@@ -23,7 +23,7 @@ pub(crate) struct ReducedLinear {
     /// [`ReducedLinear::for_each_entry`]), then the tail.
     pub vals: Vec<f64>,
     /// The geometric (load-proportional) part K_g of the values: zero in the constraint rows
-    /// and columns.
+    /// and columns; empty when it is zero everywhere (an unstressed state).
     pub geo: Vec<f64>,
 }
 
@@ -48,7 +48,7 @@ impl ReducedLinear {
             && step.multipliers.iter().all(|&v| v == 0.0)
             && (su.moments.is_empty() || step.load_factor == 0.0);
         let mut geo = if unstressed {
-            vec![0.0; a.vals.len()]
+            Vec::new()
         } else {
             let g = assemble_values(
                 model,
@@ -66,7 +66,7 @@ impl ReducedLinear {
         let nfr = su.red.nfr;
         let mut i = 0;
         let mut clear_constraints = |r: usize, c: usize| {
-            if r >= nfr || c >= nfr {
+            if (r >= nfr || c >= nfr) && !geo.is_empty() {
                 geo[i] = 0.0;
             }
             i += 1;

@@ -210,3 +210,41 @@ pub(super) fn basis_combine(v: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> 
     }
     out
 }
+
+/// V[:, ..m] Y into the first `y.ncols()` columns of `v` (m = `v.ncols()` = `y.nrows()`), in
+/// place: block by block of [`ROW_CHUNK`] rows (in parallel on long vectors), each block's
+/// result formed in a small buffer before it overwrites the block. The same sums in the same
+/// order as [`basis_combine`], without a second basis-sized matrix (the thick restart of the
+/// Lanczos basis).
+pub(super) fn basis_combine_in_place(v: faer::MatMut<'_, f64>, y: MatRef<'_, f64>) {
+    let (m, k) = (y.nrows(), y.ncols());
+    debug_assert_eq!(v.ncols(), m);
+    let block = |mut o: faer::MatMut<'_, f64>| {
+        let rows = o.nrows();
+        let mut tmp = vec![0.0; rows * k];
+        for c in 0..k {
+            let t = &mut tmp[c * rows..(c + 1) * rows];
+            for j in 0..m {
+                let f = y[(j, c)];
+                if f != 0.0 {
+                    let vj = o.as_ref().col(j);
+                    for (r, x) in t.iter_mut().enumerate() {
+                        *x += f * vj[r];
+                    }
+                }
+            }
+        }
+        for c in 0..k {
+            let t = &tmp[c * rows..(c + 1) * rows];
+            let mut oc = o.as_mut().col_mut(c);
+            for (r, x) in t.iter().enumerate() {
+                oc[r] = *x;
+            }
+        }
+    };
+    if v.nrows() < PAR_MIN {
+        block(v);
+    } else {
+        v.par_row_chunks_mut(ROW_CHUNK).for_each(block);
+    }
+}

@@ -1,25 +1,36 @@
 //! Krylov–Schur restarted Lanczos in the M inner product, with the Sturm check that no
 //! eigenvalue was missed (module docs of `sparse`).
 
-use super::basis::{basis_combine, basis_dots, basis_subtract, dot, projected_eigen_largest};
+use super::basis::{
+    basis_combine, basis_combine_in_place, basis_dots, basis_subtract, dot, projected_eigen_largest,
+};
 use super::problem::Problem;
 use super::shifted::{Rng, Shifted};
 use super::TOL;
 use crate::dynamics::ModalError;
 use faer::{Mat, MatRef};
 
-/// A basis with the products of M: columns of `v` and `mv` = M `v`.
+/// The first `j` columns of `v`, M-orthonormal, and their products `mv` = M v when they are
+/// kept.
 pub(super) struct Basis<'a> {
     v: MatRef<'a, f64>,
-    mv: MatRef<'a, f64>,
+    mv: Option<MatRef<'a, f64>>,
     /// Number of columns in use.
     j: usize,
 }
 
 /// M-inner-product Gram–Schmidt of `w` against the bases (classical Gram–Schmidt with one
 /// reorthogonalisation); the coefficients against the first basis go to `h` (length
-/// `main.j`), and the M-norm of the result is returned, with `mw` = M w on return. One
-/// product with M, at the end: the coefficients are the products of w with the stored M vᵢ.
+/// `main.j`), and the M-norm of the result is returned, with `mw` = M w on return.
+///
+/// Without stored products (`mv`: `None`, the common case) each pass forms M w and takes the
+/// coefficients Vᵀ(M w) of both bases from it (they are M-orthogonal to each other): three
+/// products with M per call, and no M V beside V (as large as V: 1.5 KB per beam of a strip).
+/// With stored products the coefficients are (M V)ᵀ w and M is applied once. A singular M
+/// (coordinates without mass) needs those: the operator's vectors then carry large components
+/// along the null space of M, and the rounding of M w along it, multiplied by them, cost the
+/// Ritz vectors of a prestressed cantilever with massless rotations four digits of their
+/// M-orthogonality (1e-8 against 1e-12).
 /// `scratch` holds at least as many entries as the larger basis has columns.
 pub(super) fn orthogonalise(
     p: &Problem,
@@ -32,13 +43,19 @@ pub(super) fn orthogonalise(
 ) -> f64 {
     h.iter_mut().for_each(|x| *x = 0.0);
     for _pass in 0..2 {
+        if main.mv.is_none() {
+            p.m_times(w, mw);
+        }
         for (b, is_main) in [(Some(main), true), (locked, false)] {
             let Some(b) = b else { continue };
             if b.j == 0 {
                 continue;
             }
             let c = &mut scratch[..b.j];
-            basis_dots(b.mv, w, c);
+            match b.mv {
+                Some(mv) => basis_dots(mv, w, c),
+                None => basis_dots(b.v, mw, c),
+            }
             basis_subtract(b.v, c, w);
             if is_main {
                 h.iter_mut().zip(c.iter()).for_each(|(a, x)| *a += x);
@@ -67,11 +84,15 @@ pub(super) fn krylov_schur(
     locked: &Mat<f64>,
     seed: u64,
     max_applications: usize,
+    keep_mv: bool,
 ) -> Result<Run, usize> {
     let nc = p.nc;
     let mmax = (2 * nev + 10).max(nev + 20).min(nc);
     let mut v = Mat::<f64>::zeros(nc, mmax + 1);
-    let mut mv = Mat::<f64>::zeros(nc, mmax + 1);
+    // M times the newest column of v (the operator's right-hand side), and M V when kept
+    // (`orthogonalise`)
+    let mut mvj = vec![0.0; nc];
+    let mut mv = keep_mv.then(|| Mat::<f64>::zeros(nc, mmax + 1));
     let mut h = Mat::<f64>::zeros(mmax, mmax);
     let mut w = vec![0.0; nc];
     let mut mw = vec![0.0; nc];
@@ -81,20 +102,25 @@ pub(super) fn krylov_schur(
     let mut start_scratch = vec![0.0; 2 * (mmax + 1) + locked.ncols()];
     let mut rng = Rng(seed);
     let mut applications = 0;
-    let mut ml = Mat::<f64>::zeros(nc, locked.ncols());
-    for c in 0..locked.ncols() {
-        p.m_times(locked.col_as_slice(c), ml.col_as_slice_mut(c));
-    }
+    let ml = keep_mv.then(|| {
+        let mut ml = Mat::<f64>::zeros(nc, locked.ncols());
+        for c in 0..locked.ncols() {
+            p.m_times(locked.col_as_slice(c), ml.col_as_slice_mut(c));
+        }
+        ml
+    });
     let lk = Basis {
         v: locked.as_ref(),
-        mv: ml.as_ref(),
+        mv: ml.as_ref().map(|m| m.as_ref()),
         j: locked.ncols(),
     };
     let lk = (lk.j > 0).then_some(&lk);
     // a start vector from the operator's range, M-orthogonal to the first j basis vectors,
-    // normalised into column j; false when the reachable space is exhausted
+    // normalised into column j (its M product into mvj); false when the reachable space is
+    // exhausted
     let mut new_start = |v: &mut Mat<f64>,
-                         mv: &mut Mat<f64>,
+                         mv: &mut Option<Mat<f64>>,
+                         mvj: &mut Vec<f64>,
                          j: usize,
                          w: &mut Vec<f64>,
                          mw: &mut Vec<f64>,
@@ -110,24 +136,28 @@ pub(super) fn krylov_schur(
             let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
             let main = Basis {
                 v: v.as_ref(),
-                mv: mv.as_ref(),
+                mv: mv.as_ref().map(|m| m.as_ref()),
                 j,
             };
             let (h, rest) = start_scratch.split_at_mut(j);
             let after = orthogonalise(p, &main, lk, w, mw, h, rest);
             if before > 0.0 && after > 1e-8 * before.sqrt() {
-                for (dst, src) in [(&mut *v, &*w), (&mut *mv, &*mw)] {
-                    dst.col_as_slice_mut(j)
-                        .iter_mut()
-                        .zip(src.iter())
-                        .for_each(|(a, b)| *a = b / after);
-                }
+                push_column(v, mv, mvj, j, w, mw, after);
                 return true;
             }
         }
         false
     };
-    if !new_start(&mut v, &mut mv, 0, &mut w, &mut mw, op, &mut applications) {
+    if !new_start(
+        &mut v,
+        &mut mv,
+        &mut mvj,
+        0,
+        &mut w,
+        &mut mw,
+        op,
+        &mut applications,
+    ) {
         return Ok(Run {
             theta: Vec::new(),
             x: Mat::zeros(nc, 0),
@@ -141,11 +171,11 @@ pub(super) fn krylov_schur(
         let mut j = k;
         let mut exhausted = false;
         while j < mmax {
-            op.apply_mv(p, mv.col_as_slice(j), &mut w);
+            op.apply_mv(p, &mvj, &mut w);
             applications += 1;
             let main = Basis {
                 v: v.as_ref(),
-                mv: mv.as_ref(),
+                mv: mv.as_ref().map(|m| m.as_ref()),
                 j: j + 1,
             };
             let hc = &mut hc[..j + 1];
@@ -157,17 +187,21 @@ pub(super) fn krylov_schur(
             j += 1;
             if b > 1e-12 * scale && b > 0.0 {
                 beta = b;
-                for (dst, src) in [(&mut v, &w), (&mut mv, &mw)] {
-                    dst.col_as_slice_mut(j)
-                        .iter_mut()
-                        .zip(src.iter())
-                        .for_each(|(a, c)| *a = c / b);
-                }
+                push_column(&mut v, &mut mv, &mut mvj, j, &w, &mw, b);
             } else {
                 // an invariant subspace: continue with a new direction (coupling zero)
                 beta = 0.0;
                 if j < mmax
-                    && !new_start(&mut v, &mut mv, j, &mut w, &mut mw, op, &mut applications)
+                    && !new_start(
+                        &mut v,
+                        &mut mv,
+                        &mut mvj,
+                        j,
+                        &mut w,
+                        &mut mw,
+                        op,
+                        &mut applications,
+                    )
                 {
                     exhausted = true;
                     break;
@@ -203,17 +237,12 @@ pub(super) fn krylov_schur(
         if applications >= max_applications {
             return Err(applications);
         }
-        // thick restart: the best `keep` Ritz vectors, then the residual vector
-        let ysel = y.subcols(0, keep);
-        for basis in [&mut v, &mut mv] {
-            let vk = basis_combine(basis.subcols(0, m), ysel);
-            for c in 0..keep {
-                basis
-                    .col_as_slice_mut(c)
-                    .copy_from_slice(vk.col_as_slice(c));
-            }
-            let resid = basis.col_as_slice(m).to_vec();
-            basis.col_as_slice_mut(keep).copy_from_slice(&resid);
+        // thick restart: the best `keep` Ritz vectors, then the residual vector (whose M
+        // product is mvj)
+        for basis in std::iter::once(&mut v).chain(mv.as_mut()) {
+            basis_combine_in_place(basis.as_mut().subcols_mut(0, m), y.subcols(0, keep));
+            let (head, tail) = basis.as_mut().split_at_col_mut(m);
+            head.col_mut(keep).copy_from(tail.col(0));
         }
         h.fill(0.0);
         for c in 0..keep {
@@ -225,15 +254,38 @@ pub(super) fn krylov_schur(
     }
 }
 
+/// Column j of the basis: w / norm, its M product mw / norm into `mvj` and, when kept, into
+/// column j of `mv`.
+fn push_column(
+    v: &mut Mat<f64>,
+    mv: &mut Option<Mat<f64>>,
+    mvj: &mut [f64],
+    j: usize,
+    w: &[f64],
+    mw: &[f64],
+    norm: f64,
+) {
+    v.col_as_slice_mut(j)
+        .iter_mut()
+        .zip(w)
+        .for_each(|(a, b)| *a = b / norm);
+    mvj.iter_mut().zip(mw).for_each(|(a, b)| *a = b / norm);
+    if let Some(mv) = mv {
+        mv.col_as_slice_mut(j).copy_from_slice(mvj);
+    }
+}
+
 /// Krylov–Schur runs at the current shift until the `want` largest θ have converged and the
 /// Sturm check (inertia just above the last of them) finds no eigenvalue missed; a missed one
 /// (the second copy of a multiple eigenvalue) is found by a further run deflated against the
 /// vectors found. Returns the Ritz vectors, their θ and the operator applications used.
+/// `keep_mv`: keep M V beside the basis ([`orthogonalise`]), for a singular M.
 pub(super) fn lanczos_runs(
     p: &Problem,
     op: &mut Shifted,
     want: usize,
     max_applications: usize,
+    keep_mv: bool,
 ) -> Result<(Mat<f64>, Vec<f64>, usize), ModalError> {
     let nc = p.nc;
     let sigma = op.sigma;
@@ -249,6 +301,7 @@ pub(super) fn lanczos_runs(
             &found,
             0x5DEE_CE66_D1CE_4E5B ^ (run + 1).wrapping_mul(0x9E37_79B9),
             max_applications.saturating_sub(applications),
+            keep_mv,
         )
         .map_err(|a| ModalError::NotConverged {
             found: thetas.len(),

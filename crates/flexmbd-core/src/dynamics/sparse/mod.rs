@@ -367,7 +367,7 @@ fn modes_of(
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
     let (mut found, mut thetas, mut applications) =
-        lanczos_runs(p, &mut op, want, max_applications)?;
+        lanczos_runs(p, &mut op, want, max_applications, massless > 0)?;
     // A shift that makes the operator amplify some directions far more than the wanted modes
     // costs these digits when they are orthogonalised against those directions: a shift far
     // closer to the lowest eigenvalue than to the last wanted one (zero-frequency motions, an
@@ -383,7 +383,7 @@ fn modes_of(
         let s2 = (l1 - 0.1 * (lk - l1)).min(-0.5 * l1.abs());
         if op.factor(p, s2, false) && inertia_ok(&mut op) {
             let budget = max_applications.saturating_sub(applications).max(1);
-            let (f2, t2, a2) = lanczos_runs(p, &mut op, want, budget)?;
+            let (f2, t2, a2) = lanczos_runs(p, &mut op, want, budget, massless > 0)?;
             (found, thetas, sigma, applications) = (f2, t2, s2, applications + a2);
         } else if !op.factor(p, sigma, true) {
             return Err(ModalError::SparseSingular);

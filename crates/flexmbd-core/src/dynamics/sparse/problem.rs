@@ -183,6 +183,11 @@ impl Problem {
             }
             col_ptr.push(row_idx.len());
         }
+        // the saddle-point matrix holds the stage's element values now: released before the
+        // rest is built (the peak memory of a large model's modal analysis was here)
+        drop(by_col);
+        drop(m_el);
+        lin.vals = Vec::new();
         // the load stiffness of moments is not symmetric: its symmetric part, as the dense path
         // (the pattern is symmetric, rows sorted)
         if lin.has_moment_loads() {
@@ -222,7 +227,6 @@ impl Problem {
             (ptr, idx, val)
         };
         let (m_ptr, m_idx, m_val) = block(&m);
-        lin.vals = Vec::new();
         if lin.geo.iter().all(|&v| v == 0.0) {
             lin.geo = Vec::new();
         }

@@ -4,7 +4,7 @@
 
 use super::problem::Problem;
 use super::refined::{refined_solve, Exact};
-use crate::math::sparse_lu::{csc_residual, SparseLu};
+use crate::math::sparse_lu::{csc_residual_with, SparseLu};
 
 /// Accepted componentwise backward error of a solve with a new factorisation.
 pub(super) const MAX_BACKWARD_ERROR: f64 = 1e-9;
@@ -33,14 +33,13 @@ pub(super) struct Shifted<'a> {
     pub(super) sigma: f64,
     /// Number of eigenvalues below σ (from the inertia), when L D Lᵀ holds A(σ).
     pub(super) below: Option<usize>,
-    /// Values of A(σ).
-    pub(super) vals: Vec<f64>,
     pub(super) rhs: Vec<f64>,
-    /// The lower triangle handed to the L D Lᵀ refactorisations (reused).
-    pub(super) lower: Vec<f64>,
     /// When set, the operator's solves are refined (`refined` module) with products through
     /// the element deformations of this model and state.
     pub(super) exact: Option<Exact<'a>>,
+    /// The shift at which the factorisation is made again before the next solve, after
+    /// [`Shifted::count_below`] took it for an inertia count.
+    restore: Option<f64>,
 }
 
 impl<'a> Shifted<'a> {
@@ -60,10 +59,9 @@ impl<'a> Shifted<'a> {
             use_sym: false,
             sigma: f64::NAN,
             below: None,
-            vals: vec![0.0; p.k.len()],
             rhs: vec![0.0; p.n],
-            lower: Vec::new(),
             exact: None,
+            restore: None,
         }
     }
 
@@ -78,16 +76,19 @@ impl<'a> Shifted<'a> {
     /// Factor A(σ); `allow_lu`: fall back to LU when L D Lᵀ fails. Checks the accuracy of a
     /// trial solve. Returns false when A(σ) could not be factored accurately.
     pub(super) fn factor(&mut self, p: &Problem, sigma: f64, allow_lu: bool) -> bool {
+        self.restore = None;
         self.sigma = sigma;
         self.below = None;
-        for (v, (k, m)) in self.vals.iter_mut().zip(p.k.iter().zip(&p.m)) {
-            *v = k - sigma * m;
-        }
         let n_constraints = p.n - p.nc;
         if let Some((lu, slots)) = &mut self.sym {
-            self.lower.clear();
-            self.lower.extend(slots.iter().map(|&s| self.vals[s]));
-            if lu.refactor_symmetric(&self.lower).is_ok() {
+            // the values of A(σ) = K − σM formed as the factorisation reads them
+            if lu
+                .refactor_symmetric_with(|q| {
+                    let s = slots[q];
+                    p.k[s] - sigma * p.m[s]
+                })
+                .is_ok()
+            {
                 self.use_sym = true;
                 if self.accurate(p) {
                     let neg = self.sym.as_ref().map_or(0, |s| s.0.negative_pivots());
@@ -105,7 +106,8 @@ impl<'a> Shifted<'a> {
         let Some(lu) = &mut self.lu else {
             return false;
         };
-        if lu.factor(&p.col_ptr, &p.row_idx, &self.vals).is_err() {
+        let vals: Vec<f64> = p.k.iter().zip(&p.m).map(|(k, m)| k - sigma * m).collect();
+        if lu.factor(&p.col_ptr, &p.row_idx, &vals).is_err() {
             return false;
         }
         self.use_sym = false;
@@ -119,7 +121,14 @@ impl<'a> Shifted<'a> {
         let mut z = b.clone();
         self.solve_factored(&mut z);
         z.iter().all(|v| v.is_finite())
-            && csc_residual(&p.col_ptr, &p.row_idx, &self.vals, &z, &b).1 <= MAX_BACKWARD_ERROR
+            && csc_residual_with(
+                &p.col_ptr,
+                &p.row_idx,
+                |q| p.k[q] - self.sigma * p.m[q],
+                &z,
+                &b,
+            )
+            .1 <= MAX_BACKWARD_ERROR
     }
 
     /// A solve with the factorisation alone.
@@ -153,6 +162,10 @@ impl<'a> Shifted<'a> {
 
     /// A solve of the operator: refined when [`Shifted::exact`] is set.
     pub(super) fn solve(&mut self, p: &Problem, b: &mut [f64]) {
+        if let Some(sigma) = self.restore.take() {
+            // accepted at σ before the inertia count took the factorisation
+            let _ = self.factor(p, sigma, true);
+        }
         match self.exact {
             Some(ex) => {
                 refined_solve(self, p, ex, b);
@@ -182,12 +195,18 @@ impl<'a> Shifted<'a> {
     }
 
     /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it. The
-    /// factorisation at σ is kept: a copy of it is refactored at `s` and dropped after the
-    /// count, so that it is not held beside the Lanczos basis (as large as the factor at 10⁴
-    /// beams).
+    /// factorisation is refactored at `s` in place (a copy would be held beside the Lanczos
+    /// basis, as large as the factor at 10⁴ beams) and made again at σ before the next solve
+    /// ([`Shifted::solve`]): the same values give the same factorisation, so it is accepted
+    /// as before.
     pub(super) fn count_below(&mut self, p: &Problem, s: f64) -> Option<usize> {
-        let (lu, slots) = self.sym.as_ref()?;
-        inertia_count(&mut lu.clone(), slots, &mut self.lower, p, s)
+        self.sym.as_ref()?;
+        let sigma = self.sigma;
+        let count = self.count_below_in_place(p, s);
+        // the operator's shift stays σ
+        self.sigma = sigma;
+        self.restore = Some(sigma);
+        count
     }
 
     /// [`Shifted::count_below`] in the factorisation itself, without a copy: A(σ) is no longer
@@ -197,22 +216,15 @@ impl<'a> Shifted<'a> {
         self.below = None;
         self.use_sym = false;
         let (lu, slots) = self.sym.as_mut()?;
-        inertia_count(lu, slots, &mut self.lower, p, s)
+        inertia_count(lu, slots, p, s)
     }
 }
 
 /// The eigenvalues below `s` by the inertia of A(s) = [K − sM, Gᵀ; G, 0], refactored in `lu`
-/// (the L D Lᵀ structure; `slots` the CSC positions of its lower triangle, `lower` a buffer for
-/// the values): its negative pivots less one per constraint.
-fn inertia_count(
-    lu: &mut SparseLu,
-    slots: &[usize],
-    lower: &mut Vec<f64>,
-    p: &Problem,
-    s: f64,
-) -> Option<usize> {
-    lower.clear();
-    lower.extend(slots.iter().map(|&q| p.k[q] - s * p.m[q]));
-    lu.refactor_symmetric(lower).ok()?;
+/// (the L D Lᵀ structure; `slots` the CSC positions of its lower triangle): its negative
+/// pivots less one per constraint.
+fn inertia_count(lu: &mut SparseLu, slots: &[usize], p: &Problem, s: f64) -> Option<usize> {
+    lu.refactor_symmetric_with(|q| p.k[slots[q]] - s * p.m[slots[q]])
+        .ok()?;
     lu.negative_pivots().checked_sub(p.n - p.nc)
 }

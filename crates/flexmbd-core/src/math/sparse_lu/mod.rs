@@ -126,12 +126,25 @@ pub(crate) fn csc_residual(
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
+    csc_residual_with(cp, ri, |p| v[p], z, b)
+}
+
+/// [`csc_residual`] with the value of CSC entry p given by `value(p)` (a matrix whose values
+/// are formed on the fly, as K − σM).
+pub(crate) fn csc_residual_with(
+    cp: &[usize],
+    ri: &[usize],
+    value: impl Fn(usize) -> f64,
+    z: &[f64],
+    b: &[f64],
+) -> (Vec<f64>, f64) {
     let mut res = b.to_vec();
     let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
     for (j, &zj) in z.iter().enumerate() {
         for p in cp[j]..cp[j + 1] {
-            res[ri[p]] -= v[p] * zj;
-            scale[ri[p]] += (v[p] * zj).abs();
+            let a = value(p) * zj;
+            res[ri[p]] -= a;
+            scale[ri[p]] += a.abs();
         }
     }
     let be = res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {

@@ -173,7 +173,20 @@ impl SparseLu {
     /// [`lower_layout`]: SparseLu::lower_layout
     /// [`refactor`]: SparseLu::refactor
     pub fn refactor_symmetric(&mut self, lower: &[f64]) -> Result<f64, LuFailure> {
-        if !self.diagonal_structure || !self.diag_pref || lower.len() != self.lower_row.len() {
+        if lower.len() != self.lower_row.len() {
+            return Err(LuFailure::PivotTooSmall);
+        }
+        self.refactor_symmetric_with(|q| lower[q])
+    }
+
+    /// [`SparseLu::refactor_symmetric`] with entry q of the lower triangle's layout given by
+    /// `lower(q)`: the values formed as they are read (K − σM from K and M), with no array of
+    /// them held beside the factor.
+    pub fn refactor_symmetric_with(
+        &mut self,
+        lower: impl Fn(usize) -> f64,
+    ) -> Result<f64, LuFailure> {
+        if !self.diagonal_structure || !self.diag_pref {
             return Err(LuFailure::PivotTooSmall);
         }
         self.factored = false;
@@ -188,8 +201,8 @@ impl SparseLu {
         self.n_negative = 0;
         for k in 0..n {
             let (alo, ahi) = (self.lower_ptr[k], self.lower_ptr[k + 1]);
-            for (&s, &a) in self.lower_row[alo..ahi].iter().zip(&lower[alo..ahi]) {
-                x[s as usize] += a;
+            for (q, &s) in (alo..ahi).zip(&self.lower_row[alo..ahi]) {
+                x[s as usize] += lower(q);
             }
             for p in self.u_ptr[k]..self.u_ptr[k + 1] {
                 let s = self.u_idx[p] as usize;
