@@ -151,6 +151,10 @@ struct Engine<'a> {
     /// failed step costs its iterations and its repetition); the step after them tries reuse
     /// again.
     full_steps: usize,
+    /// ẍ at the start of the last accepted step, with that step's size (the predictor).
+    acc_before: Option<(f64, Vec<f64>)>,
+    /// The same one step earlier.
+    acc_before2: Option<(f64, Vec<f64>)>,
     /// The iteration matrix values of the last rebuild (a buffer reused over the steps).
     vals_buf: Vec<f64>,
     /// The assembly's matrix entries of the last rebuild, handed back to the next one.
@@ -267,14 +271,28 @@ impl<'a> Engine<'a> {
         let mut n1 = s.clone();
         n1.t = t1;
         let mut aux_pred = vec![0.0; self.model.nx];
+        // ẍ of the two steps before, when they had this step size
+        fn same_h(a: &Option<(f64, Vec<f64>)>, h: f64) -> Option<&[f64]> {
+            a.as_ref()
+                .filter(|(hp, _)| *hp == h)
+                .map(|(_, a)| a.as_slice())
+        }
+        let earlier = same_h(&self.acc_before, h).zip(same_h(&self.acc_before2, h));
         for &i in &self.free {
-            // predictor ẍ_{n+1} = ẍ_n (a constant acceleration), a_{n+1} from it
+            // predictor of ẍ_{n+1}, per coordinate the one that was closer in the last step:
+            // ẍ_n (a constant acceleration, for a smooth motion) or ẍ_{n−1} (the least damped
+            // high modes alternate from step to step, amplification −ρ∞ at h ω → ∞); a_{n+1}
+            // from it
+            let pa = match earlier {
+                Some((a1, a2)) if (s.acc[i] - a2[i]).abs() < (s.acc[i] - a1[i]).abs() => a1[i],
+                _ => s.acc[i],
+            };
             let ap = (p.af * s.acc[i] - p.am * s.aux[i]) / (1.0 - p.am);
             aux_pred[i] = ap;
-            let a1 = ap + (1.0 - p.af) / (1.0 - p.am) * s.acc[i];
+            let a1 = ap + (1.0 - p.af) / (1.0 - p.am) * pa;
             n1.x[i] = s.x[i] + h * s.v[i] + h * h * ((0.5 - p.beta) * s.aux[i] + p.beta * a1);
             n1.v[i] = s.v[i] + h * ((1.0 - p.gamma) * s.aux[i] + p.gamma * a1);
-            n1.acc[i] = s.acc[i];
+            n1.acc[i] = pa;
         }
         {
             let (x, v, a) = (&mut n1.x, &mut n1.v, &mut n1.acc);
@@ -616,6 +634,8 @@ impl<'a> Engine<'a> {
                         // fixed steps: back to the step size after halvings
                         h = (2.0 * h.max(h_try)).min(o.dt);
                     }
+                    self.acc_before2 = self.acc_before.take();
+                    self.acc_before = Some((h_try, std::mem::take(&mut s.acc)));
                     s = n1;
                     if (s.t - target).abs() <= tol_t {
                         s.t = target;

@@ -275,6 +275,8 @@ impl<'a> Engine<'a> {
             carry_fails: false,
             since_probe: 0,
             full_steps: 0,
+            acc_before: None,
+            acc_before2: None,
             vals_buf: Vec::new(),
             asm_spare: Vec::new(),
             element_nodes: element_nodes(model),
