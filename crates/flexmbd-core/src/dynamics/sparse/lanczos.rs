@@ -88,11 +88,11 @@ pub(super) fn krylov_schur(
 ) -> Result<Run, usize> {
     let nc = p.nc;
     let mmax = (2 * nev + 10).max(nev + 20).min(nc);
-    let mut v = Mat::<f64>::zeros(nc, mmax + 1);
-    // M times the newest column of v (the operator's right-hand side), and M V when kept
-    // (`orthogonalise`)
-    let mut mvj = vec![0.0; nc];
-    let mut mv = keep_mv.then(|| Mat::<f64>::zeros(nc, mmax + 1));
+    let mut st = Store {
+        v: Mat::zeros(nc, mmax + 1),
+        mv: keep_mv.then(|| Mat::zeros(nc, mmax + 1)),
+        mvj: vec![0.0; nc],
+    };
     let mut h = Mat::<f64>::zeros(mmax, mmax);
     let mut w = vec![0.0; nc];
     let mut mw = vec![0.0; nc];
@@ -118,9 +118,7 @@ pub(super) fn krylov_schur(
     // a start vector from the operator's range, M-orthogonal to the first j basis vectors,
     // normalised into column j (its M product into mvj); false when the reachable space is
     // exhausted
-    let mut new_start = |v: &mut Mat<f64>,
-                         mv: &mut Option<Mat<f64>>,
-                         mvj: &mut Vec<f64>,
+    let mut new_start = |st: &mut Store,
                          j: usize,
                          w: &mut Vec<f64>,
                          mw: &mut Vec<f64>,
@@ -134,30 +132,16 @@ pub(super) fn krylov_schur(
             *applications += 1;
             p.m_times(w, mw);
             let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
-            let main = Basis {
-                v: v.as_ref(),
-                mv: mv.as_ref().map(|m| m.as_ref()),
-                j,
-            };
             let (h, rest) = start_scratch.split_at_mut(j);
-            let after = orthogonalise(p, &main, lk, w, mw, h, rest);
+            let after = orthogonalise(p, &st.basis(j), lk, w, mw, h, rest);
             if before > 0.0 && after > 1e-8 * before.sqrt() {
-                push_column(v, mv, mvj, j, w, mw, after);
+                st.push(j, w, mw, after);
                 return true;
             }
         }
         false
     };
-    if !new_start(
-        &mut v,
-        &mut mv,
-        &mut mvj,
-        0,
-        &mut w,
-        &mut mw,
-        op,
-        &mut applications,
-    ) {
+    if !new_start(&mut st, 0, &mut w, &mut mw, op, &mut applications) {
         return Ok(Run {
             theta: Vec::new(),
             x: Mat::zeros(nc, 0),
@@ -171,15 +155,10 @@ pub(super) fn krylov_schur(
         let mut j = k;
         let mut exhausted = false;
         while j < mmax {
-            op.apply_mv(p, &mvj, &mut w);
+            op.apply_mv(p, &st.mvj, &mut w);
             applications += 1;
-            let main = Basis {
-                v: v.as_ref(),
-                mv: mv.as_ref().map(|m| m.as_ref()),
-                j: j + 1,
-            };
             let hc = &mut hc[..j + 1];
-            let b = orthogonalise(p, &main, lk, &mut w, &mut mw, hc, &mut scratch);
+            let b = orthogonalise(p, &st.basis(j + 1), lk, &mut w, &mut mw, hc, &mut scratch);
             for (i, c) in hc.iter().enumerate() {
                 h[(i, j)] = *c;
             }
@@ -187,22 +166,11 @@ pub(super) fn krylov_schur(
             j += 1;
             if b > 1e-12 * scale && b > 0.0 {
                 beta = b;
-                push_column(&mut v, &mut mv, &mut mvj, j, &w, &mw, b);
+                st.push(j, &w, &mw, b);
             } else {
                 // an invariant subspace: continue with a new direction (coupling zero)
                 beta = 0.0;
-                if j < mmax
-                    && !new_start(
-                        &mut v,
-                        &mut mv,
-                        &mut mvj,
-                        j,
-                        &mut w,
-                        &mut mw,
-                        op,
-                        &mut applications,
-                    )
-                {
+                if j < mmax && !new_start(&mut st, j, &mut w, &mut mw, op, &mut applications) {
                     exhausted = true;
                     break;
                 }
@@ -230,7 +198,7 @@ pub(super) fn krylov_schur(
         if conv == want || exhausted || beta == 0.0 {
             return Ok(Run {
                 theta: (0..want).map(|c| s[m - 1 - c]).collect(),
-                x: basis_combine(v.subcols(0, m), y.subcols(0, want)),
+                x: basis_combine(st.v.subcols(0, m), y.subcols(0, want)),
                 applications,
             });
         }
@@ -239,7 +207,7 @@ pub(super) fn krylov_schur(
         }
         // thick restart: the best `keep` Ritz vectors, then the residual vector (whose M
         // product is mvj)
-        for basis in std::iter::once(&mut v).chain(mv.as_mut()) {
+        for basis in std::iter::once(&mut st.v).chain(st.mv.as_mut()) {
             basis_combine_in_place(basis.as_mut().subcols_mut(0, m), y.subcols(0, keep));
             let (head, tail) = basis.as_mut().split_at_col_mut(m);
             head.col_mut(keep).copy_from(tail.col(0));
@@ -254,24 +222,35 @@ pub(super) fn krylov_schur(
     }
 }
 
-/// Column j of the basis: w / norm, its M product mw / norm into `mvj` and, when kept, into
-/// column j of `mv`.
-fn push_column(
-    v: &mut Mat<f64>,
-    mv: &mut Option<Mat<f64>>,
-    mvj: &mut [f64],
-    j: usize,
-    w: &[f64],
-    mw: &[f64],
-    norm: f64,
-) {
-    v.col_as_slice_mut(j)
-        .iter_mut()
-        .zip(w)
-        .for_each(|(a, b)| *a = b / norm);
-    mvj.iter_mut().zip(mw).for_each(|(a, b)| *a = b / norm);
-    if let Some(mv) = mv {
-        mv.col_as_slice_mut(j).copy_from_slice(mvj);
+/// The Lanczos basis of a run: its columns `v`, M times its newest column `mvj` (the
+/// operator's right-hand side) and, when kept ([`orthogonalise`]), M V.
+struct Store {
+    v: Mat<f64>,
+    mv: Option<Mat<f64>>,
+    mvj: Vec<f64>,
+}
+
+impl Store {
+    /// The first `j` columns as a [`Basis`].
+    fn basis(&self, j: usize) -> Basis<'_> {
+        Basis {
+            v: self.v.as_ref(),
+            mv: self.mv.as_ref().map(|m| m.as_ref()),
+            j,
+        }
+    }
+
+    /// Column j: w / norm, with its M product mw / norm.
+    fn push(&mut self, j: usize, w: &[f64], mw: &[f64], norm: f64) {
+        self.v
+            .col_as_slice_mut(j)
+            .iter_mut()
+            .zip(w)
+            .for_each(|(a, b)| *a = b / norm);
+        self.mvj.iter_mut().zip(mw).for_each(|(a, b)| *a = b / norm);
+        if let Some(mv) = &mut self.mv {
+            mv.col_as_slice_mut(j).copy_from_slice(&self.mvj);
+        }
     }
 }
 
