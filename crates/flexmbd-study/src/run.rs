@@ -45,7 +45,8 @@ pub fn evaluate_isolated(study: &Study, v: &Variant) -> Record {
 
 /// Evaluate `variants` on `jobs` worker threads (0: one per core); `sink` receives every record
 /// as soon as its variant is done (in the order they finish) and may stop the run by returning
-/// `false` (the variants under way finish, no new one starts).
+/// `false`: it receives no further record (those of the variants under way are dropped, so a
+/// resumed study runs them again), and no new variant starts.
 pub fn run(study: &Study, variants: &[Variant], jobs: usize, mut sink: impl FnMut(Record) -> bool) {
     if variants.is_empty() {
         return;
@@ -78,7 +79,11 @@ pub fn run(study: &Study, variants: &[Variant], jobs: usize, mut sink: impl FnMu
         drop(tx);
         for r in rx {
             if !sink(r) {
+                // no record after the one that stopped the run: a worker may have finished
+                // variants before it saw the stop, and the sink must not get them (dropping
+                // the receiver ends their sends)
                 stop.store(true, Ordering::Relaxed);
+                break;
             }
         }
     });
