@@ -558,13 +558,13 @@ fn run_modes(
     let fname = path.display().to_string();
     if json {
         emit(
-            &(serde_json::to_string_pretty(&flexmbd_io::modes_report::modes_json(
-                &model,
-                &fname,
-                step.load_factor,
-                &modal,
-                note.as_ref(),
-            ))? + "\n"),
+            &(serde_json::to_string_pretty(&flexmbd_io::modes_report::ModesDoc {
+                model: &model,
+                file: &fname,
+                load_factor: step.load_factor,
+                modal: &modal,
+                stop: note.as_ref(),
+            })? + "\n"),
         )?;
     } else {
         emit(&flexmbd_io::modes_report::modes_text(
