@@ -591,7 +591,7 @@ fn run_static(
     (line_search, tangent_eigenvalues): (bool, bool),
 ) -> anyhow::Result<ExitCode> {
     use flexmbd_core::linearized::LinearRequest;
-    use flexmbd_io::static_report::{static_json, static_text, write_csv};
+    use flexmbd_io::static_report::{static_text, write_csv};
     if let Some(dir) = &csv {
         outputs::check_dir(dir, "--csv", outputs::STATIC_CSV, &[path])?;
     }
@@ -652,7 +652,13 @@ fn run_static(
         })?;
     }
     if json {
-        let doc = static_json(&model, &fname, sol, extras, note.as_ref());
+        let doc = flexmbd_io::static_report::StaticDoc {
+            model: &model,
+            file: &fname,
+            sol,
+            extras,
+            stop: note.as_ref(),
+        };
         emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
     } else {
         emit(&static_text(&model, &fname, sol, extras, note.as_ref()))?;

@@ -25,6 +25,7 @@ pub mod spec;
 pub mod statespace_report;
 pub mod static_report;
 pub mod stopped;
+mod stream_json;
 pub mod vtk;
 
 pub use error::InputError;

@@ -2,6 +2,7 @@
 
 use crate::report::{fmt_num, heading, table};
 use crate::stopped::StopNote;
+use crate::stream_json::Seq;
 use flexmbd_core::dynamics::{Modal, ModeClass};
 use flexmbd_core::elements::ElementKind;
 use flexmbd_core::Model;
@@ -201,20 +202,6 @@ pub struct ModesDoc<'a> {
     pub modal: &'a Modal,
     /// Why the static path stopped before the state, if it did.
     pub stop: Option<&'a StopNote>,
-}
-
-/// A sequence serialised from an iterator made on demand (nothing collected).
-struct Seq<F>(F);
-
-impl<F, I> Serialize for Seq<F>
-where
-    F: Fn() -> I,
-    I: Iterator,
-    I::Item: Serialize,
-{
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_seq((self.0)())
-    }
 }
 
 impl Serialize for ModesDoc<'_> {
