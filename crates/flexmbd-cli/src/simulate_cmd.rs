@@ -3,7 +3,7 @@
 use crate::{emit, load_sim_file, outputs, progress, BadInput};
 use flexmbd_core::simulation::{simulate, Excitation, SimFailure, SimOptions, Simulation, Stopped};
 use flexmbd_core::Model;
-use flexmbd_io::sim_report::{sim_json, sim_text, write_sim_csv};
+use flexmbd_io::sim_report::{sim_text, write_sim_csv, SimDoc};
 use flexmbd_io::vtk::{pvd, sim_grid};
 use flexmbd_io::SimulateSettings;
 use std::path::{Path, PathBuf};
@@ -186,8 +186,12 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     }
     if a.json {
         emit(
-            &(serde_json::to_string_pretty(&sim_json(model, &fname, &sim, stopped.as_ref()))?
-                + "\n"),
+            &(serde_json::to_string_pretty(&SimDoc {
+                model,
+                file: &fname,
+                sim: &sim,
+                stopped: stopped.as_ref(),
+            })? + "\n"),
         )?;
     } else {
         emit(&sim_text(model, &fname, &sim, stopped.as_ref()))?;

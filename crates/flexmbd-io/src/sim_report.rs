@@ -1,24 +1,83 @@
 //! Results of `flexmbd simulate`: text summary, JSON and CSV files (docs/simulation.md).
 
+use crate::stream_json::{Seq, Sorted};
 use flexmbd_core::results::{element_results, node_results};
 use flexmbd_core::simulation::{Simulation, Stopped};
 use flexmbd_core::Model;
+use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// The JSON document of a run (complete, or stopped with `stopped`).
 pub fn sim_json(model: &Model, file: &str, sim: &Simulation, stopped: Option<&Stopped>) -> Value {
-    let frames: Vec<Value> = sim
-        .frames
-        .iter()
-        .map(|f| {
-            let step = f.as_step();
-            let vel = f.node_velocities(model);
-            let nodes: Vec<Value> = node_results(model, &step)
-                .into_iter()
-                .zip(vel)
-                .map(|(n, (v, w))| {
+    serde_json::to_value(SimDoc {
+        model,
+        file,
+        sim,
+        stopped,
+    })
+    .expect("a simulation serialises")
+}
+
+/// The JSON document of [`sim_json`] as it is serialised, streamed frame by frame and node by
+/// node without a tree of the whole (as `modes_report::ModesDoc`). Keys in the tree's sorted
+/// order: the same text.
+pub struct SimDoc<'a> {
+    /// The model simulated.
+    pub model: &'a Model,
+    /// The model file, as given.
+    pub file: &'a str,
+    /// The run.
+    pub sim: &'a Simulation,
+    /// Where and why the run stopped early, if it did.
+    pub stopped: Option<&'a Stopped>,
+}
+
+impl Serialize for SimDoc<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let model = self.model;
+        let mut m = s.serialize_map(Some(7))?;
+        m.serialize_entry("analysis", "simulate")?;
+        m.serialize_entry("complete", &self.stopped.is_none())?;
+        m.serialize_entry("file", self.file)?;
+        m.serialize_entry(
+            "frames",
+            &Seq(|| self.sim.frames.iter().map(|f| FrameDoc { model, f })),
+        )?;
+        m.serialize_entry("model", &model.name)?;
+        m.serialize_entry("stats", &Sorted(&self.sim.stats))?;
+        m.serialize_entry(
+            "stopped",
+            &self
+                .stopped
+                .map(|s| json!({"t": s.t, "reason": s.reason, "hint": s.hint})),
+        )?;
+        m.end()
+    }
+}
+
+/// One output frame of [`SimDoc`].
+struct FrameDoc<'a> {
+    model: &'a Model,
+    f: &'a flexmbd_core::simulation::Frame,
+}
+
+impl Serialize for FrameDoc<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let (model, f) = (self.model, self.f);
+        let step = f.as_step();
+        let mut m = s.serialize_map(Some(4))?;
+        let elements = element_results(model, &step);
+        m.serialize_entry("elements", &Seq(|| elements.iter().map(Sorted)))?;
+        drop(elements);
+        m.serialize_entry("energy", &Sorted(&f.energy))?;
+        let nodes = node_results(model, &step);
+        let vel = f.node_velocities(model);
+        m.serialize_entry(
+            "nodes",
+            &Seq(|| {
+                nodes.iter().zip(&vel).map(|(n, (v, w))| {
                     let mut o = serde_json::to_value(n).unwrap_or(Value::Null);
                     if let Value::Object(m) = &mut o {
                         m.insert("velocity".into(), json!(v));
@@ -26,24 +85,11 @@ pub fn sim_json(model: &Model, file: &str, sim: &Simulation, stopped: Option<&St
                     }
                     o
                 })
-                .collect();
-            json!({
-                "t": f.t,
-                "energy": f.energy,
-                "nodes": nodes,
-                "elements": element_results(model, &step),
-            })
-        })
-        .collect();
-    json!({
-        "model": model.name,
-        "file": file,
-        "analysis": "simulate",
-        "complete": stopped.is_none(),
-        "stopped": stopped.map(|s| json!({"t": s.t, "reason": s.reason, "hint": s.hint})),
-        "stats": sim.stats,
-        "frames": frames,
-    })
+            }),
+        )?;
+        m.serialize_entry("t", &f.t)?;
+        m.end()
+    }
 }
 
 /// The text summary: energies at the output times (at most about 40 rows) and the counts.
