@@ -221,12 +221,12 @@ impl KktSolver {
             }
             let (cp, ri, v) = (&self.col_ptr, &self.row_idx, &self.values);
             let (res, _) = crate::math::sparse_lu::csc_residual(cp, ri, v, rhs[0], &bs[0]);
-            // accurate for this right-hand side: kept for `solve_again` only when asked
-            // (`keep_small_pivots`)
-            if !self.keep_small_pivots {
-                self.used = 0;
-            }
             if norm2(&res) <= MAX_LINEAR_RESIDUAL * bn {
+                // accurate for this right-hand side: kept for `solve_again` only when asked
+                // (`keep_small_pivots`)
+                if !self.keep_small_pivots {
+                    self.used = 0;
+                }
                 self.inertia = inertia;
                 return Ok(());
             }

@@ -63,17 +63,19 @@ impl ReducedLinear {
             debug_assert_eq!(g.tail, a.tail);
             g.vals
         };
-        let nfr = su.red.nfr;
-        let mut i = 0;
-        let mut clear_constraints = |r: usize, c: usize| {
-            if (r >= nfr || c >= nfr) && !geo.is_empty() {
-                geo[i] = 0.0;
+        if !geo.is_empty() {
+            let nfr = su.red.nfr;
+            let mut i = 0;
+            let mut clear_constraints = |r: usize, c: usize| {
+                if r >= nfr || c >= nfr {
+                    geo[i] = 0.0;
+                }
+                i += 1;
+            };
+            su.red.for_each_entry(&mut clear_constraints);
+            for &(r, c) in &a.tail {
+                clear_constraints(r, c);
             }
-            i += 1;
-        };
-        su.red.for_each_entry(&mut clear_constraints);
-        for &(r, c) in &a.tail {
-            clear_constraints(r, c);
         }
         Self {
             su,

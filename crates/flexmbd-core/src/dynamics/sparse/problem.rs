@@ -252,6 +252,11 @@ impl Problem {
         }
     }
 
+    /// Entry q (CSC position) of the shifted matrix A(s) = [K − sM, Gᵀ; G, 0].
+    pub(super) fn shifted(&self, q: usize, s: f64) -> f64 {
+        self.k[q] - s * self.m[q]
+    }
+
     pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
         csc_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
     }

@@ -4,7 +4,7 @@
 
 use super::problem::Problem;
 use super::refined::{refined_solve, Exact};
-use crate::math::sparse_lu::{csc_residual_with, SparseLu};
+use crate::math::sparse_lu::{csc_residual_with, LuFailure, SparseLu};
 
 /// Accepted componentwise backward error of a solve with a new factorisation.
 pub(super) const MAX_BACKWARD_ERROR: f64 = 1e-9;
@@ -81,14 +81,7 @@ impl<'a> Shifted<'a> {
         self.below = None;
         let n_constraints = p.n - p.nc;
         if let Some((lu, slots)) = &mut self.sym {
-            // the values of A(σ) = K − σM formed as the factorisation reads them
-            if lu
-                .refactor_symmetric_with(|q| {
-                    let s = slots[q];
-                    p.k[s] - sigma * p.m[s]
-                })
-                .is_ok()
-            {
+            if refactor_at(lu, slots, p, sigma).is_ok() {
                 self.use_sym = true;
                 if self.accurate(p) {
                     let neg = self.sym.as_ref().map_or(0, |s| s.0.negative_pivots());
@@ -106,7 +99,7 @@ impl<'a> Shifted<'a> {
         let Some(lu) = &mut self.lu else {
             return false;
         };
-        let vals: Vec<f64> = p.k.iter().zip(&p.m).map(|(k, m)| k - sigma * m).collect();
+        let vals: Vec<f64> = (0..p.k.len()).map(|q| p.shifted(q, sigma)).collect();
         if lu.factor(&p.col_ptr, &p.row_idx, &vals).is_err() {
             return false;
         }
@@ -121,14 +114,8 @@ impl<'a> Shifted<'a> {
         let mut z = b.clone();
         self.solve_factored(&mut z);
         z.iter().all(|v| v.is_finite())
-            && csc_residual_with(
-                &p.col_ptr,
-                &p.row_idx,
-                |q| p.k[q] - self.sigma * p.m[q],
-                &z,
-                &b,
-            )
-            .1 <= MAX_BACKWARD_ERROR
+            && csc_residual_with(&p.col_ptr, &p.row_idx, |q| p.shifted(q, self.sigma), &z, &b).1
+                <= MAX_BACKWARD_ERROR
     }
 
     /// A solve with the factorisation alone.
@@ -224,7 +211,12 @@ impl<'a> Shifted<'a> {
 /// (the L D Lᵀ structure; `slots` the CSC positions of its lower triangle): its negative
 /// pivots less one per constraint.
 fn inertia_count(lu: &mut SparseLu, slots: &[usize], p: &Problem, s: f64) -> Option<usize> {
-    lu.refactor_symmetric_with(|q| p.k[slots[q]] - s * p.m[slots[q]])
-        .ok()?;
+    refactor_at(lu, slots, p, s).ok()?;
     lu.negative_pivots().checked_sub(p.n - p.nc)
+}
+
+/// L D Lᵀ of A(s) in `lu` (`slots`: the CSC positions of its lower triangle), its values
+/// formed as the factorisation reads them (no array of them beside the factor).
+fn refactor_at(lu: &mut SparseLu, slots: &[usize], p: &Problem, s: f64) -> Result<f64, LuFailure> {
+    lu.refactor_symmetric_with(|q| p.shifted(slots[q], s))
 }
