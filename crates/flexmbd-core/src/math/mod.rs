@@ -100,9 +100,59 @@ pub fn euler_mul(a: &[f64; 4], b: &[f64; 4]) -> [f64; 4] {
     ]
 }
 
+/// The 4 × 4 matrix L(a) of the quaternion product from the left: a ⊗ b = L(a) b (orthogonal
+/// for a unit a).
+pub fn euler_left(a: &[f64; 4]) -> [[f64; 4]; 4] {
+    [
+        [a[0], -a[1], -a[2], -a[3]],
+        [a[1], a[0], -a[3], a[2]],
+        [a[2], a[3], a[0], -a[1]],
+        [a[3], -a[2], a[1], a[0]],
+    ]
+}
+
+/// The rotation matrix R(λ) of [`rotate`] (columns: the rotated unit vectors).
+pub fn rotation_matrix(l: &[f64; 4]) -> [[f64; 3]; 3] {
+    let mut r = [[0.0; 3]; 3];
+    for j in 0..3 {
+        let mut e = [0.0; 3];
+        e[j] = 1.0;
+        let c = rotate(l, e);
+        for i in 0..3 {
+            r[i][j] = c[i];
+        }
+    }
+    r
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// L(a) b is the product of euler_mul, and R is a homomorphism: R(a ⊗ b) = R(a) R(b)
+    /// (the composition the co-rotated iteration matrix of the simulation relies on).
+    #[test]
+    fn left_product_matrix_and_rotation_of_a_product() {
+        let a = euler_from_axis_angle(normalize([1.0, -2.0, 0.5]), 0.7);
+        let b = euler_from_axis_angle(normalize([0.3, 0.4, -1.0]), -1.9);
+        let ab = euler_mul(&a, &b);
+        let la = euler_left(&a);
+        for i in 0..4 {
+            let v: f64 = (0..4).map(|j| la[i][j] * b[j]).sum();
+            assert!((v - ab[i]).abs() < 1e-15);
+        }
+        let (ra, rb, rab) = (
+            rotation_matrix(&a),
+            rotation_matrix(&b),
+            rotation_matrix(&ab),
+        );
+        for i in 0..3 {
+            for j in 0..3 {
+                let v: f64 = (0..3).map(|k| ra[i][k] * rb[k][j]).sum();
+                assert!((v - rab[i][j]).abs() < 1e-14, "R(a b)[{i}][{j}]");
+            }
+        }
+    }
 
     #[test]
     fn rotation_about_z_by_quarter_turn() {

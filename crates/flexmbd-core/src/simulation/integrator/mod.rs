@@ -135,6 +135,12 @@ struct Engine<'a> {
     /// The step size of the factorised iteration matrix (`None`: no valid factorisation), kept
     /// over steps (modified Newton) while the iterations converge fast.
     jac_h: Option<f64>,
+    /// The nodes whose increments co-rotate the carried matrix ([`corot`]).
+    corot: Vec<corot::CoRot>,
+    /// Their unit Euler parameters at the state of the factorised matrix.
+    jac_lambda: Vec<[f64; 4]>,
+    /// Their rotations since then (a buffer reused over the iterations).
+    turns: Vec<corot::Turn>,
     /// Whether the last failed step used a reused matrix in some iteration (it is then tried
     /// again with full Newton before the step is halved).
     failed_stale: bool,
@@ -223,6 +229,7 @@ pub(super) fn run(
     eng.integrate(s0, progress)
 }
 
+mod corot;
 mod forces;
 mod initial;
 mod setup;
@@ -380,7 +387,7 @@ impl<'a> Engine<'a> {
                 rhs[nf + k] = -ev.g[k];
             }
             let solved = if !rebuild {
-                self.solver.solve_again(&mut rhs).is_ok()
+                self.solve_carried(&n1.x, &mut rhs)
             } else {
                 let mut vals = std::mem::take(&mut self.vals_buf);
                 self.values_into(&ev, &n1.x, t1, coefs, &mut vals);
@@ -389,6 +396,7 @@ impl<'a> Engine<'a> {
                 let ok = self.solver.solve(&vals, &mut rhs).is_ok();
                 self.vals_buf = vals;
                 self.jac_h = ok.then_some(h);
+                self.corot_built_at(&n1.x);
                 ok
             };
             if !solved || !finite(&rhs) {

@@ -249,6 +249,7 @@ impl<'a> Engine<'a> {
         let mut solver = KktSolver::from_entries(n, rows.len(), &entries, moments.is_empty())
             .map_err(SimError::Initial)?;
         solver.set_keep_small_pivots(true);
+        let corot = corot::corot_nodes(model, &su.unknown);
         Ok(Self {
             model,
             exc,
@@ -270,6 +271,9 @@ impl<'a> Engine<'a> {
             su,
             solver,
             jac_h: None,
+            corot,
+            jac_lambda: Vec::new(),
+            turns: Vec::new(),
             failed_stale: false,
             full_newton: false,
             carry_fails: false,
