@@ -97,6 +97,11 @@ pub struct SimulateArgs {
     /// collection simulate.pvd (time step = t).
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
+    /// Print on stderr the wall time of reading the model, of the simulation (set-up, initial
+    /// state and integration: the time a program calling the library spends) and of writing
+    /// the results.
+    #[arg(long)]
+    timings: bool,
 }
 
 /// Run the simulation with a progress bar: the frames, and how it stopped if it did not reach
@@ -166,10 +171,13 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(dir) = &a.vtk {
         outputs::check_dir(dir, "--vtk", SIM_VTK, &[path])?;
     }
+    let started = std::time::Instant::now();
     let file = load_sim_file(path)?;
     let opts = a.options.options(path, &file.simulate)?;
     let model = &file.model;
+    let read = started.elapsed();
     let (sim, stopped) = run_simulation(model, &file.simulate.excitation, &opts)?;
+    let simulated = started.elapsed();
     let fname = path.display().to_string();
     if let Some(dir) = &a.csv {
         outputs::prepare_dir(dir, "--csv", SIM_CSV, &[path])?;
@@ -195,6 +203,18 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
         )?;
     } else {
         emit(&sim_text(model, &fname, &sim, stopped.as_ref()))?;
+    }
+    if a.timings {
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+        let solve = simulated - read;
+        eprintln!(
+            "timings: read {:.3} ms, simulate {:.3} ms ({} steps, {:.0} steps/s), write {:.3} ms",
+            ms(read),
+            ms(solve),
+            sim.stats.steps,
+            sim.stats.steps as f64 / solve.as_secs_f64().max(1e-9),
+            ms(started.elapsed() - simulated)
+        );
     }
     Ok(stopped_exit(stopped))
 }

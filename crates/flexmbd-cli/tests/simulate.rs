@@ -143,3 +143,51 @@ fn a_newton_failure_names_the_coordinate() {
     let json = json.expect("partial results");
     assert_eq!(json["frames"][0]["t"], 0.0);
 }
+
+/// `--timings` reports on stderr the read, simulate and write times with the run's step count
+/// (the JSON's), and leaves stdout as it is without it.
+#[test]
+fn timings_go_to_stderr_with_the_step_count() {
+    let model = example("pendulum.toml");
+    let args = |timings: bool| {
+        let mut a = vec![
+            "simulate".as_ref(),
+            model.as_os_str(),
+            "--t-end".as_ref(),
+            "0.05".as_ref(),
+            "--json".as_ref(),
+        ];
+        if timings {
+            a.push("--timings".as_ref());
+        }
+        run_json(&a)
+    };
+    let (plain, plain_json) = args(false);
+    let (timed, timed_json) = args(true);
+    assert!(timed.status.success());
+    assert_eq!(plain.stdout, timed.stdout);
+    assert!(plain.stderr.is_empty() || !String::from_utf8_lossy(&plain.stderr).contains("timings"));
+    let steps = timed_json.unwrap()["stats"]["steps"].as_u64().unwrap();
+    assert_eq!(plain_json.unwrap()["stats"]["steps"].as_u64(), Some(steps));
+    let err = String::from_utf8_lossy(&timed.stderr);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("timings: "))
+        .unwrap_or_else(|| panic!("no timings line in {err}"));
+    let ms = |what: &str| -> f64 {
+        let rest = &line[line
+            .find(what)
+            .unwrap_or_else(|| panic!("{what} in {line}"))
+            + what.len()..];
+        rest.trim_start()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    for what in ["read", "simulate", "write"] {
+        assert!(ms(what) >= 0.0, "{line}");
+    }
+    assert!(line.contains(&format!("({steps} steps, ")), "{line}");
+}
