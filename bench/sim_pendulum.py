@@ -9,7 +9,9 @@ Both integrate with generalised-alpha (rho_inf = 0.9, index 3) at the fixed step
 t_end = 1 s (N >= 1000: 0.2 s). flexmbd's accuracy: the tip at t_end against a flexmbd run with
 h/8 (the step-size error of the h run) and its energy balance error; the two programs' tips
 are listed side by side (their beam models differ: Exudyn's has shear, flexmbd's the
-SPACAR beam with a consistent Hermite mass).
+SPACAR beam with a consistent Hermite mass). Times: Exudyn's in-process solve (t_solve_s);
+flexmbd's whole process (start-up, reading, JSON output) and in process (the library call that
+`simulate --timings` reports), with a ratio for each.
 
 Usage: sim_pendulum.py --flexmbd BIN [--peers DIR] [--python PY] [--n N ...] [--out FILE]
 Prints a table; --out writes the records as JSON lines.
@@ -102,16 +104,19 @@ def main():
                                                                      "message": p.stderr[-300:]}
             records.append(rec)
             print(json.dumps(rec), file=sys.stderr)
-    print(f"{'N':>6} {'flexmbd s':>10} {'steps/s':>9} {'Exudyn s':>10} {'steps/s':>9} {'ratio':>7}"
+    print(f"{'N':>6} {'flexmbd s':>10} {'in proc. s':>10} {'steps/s':>9} {'Exudyn s':>10} "
+          f"{'steps/s':>9} {'ratio':>7} {'in proc.':>9}"
           f" {'tip error flexmbd (m)':>22} {'energy err (J)':>15}  tip flexmbd | tip Exudyn")
     for r in records:
         f, x = r["flexmbd"], r.get("exudyn", {})
-        fw = f.get("wall_s")
+        fw, fs = f.get("wall_s"), f.get("solve_s")
         xw = x.get("t_solve_s") if x.get("status") == "ok" else None
         ratio = f"{xw / fw:7.1f}" if fw and xw else "      -"
+        ratio_s = f"{xw / fs:9.1f}" if fs and xw else "        -"
         steps = f.get("steps", 0)
-        print(f"{r['n']:>6} {fw or float('nan'):>10.3f} {steps / fw if fw else 0:>9.0f} "
-              f"{xw or float('nan'):>10.3f} {x.get('steps_per_s', 0):>9.0f} {ratio} "
+        print(f"{r['n']:>6} {fw or float('nan'):>10.3f} {fs or float('nan'):>10.3f} "
+              f"{steps / fs if fs else 0:>9.0f} "
+              f"{xw or float('nan'):>10.3f} {x.get('steps_per_s', 0):>9.0f} {ratio} {ratio_s} "
               f"{f.get('tip_error_m', float('nan')):>22.2e} {f.get('energy_error_J', float('nan')):>15.2e}  "
               f"{[round(v, 5) for v in f.get('tip', [])]} | "
               f"{[round(v, 5) for v in x.get('tip_position_m', [])]}")
