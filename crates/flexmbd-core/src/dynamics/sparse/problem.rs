@@ -29,18 +29,24 @@ pub(super) struct Problem {
     /// CSC structure of the saddle-point matrix (rows sorted, every diagonal entry present).
     pub(super) col_ptr: Vec<usize>,
     pub(super) row_idx: Vec<usize>,
-    /// K and M values on that structure (M zero in the constraint rows and columns).
+    /// K values on that structure.
     pub(super) k: Vec<f64>,
-    pub(super) m: Vec<f64>,
+    /// For every entry of that structure, its index in `m_val`, or [`NO_M`] where M is zero
+    /// (the constraint rows and columns, and most of the coordinate block: 4 bytes per entry
+    /// instead of a value).
+    m_at: Vec<u32>,
     /// The coordinate block of M (CSC, symmetric, non-zero entries only), for M v.
     pub(super) m_ptr: Vec<usize>,
-    pub(super) m_idx: Vec<usize>,
+    pub(super) m_idx: Vec<u32>,
     pub(super) m_val: Vec<f64>,
 }
 
+/// No mass entry at a position of the saddle-point structure.
+const NO_M: u32 = u32::MAX;
+
 /// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
 /// j (gather form, parallel over columns).
-pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64], out: &mut [f64]) {
+pub(super) fn csc_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: &mut [f64]) {
     const CHUNK: usize = 4096;
     if out.len() < PAR_MIN {
         for (j, y) in out.iter_mut().enumerate() {
@@ -48,7 +54,7 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64]
             *y = idx[lo..hi]
                 .iter()
                 .zip(&val[lo..hi])
-                .map(|(&i, &a)| a * v[i])
+                .map(|(&i, &a)| a * v[i as usize])
                 .sum();
         }
         return;
@@ -58,7 +64,9 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[usize], val: &[f64], v: &[f64]
         .for_each(|(c, chunk)| {
             for (o, y) in chunk.iter_mut().enumerate() {
                 let j = c * CHUNK + o;
-                *y = (ptr[j]..ptr[j + 1]).map(|p| val[p] * v[idx[p]]).sum();
+                *y = (ptr[j]..ptr[j + 1])
+                    .map(|p| val[p] * v[idx[p] as usize])
+                    .sum();
             }
         });
 }
@@ -207,26 +215,27 @@ impl Problem {
                 }
             }
         }
-        // the coordinate block of M (non-zero entries)
-        let block = |vals: &[f64]| {
-            let nnz = (0..col_ptr[nc])
-                .filter(|&p| row_idx[p] < nc && vals[p] != 0.0)
-                .count();
-            let mut ptr = Vec::with_capacity(nc + 1);
-            ptr.push(0);
-            let (mut idx, mut val) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
-            for c in 0..nc {
-                for p in col_ptr[c]..col_ptr[c + 1] {
-                    if row_idx[p] < nc && vals[p] != 0.0 {
-                        idx.push(row_idx[p]);
-                        val.push(vals[p]);
-                    }
+        // the coordinate block of M (non-zero entries), and where each lies in the structure
+        let nnz_m = (0..col_ptr[nc])
+            .filter(|&p| row_idx[p] < nc && m[p] != 0.0)
+            .count();
+        // (32-bit like the entry numbers of `by_col` above: below 4·10⁹ entries, some 3·10⁷
+        // beams, far beyond the memory of the machines this runs on)
+        let mut m_at = vec![NO_M; row_idx.len()];
+        let mut m_ptr = Vec::with_capacity(nc + 1);
+        m_ptr.push(0);
+        let (mut m_idx, mut m_val) = (Vec::with_capacity(nnz_m), Vec::with_capacity(nnz_m));
+        for c in 0..nc {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                if row_idx[p] < nc && m[p] != 0.0 {
+                    m_at[p] = m_val.len() as u32;
+                    m_idx.push(row_idx[p] as u32);
+                    m_val.push(m[p]);
                 }
-                ptr.push(idx.len());
             }
-            (ptr, idx, val)
-        };
-        let (m_ptr, m_idx, m_val) = block(&m);
+            m_ptr.push(m_idx.len());
+        }
+        drop(m);
         if lin.geo.iter().all(|&v| v == 0.0) {
             lin.geo = Vec::new();
         }
@@ -245,7 +254,7 @@ impl Problem {
             col_ptr,
             row_idx,
             k,
-            m,
+            m_at,
             m_ptr,
             m_idx,
             m_val,
@@ -254,7 +263,10 @@ impl Problem {
 
     /// Entry q (CSC position) of the shifted matrix A(s) = [K − sM, Gᵀ; G, 0].
     pub(super) fn shifted(&self, q: usize, s: f64) -> f64 {
-        self.k[q] - s * self.m[q]
+        match self.m_at[q] {
+            NO_M => self.k[q],
+            i => self.k[q] - s * self.m_val[i as usize],
+        }
     }
 
     pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
@@ -287,7 +299,10 @@ impl Problem {
             for p in self.col_ptr[c]..self.col_ptr[c + 1] {
                 if self.row_idx[p] == c {
                     kd[c] = self.k[p];
-                    md[c] = self.m[p];
+                    md[c] = match self.m_at[p] {
+                        NO_M => 0.0,
+                        i => self.m_val[i as usize],
+                    };
                 }
             }
         }
