@@ -127,6 +127,7 @@ impl KktSolver {
         let (mut lower_ptr, mut lower_src) = (vec![0], Vec::new());
         if let (true, Some(d)) = (symmetric, &mut diag) {
             for p in d.lower_layout(&col_ptr, &row_idx) {
+                let p = p as usize;
                 lower_src.extend_from_slice(&src[src_ptr[p]..src_ptr[p + 1]]);
                 lower_ptr.push(lower_src.len());
             }

@@ -25,7 +25,7 @@ impl Rng {
 pub(super) struct Shifted<'a> {
     /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused), and the
     /// CSC positions of the lower triangle it reads.
-    pub(super) sym: Option<(SparseLu, Vec<usize>)>,
+    pub(super) sym: Option<(SparseLu, Vec<u32>)>,
     /// LU with partial pivoting (created when L D Lᵀ fails).
     pub(super) lu: Option<SparseLu>,
     /// Which factorisation holds A(σ): true L D Lᵀ, false LU.
@@ -210,13 +210,13 @@ impl<'a> Shifted<'a> {
 /// The eigenvalues below `s` by the inertia of A(s) = [K − sM, Gᵀ; G, 0], refactored in `lu`
 /// (the L D Lᵀ structure; `slots` the CSC positions of its lower triangle): its negative
 /// pivots less one per constraint.
-fn inertia_count(lu: &mut SparseLu, slots: &[usize], p: &Problem, s: f64) -> Option<usize> {
+fn inertia_count(lu: &mut SparseLu, slots: &[u32], p: &Problem, s: f64) -> Option<usize> {
     refactor_at(lu, slots, p, s).ok()?;
     lu.negative_pivots().checked_sub(p.n - p.nc)
 }
 
 /// L D Lᵀ of A(s) in `lu` (`slots`: the CSC positions of its lower triangle), its values
 /// formed as the factorisation reads them (no array of them beside the factor).
-fn refactor_at(lu: &mut SparseLu, slots: &[usize], p: &Problem, s: f64) -> Result<f64, LuFailure> {
-    lu.refactor_symmetric_with(|q| p.shifted(slots[q], s))
+fn refactor_at(lu: &mut SparseLu, slots: &[u32], p: &Problem, s: f64) -> Result<f64, LuFailure> {
+    lu.refactor_symmetric_with(|q| p.shifted(slots[q] as usize, s))
 }

@@ -126,11 +126,12 @@ impl SparseLu {
 
     /// After [`set_diagonal_pivots`]: the layout of the lower triangle of A in pivot order that
     /// [`refactor_symmetric`] reads (sequentially, half of A). Returns, for each of its entries,
-    /// the position of that entry in the CSC arrays of A.
+    /// the position of that entry in the CSC arrays of A (32-bit: A has fewer than 2³² entries,
+    /// as the row indices of the factors assume).
     ///
     /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
     /// [`refactor_symmetric`]: SparseLu::refactor_symmetric
-    pub fn lower_layout(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+    pub fn lower_layout(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Vec<u32> {
         let n = self.n;
         // entries on or below the diagonal, to size the arrays exactly
         let count = (0..n)
@@ -154,7 +155,7 @@ impl SparseLu {
                 let s = self.pinv[row_idx[p]];
                 if s >= k {
                     self.lower_row.push(s as u32);
-                    slot.push(p);
+                    slot.push(p as u32);
                 }
             }
             self.lower_ptr.push(self.lower_row.len());

@@ -100,7 +100,7 @@ fn symmetric_refactor_solves_symmetric_indefinite_systems() {
                 row[i] *= 1.0 + 0.1 * pass as f64;
             }
             let (_, _, v2) = csc(&a2);
-            let lower: Vec<f64> = slots.iter().map(|&p| v2[p]).collect();
+            let lower: Vec<f64> = slots.iter().map(|&p| v2[p as usize]).collect();
             lu.refactor_symmetric(&lower).unwrap();
             let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
             let mut b = csc_mul(&cp, &ri, &v2, &xs);
