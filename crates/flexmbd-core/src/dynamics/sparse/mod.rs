@@ -405,6 +405,9 @@ fn modes_of(
             y.col_as_slice_mut(c).copy_from_slice(found.col_as_slice(i));
         }
     }
+    // the Ritz vectors are in y: released before the mode shapes in x are made (the peak of
+    // a large model's modal analysis)
+    drop(found);
     // M-orthonormal: the Ritz vectors are (full reorthogonalisation); purified ones are made so
     // again (Löwdin: Y (YᵀMY)^-½, the nearest M-orthonormal set)
     let q = if massless > 0 {
