@@ -121,9 +121,9 @@ impl Problem {
             extra.push((r, c, v, 0.0));
             extra.push((c, r, v, 0.0));
         }
-        // CSC: bucket the entries by column (element entries, node masses, the diagonal), sort
-        // each column by row, sum duplicates
-        let (n_extra, total) = (extra.len(), ne + extra.len() + n);
+        // CSC structure: the rows of every column (element entries, node masses and added
+        // rows, the diagonal) bucketed, each column sorted with its duplicates removed in place
+        let total = ne + extra.len() + n;
         let mut count = vec![0usize; n + 1];
         lin.for_each_entry(|_, c| count[c + 1] += 1);
         for &(_, c, _, _) in &extra {
@@ -135,65 +135,59 @@ impl Problem {
         for c in 0..n {
             count[c + 1] += count[c];
         }
-        let mut fill = count.clone();
-        let mut by_col = vec![(0u32, 0u32); total];
-        let mut i = 0u32;
-        lin.for_each_entry(|r, c| {
-            by_col[fill[c]] = (r as u32, i);
-            fill[c] += 1;
-            i += 1;
-        });
-        for &(r, c, _, _) in &extra {
-            by_col[fill[c]] = (r as u32, i);
-            fill[c] += 1;
-            i += 1;
-        }
-        for c in 0..n {
-            by_col[fill[c]] = (c as u32, i);
-            fill[c] += 1;
-            i += 1;
-        }
-        let values = |i: usize| -> (f64, f64) {
-            if i < ne {
-                (lin.vals[i], m_el[i])
-            } else if i < ne + n_extra {
-                (extra[i - ne].2, extra[i - ne].3)
-            } else {
-                (0.0, 0.0)
+        let mut rows = vec![0u32; total];
+        {
+            let mut fill = count.clone();
+            let mut put = |r: usize, c: usize| {
+                rows[fill[c]] = r as u32;
+                fill[c] += 1;
+            };
+            lin.for_each_entry(&mut put);
+            for &(r, c, _, _) in &extra {
+                put(r, c);
             }
-        };
-        // sort each column by row; the number of distinct entries sizes the arrays exactly
-        let mut nnz = 0;
-        for c in 0..n {
-            let list = &mut by_col[count[c]..count[c + 1]];
-            sort_small(list);
-            nnz += 1 + list.windows(2).filter(|w| w[0].0 != w[1].0).count();
+            for c in 0..n {
+                put(c, c);
+            }
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
         col_ptr.push(0);
-        let (mut row_idx, mut k, mut m) = (
-            Vec::with_capacity(nnz),
-            Vec::with_capacity(nnz),
-            Vec::with_capacity(nnz),
-        );
+        let mut nnz = 0;
         for c in 0..n {
-            let list = &by_col[count[c]..count[c + 1]];
-            for (q, &(r, i)) in list.iter().enumerate() {
-                let (kv, mv) = values(i as usize);
-                if q > 0 && list[q - 1].0 == r {
-                    *k.last_mut().expect("previous entry") += kv;
-                    *m.last_mut().expect("previous entry") += mv;
-                } else {
-                    row_idx.push(r as usize);
-                    k.push(kv);
-                    m.push(mv);
+            let (lo, hi) = (count[c], count[c + 1]);
+            sort_small(&mut rows[lo..hi]);
+            for q in lo..hi {
+                if q == lo || rows[q] != rows[q - 1] {
+                    rows[nnz] = rows[q];
+                    nnz += 1;
                 }
             }
-            col_ptr.push(row_idx.len());
+            col_ptr.push(nnz);
+        }
+        drop(count);
+        let row_idx: Vec<usize> = rows[..nnz].iter().map(|&r| r as usize).collect();
+        drop(rows);
+        // the values, summed into their places in the order of the entries (element entries,
+        // node masses and added rows), each found by bisection in its column
+        let at = |r: usize, c: usize| {
+            let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
+            lo + row_idx[lo..hi].partition_point(|&x| x < r)
+        };
+        let (mut k, mut m) = (vec![0.0; nnz], vec![0.0; nnz]);
+        let mut i = 0;
+        lin.for_each_entry(|r, c| {
+            let q = at(r, c);
+            k[q] += lin.vals[i];
+            m[q] += m_el[i];
+            i += 1;
+        });
+        for &(r, c, kv, mv) in &extra {
+            let q = at(r, c);
+            k[q] += kv;
+            m[q] += mv;
         }
         // the saddle-point matrix holds the stage's element values now: released before the
         // rest is built (the peak memory of a large model's modal analysis was here)
-        drop(by_col);
         drop(m_el);
         lin.vals = Vec::new();
         // the load stiffness of moments is not symmetric: its symmetric part, as the dense path
