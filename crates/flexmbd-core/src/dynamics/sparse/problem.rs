@@ -26,9 +26,10 @@ pub(super) struct Problem {
     pub(super) n: usize,
     /// Number of coordinates (the first `nc` unknowns).
     pub(super) nc: usize,
-    /// CSC structure of the saddle-point matrix (rows sorted, every diagonal entry present).
+    /// CSC structure of the saddle-point matrix (rows sorted, every diagonal entry present;
+    /// u32 rows, 4 bytes per entry).
     pub(super) col_ptr: Vec<usize>,
-    pub(super) row_idx: Vec<usize>,
+    pub(super) row_idx: Vec<u32>,
     /// K values on that structure.
     pub(super) k: Vec<f64>,
     /// For every entry of that structure, its index in `m_val`, or [`NO_M`] where M is zero
@@ -165,13 +166,14 @@ impl Problem {
             col_ptr.push(nnz);
         }
         drop(count);
-        let row_idx: Vec<usize> = rows[..nnz].iter().map(|&r| r as usize).collect();
-        drop(rows);
+        rows.truncate(nnz);
+        rows.shrink_to_fit();
+        let row_idx = rows;
         // the values, summed into their places in the order of the entries (element entries,
         // node masses and added rows), each found by bisection in its column
         let at = |r: usize, c: usize| {
             let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
-            lo + row_idx[lo..hi].partition_point(|&x| x < r)
+            lo + row_idx[lo..hi].partition_point(|&x| (x as usize) < r)
         };
         let (mut k, mut m) = (vec![0.0; nnz], vec![0.0; nnz]);
         let mut i = 0;
@@ -196,11 +198,11 @@ impl Problem {
             let orig = k.clone();
             for c in 0..n {
                 for q in col_ptr[c]..col_ptr[c + 1] {
-                    let r = row_idx[q];
+                    let r = row_idx[q] as usize;
                     if r > c {
                         let t = col_ptr[r]
                             + row_idx[col_ptr[r]..col_ptr[r + 1]]
-                                .binary_search(&c)
+                                .binary_search(&(c as u32))
                                 .expect("symmetric pattern");
                         let v = 0.5 * (orig[q] + orig[t]);
                         k[q] = v;
@@ -211,7 +213,7 @@ impl Problem {
         }
         // the coordinate block of M (non-zero entries), and where each lies in the structure
         let nnz_m = (0..col_ptr[nc])
-            .filter(|&p| row_idx[p] < nc && m[p] != 0.0)
+            .filter(|&p| (row_idx[p] as usize) < nc && m[p] != 0.0)
             .count();
         // (32-bit like the entry numbers of `by_col` above: below 4·10⁹ entries, some 3·10⁷
         // beams, far beyond the memory of the machines this runs on)
@@ -221,9 +223,9 @@ impl Problem {
         let (mut m_idx, mut m_val) = (Vec::with_capacity(nnz_m), Vec::with_capacity(nnz_m));
         for c in 0..nc {
             for p in col_ptr[c]..col_ptr[c + 1] {
-                if row_idx[p] < nc && m[p] != 0.0 {
+                if (row_idx[p] as usize) < nc && m[p] != 0.0 {
                     m_at[p] = m_val.len() as u32;
-                    m_idx.push(row_idx[p] as u32);
+                    m_idx.push(row_idx[p]);
                     m_val.push(m[p]);
                 }
             }
@@ -277,9 +279,9 @@ impl Problem {
                 let first = if c >= nc {
                     lo
                 } else {
-                    lo + self.row_idx[lo..hi].partition_point(|&r| r < nc)
+                    lo + self.row_idx[lo..hi].partition_point(|&r| (r as usize) < nc)
                 };
-                (first..hi).map(move |q| (self.row_idx[q], c, self.k[q]))
+                (first..hi).map(move |q| (self.row_idx[q] as usize, c, self.k[q]))
             })
             .filter(|e| e.2 != 0.0)
             .collect()
@@ -291,7 +293,7 @@ impl Problem {
         let mut md = vec![0.0; self.nc];
         for c in 0..self.nc {
             for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                if self.row_idx[p] == c {
+                if self.row_idx[p] as usize == c {
                     kd[c] = self.k[p];
                     md[c] = match self.m_at[p] {
                         NO_M => 0.0,
@@ -328,7 +330,7 @@ impl Problem {
             let start = idx.len();
             for &c in cols {
                 for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                    let r = self.row_idx[p];
+                    let r = self.row_idx[p] as usize;
                     if r < nc {
                         let h = gid[group[r]];
                         if mark[h] != g {
@@ -355,7 +357,7 @@ impl Problem {
         let mut after: Vec<Vec<usize>> = vec![Vec::new(); nc + 1];
         for c in nc..n {
             let last = (self.col_ptr[c]..self.col_ptr[c + 1])
-                .map(|p| self.row_idx[p])
+                .map(|p| self.row_idx[p] as usize)
                 .filter(|&r| r < nc)
                 .map(|r| pos[r] + 1)
                 .max()

@@ -1,14 +1,14 @@
 //! LU with partial pivoting of [`SparseLu`]: the left-looking Gilbert–Peierls factorisation,
 //! the refactorisation with the recorded pivot order, and the triangular solves.
 
-use super::{sort_columns, LuFailure, SparseLu, DIAG_TOL, PIVOT_TOL};
+use super::{sort_columns, LuFailure, RowIndex, SparseLu, DIAG_TOL, PIVOT_TOL};
 
 impl SparseLu {
     /// Factor with partial pivoting (records the pivot order and the structure of L and U).
-    pub fn factor(
+    pub fn factor<R: RowIndex>(
         &mut self,
         col_ptr: &[usize],
-        row_idx: &[usize],
+        row_idx: &[R],
         val: &[f64],
     ) -> Result<(), LuFailure> {
         let n = self.n;
@@ -31,7 +31,7 @@ impl SparseLu {
             // rows reachable from the column's pattern in the graph of L (rows of A numbering),
             // in topological order (reverse DFS post-order)
             self.reach.clear();
-            for &r in &row_idx[lo..hi] {
+            for r in row_idx[lo..hi].iter().map(|r| r.ix()) {
                 if self.mark[r] != k {
                     dfs(
                         r,
@@ -47,7 +47,7 @@ impl SparseLu {
                 }
             }
             for p in lo..hi {
-                x[row_idx[p]] += val[p];
+                x[row_idx[p].ix()] += val[p];
             }
             // reach holds post-order: process in reverse
             for &r in self.reach.iter().rev() {
@@ -119,10 +119,10 @@ impl SparseLu {
     /// (see the module docs). Returns the smallest |pivot| / max |column entry| met.
     ///
     /// [`factor`]: SparseLu::factor
-    pub fn refactor(
+    pub fn refactor<R: RowIndex>(
         &mut self,
         col_ptr: &[usize],
-        row_idx: &[usize],
+        row_idx: &[R],
         val: &[f64],
     ) -> Result<f64, LuFailure> {
         if !(self.factored || self.symmetric_factors) {
@@ -136,7 +136,7 @@ impl SparseLu {
         if self.a_step.len() != nnz {
             self.a_step.clear();
             self.a_step
-                .extend(row_idx[..nnz].iter().map(|&r| self.pinv[r] as u32));
+                .extend(row_idx[..nnz].iter().map(|&r| self.pinv[r.ix()] as u32));
         }
         let x = &mut self.work;
         let mut min_ratio: f64 = 1.0;

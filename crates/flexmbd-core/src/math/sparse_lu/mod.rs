@@ -92,6 +92,33 @@ pub struct SparseLu {
     diagonal_structure: bool,
 }
 
+/// A row index of a CSC structure: `usize`, or `u32` where the structure is large and kept (the
+/// saddle-point problem of `modes`: 4 bytes per entry instead of 8).
+pub trait RowIndex: Copy + PartialOrd + Send + Sync + 'static {
+    /// The index as usize.
+    fn ix(self) -> usize;
+    /// The slice as usize indices (borrowed when it is one), for faer's orderings.
+    fn as_usize(s: &[Self]) -> std::borrow::Cow<'_, [usize]>;
+}
+
+impl RowIndex for usize {
+    fn ix(self) -> usize {
+        self
+    }
+    fn as_usize(s: &[Self]) -> std::borrow::Cow<'_, [usize]> {
+        std::borrow::Cow::Borrowed(s)
+    }
+}
+
+impl RowIndex for u32 {
+    fn ix(self) -> usize {
+        self as usize
+    }
+    fn as_usize(s: &[Self]) -> std::borrow::Cow<'_, [usize]> {
+        std::borrow::Cow::Owned(s.iter().map(|&r| r as usize).collect())
+    }
+}
+
 /// Approximate minimum degree ordering (faer's AMD) of a structurally symmetric n × n CSC
 /// pattern: the permutation q (position → index) and its inverse.
 pub(crate) fn amd_order(
@@ -119,9 +146,9 @@ pub(crate) fn amd_order(
 
 /// Residual b − A z of a CSC matrix A and the componentwise backward error
 /// max_i |b − A z|_i / (|A| |z| + |b|)_i (infinite when it is NaN).
-pub(crate) fn csc_residual(
+pub(crate) fn csc_residual<R: RowIndex>(
     cp: &[usize],
-    ri: &[usize],
+    ri: &[R],
     v: &[f64],
     z: &[f64],
     b: &[f64],
@@ -131,9 +158,9 @@ pub(crate) fn csc_residual(
 
 /// [`csc_residual`] with the value of CSC entry p given by `value(p)` (a matrix whose values
 /// are formed on the fly, as K − σM).
-pub(crate) fn csc_residual_with(
+pub(crate) fn csc_residual_with<R: RowIndex>(
     cp: &[usize],
-    ri: &[usize],
+    ri: &[R],
     value: impl Fn(usize) -> f64,
     z: &[f64],
     b: &[f64],
@@ -143,8 +170,9 @@ pub(crate) fn csc_residual_with(
     for (j, &zj) in z.iter().enumerate() {
         for p in cp[j]..cp[j + 1] {
             let a = value(p) * zj;
-            res[ri[p]] -= a;
-            scale[ri[p]] += a.abs();
+            let r = ri[p].ix();
+            res[r] -= a;
+            scale[r] += a.abs();
         }
     }
     let be = res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
@@ -160,9 +188,10 @@ pub(crate) fn csc_residual_with(
 
 impl SparseLu {
     /// Analyse the structure (COLAMD column order) of an n × n CSC matrix.
-    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Self, String> {
+    pub fn new<R: RowIndex>(n: usize, col_ptr: &[usize], row_idx: &[R]) -> Result<Self, String> {
         check_size(n)?;
         let nnz = col_ptr[n];
+        let row_idx = R::as_usize(&row_idx[..nnz]);
         let diag_pref = (0..n).all(|j| {
             row_idx[col_ptr[j]..col_ptr[j + 1]]
                 .binary_search(&j)

@@ -2,7 +2,7 @@
 //! Cholesky factorisation) and L D Lᵀ refactorisation with an inertia count.
 
 use super::lu::pivot_step;
-use super::{sort_columns, sort_small, LuFailure, SparseLu};
+use super::{sort_columns, sort_small, LuFailure, RowIndex, SparseLu};
 
 impl SparseLu {
     /// Symmetric strategy: set up the pivot order "all pivots on the diagonal" and its
@@ -10,15 +10,16 @@ impl SparseLu {
     /// It is the order that factor chooses for a column diagonally dominant matrix.
     ///
     /// [`refactor`]: SparseLu::refactor
-    pub fn set_diagonal_pivots(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> bool {
+    pub fn set_diagonal_pivots<R: RowIndex>(&mut self, col_ptr: &[usize], row_idx: &[R]) -> bool {
         if !self.diag_pref {
             return false;
         }
         let n = self.n;
         let symmetric_pattern = (0..n).all(|j| {
             row_idx[col_ptr[j]..col_ptr[j + 1]].iter().all(|&i| {
+                let i = i.ix();
                 row_idx[col_ptr[i]..col_ptr[i + 1]]
-                    .binary_search(&j)
+                    .binary_search_by(|r| r.ix().cmp(&j))
                     .is_ok()
             })
         });
@@ -31,7 +32,7 @@ impl SparseLu {
         for j in 0..n {
             let (lo, hi) = (col_ptr[j], col_ptr[j + 1]);
             for p in lo..hi {
-                if row_idx[p] == j {
+                if row_idx[p].ix() == j {
                     v[p] = (hi - lo + 1) as f64;
                 }
             }
@@ -49,7 +50,7 @@ impl SparseLu {
     /// The structure of L and U for diagonal pivots of a structurally symmetric matrix: that
     /// of its Cholesky factor, from the elimination tree (row subtrees, as CSparse's
     /// `cs_schol`/`cs_ereach`), in time proportional to the nonzeros of L.
-    fn symbolic_cholesky(&mut self, col_ptr: &[usize], row_idx: &[usize]) {
+    fn symbolic_cholesky<R: RowIndex>(&mut self, col_ptr: &[usize], row_idx: &[R]) {
         const NONE: usize = usize::MAX;
         let n = self.n;
         self.a_step.clear();
@@ -61,7 +62,10 @@ impl SparseLu {
         let mut ancestor = vec![NONE; n];
         for k in 0..n {
             let col = self.q[k];
-            for &r in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+            for r in row_idx[col_ptr[col]..col_ptr[col + 1]]
+                .iter()
+                .map(|r| r.ix())
+            {
                 let mut i = self.pinv[r];
                 while i != NONE && i < k {
                     let next = ancestor[i];
@@ -84,7 +88,10 @@ impl SparseLu {
             mark[k] = k;
             let start = self.u_idx.len();
             let col = self.q[k];
-            for &r in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+            for r in row_idx[col_ptr[col]..col_ptr[col + 1]]
+                .iter()
+                .map(|r| r.ix())
+            {
                 let mut i = self.pinv[r];
                 if i >= k {
                     continue;
@@ -131,7 +138,7 @@ impl SparseLu {
     ///
     /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
     /// [`refactor_symmetric`]: SparseLu::refactor_symmetric
-    pub fn lower_layout(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Vec<u32> {
+    pub fn lower_layout<R: RowIndex>(&mut self, col_ptr: &[usize], row_idx: &[R]) -> Vec<u32> {
         let n = self.n;
         // entries on or below the diagonal, to size the arrays exactly
         let count = (0..n)
@@ -139,7 +146,7 @@ impl SparseLu {
                 let col = self.q[k];
                 row_idx[col_ptr[col]..col_ptr[col + 1]]
                     .iter()
-                    .filter(|&&r| self.pinv[r] >= k)
+                    .filter(|&&r| self.pinv[r.ix()] >= k)
                     .count()
             })
             .sum();
@@ -152,7 +159,7 @@ impl SparseLu {
         for k in 0..n {
             let col = self.q[k];
             for p in col_ptr[col]..col_ptr[col + 1] {
-                let s = self.pinv[row_idx[p]];
+                let s = self.pinv[row_idx[p].ix()];
                 if s >= k {
                     self.lower_row.push(s as u32);
                     slot.push(p as u32);
