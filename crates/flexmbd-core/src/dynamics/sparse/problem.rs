@@ -215,8 +215,8 @@ impl Problem {
         let nnz_m = (0..col_ptr[nc])
             .filter(|&p| (row_idx[p] as usize) < nc && m[p] != 0.0)
             .count();
-        // (32-bit like the entry numbers of `by_col` above: below 4·10⁹ entries, some 3·10⁷
-        // beams, far beyond the memory of the machines this runs on)
+        // (32-bit like the rows above: below 4·10⁹ entries, some 3·10⁷ beams, far beyond the
+        // memory of the machines this runs on)
         let mut m_at = vec![NO_M; row_idx.len()];
         let mut m_ptr = Vec::with_capacity(nc + 1);
         m_ptr.push(0);
@@ -257,11 +257,19 @@ impl Problem {
         }
     }
 
+    /// Entry q (CSC position) of M, `None` where M has none.
+    fn m_entry(&self, q: usize) -> Option<f64> {
+        match self.m_at[q] {
+            NO_M => None,
+            i => Some(self.m_val[i as usize]),
+        }
+    }
+
     /// Entry q (CSC position) of the shifted matrix A(s) = [K − sM, Gᵀ; G, 0].
     pub(super) fn shifted(&self, q: usize, s: f64) -> f64 {
-        match self.m_at[q] {
-            NO_M => self.k[q],
-            i => self.k[q] - s * self.m_val[i as usize],
+        match self.m_entry(q) {
+            None => self.k[q],
+            Some(m) => self.k[q] - s * m,
         }
     }
 
@@ -295,10 +303,7 @@ impl Problem {
             for p in self.col_ptr[c]..self.col_ptr[c + 1] {
                 if self.row_idx[p] as usize == c {
                     kd[c] = self.k[p];
-                    md[c] = match self.m_at[p] {
-                        NO_M => 0.0,
-                        i => self.m_val[i as usize],
-                    };
+                    md[c] = self.m_entry(p).unwrap_or(0.0);
                 }
             }
         }

@@ -25,7 +25,6 @@ pub(super) struct CoRot {
 }
 
 /// The rotation of one node since the matrix was built: R(q) and L(q).
-#[derive(Clone, Copy, Default)]
 pub(super) struct Turn {
     r: [[f64; 3]; 3],
     l: [[f64; 4]; 4],
@@ -49,10 +48,9 @@ pub(super) fn corot_nodes(model: &crate::model::Model, unknown: &[Option<usize>]
             let r = n.ix_rot?;
             let u = |i: usize| unknown[i];
             let rot = [u(r)?, u(r + 1)?, u(r + 2)?, u(r + 3)?];
-            let pos = if n.host.is_some() {
-                None
-            } else {
-                (|| Some([u(n.ix_pos)?, u(n.ix_pos + 1)?, u(n.ix_pos + 2)?]))()
+            let pos = match (n.host, u(n.ix_pos), u(n.ix_pos + 1), u(n.ix_pos + 2)) {
+                (None, Some(a), Some(b), Some(c)) => Some([a, b, c]),
+                _ => None,
             };
             Some(CoRot {
                 ix_rot: r,
