@@ -604,13 +604,23 @@ impl<'a> Engine<'a> {
                         continue;
                     }
                     if let Some(name) = inverted_element(self.model, &n1.x, &s.x) {
-                        return Err(stop(
-                            frames,
-                            stats,
-                            s.t,
-                            format!("element `{name}` turned inside out (zero length or reversed chord) in the step to t = {:.6e} s", n1.t),
-                            "check the loads and the stiffness of that element; a smaller step does not help an element driven through itself",
-                        ));
+                        // often a step far longer than a short element can follow: a sudden force
+                        // on a node of little mass accelerates it so that the predictor (and the
+                        // solution Newton finds from it) lies beyond the element's other end.
+                        // Halved as a failed step; the run stops only below the smallest step
+                        let reason = format!("element `{name}` turned inside out (zero length or reversed chord) in the step to t = {:.6e} s", n1.t);
+                        stats.rejected += 1;
+                        h = 0.5 * h_try;
+                        if h < o.dt_min {
+                            return Err(stop(
+                                frames,
+                                stats,
+                                s.t,
+                                format!("{reason} even with the smallest step {:.3e} s", o.dt_min),
+                                "check the loads and the stiffness of that element: it is driven through itself",
+                            ));
+                        }
+                        continue;
                     }
                     if !finite(&n1.x) || !finite(&n1.v) || !finite(&n1.mu) {
                         return Err(stop(
