@@ -106,12 +106,6 @@ impl ReducedLinear {
         material_energy2(model, &self.su, x, shapes)
     }
 
-    /// Whether the model has applied moments (also those of a spin): their load stiffness is
-    /// not symmetric.
-    pub(crate) fn has_moment_loads(&self) -> bool {
-        !self.su.moments.is_empty()
-    }
-
     /// The row of the system that holds deformation `e` (a rigid or input deformation).
     pub(crate) fn constraint_row(&self, e: usize) -> Option<usize> {
         self.su.constraint[e].and_then(|k| self.su.red.map[self.su.nf + k])

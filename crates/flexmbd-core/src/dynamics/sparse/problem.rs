@@ -26,17 +26,18 @@ pub(super) struct Problem {
     pub(super) n: usize,
     /// Number of coordinates (the first `nc` unknowns).
     pub(super) nc: usize,
-    /// CSC structure of the saddle-point matrix (rows sorted, every diagonal entry present;
-    /// u32 rows, 4 bytes per entry).
+    /// CSC structure of the lower triangle (row ≥ column) of the symmetric saddle-point matrix
+    /// (rows sorted, every diagonal entry present, so each column starts with it; u32 rows, 4
+    /// bytes per entry): half the entries of both triangles.
     pub(super) col_ptr: Vec<usize>,
     pub(super) row_idx: Vec<u32>,
-    /// K values on that structure.
+    /// K values on that structure (the symmetric part of K).
     pub(super) k: Vec<f64>,
     /// For every entry of that structure, its index in `m_val`, or [`NO_M`] where M is zero
     /// (the constraint rows and columns, and most of the coordinate block: 4 bytes per entry
     /// instead of a value).
     m_at: Vec<u32>,
-    /// The coordinate block of M (CSC, symmetric, non-zero entries only), for M v.
+    /// The coordinate block of M (CSC, both triangles, non-zero entries only), for M v.
     pub(super) m_ptr: Vec<usize>,
     pub(super) m_idx: Vec<u32>,
     pub(super) m_val: Vec<f64>,
@@ -106,7 +107,6 @@ impl Problem {
             .collect();
         let (n0, nc) = (lin.n(), lin.n_coords());
         let n = n0 + rows.len();
-        let ne = lin.vals.len();
         let extra_k: Vec<(usize, usize, f64)> = extra
             .iter()
             .filter(|e| e.2 != 0.0)
@@ -122,13 +122,20 @@ impl Problem {
             extra.push((r, c, v, 0.0));
             extra.push((c, r, v, 0.0));
         }
-        // CSC structure: the rows of every column (element entries, node masses and added
-        // rows, the diagonal) bucketed, each column sorted with its duplicates removed in place
-        let total = ne + extra.len() + n;
+        // CSC structure of the lower triangle (row ≥ column; the matrix is symmetric, and the
+        // factorisation and the products read one triangle): the rows of every column
+        // (element entries, node masses and added rows, each pair on its lower side, and the
+        // diagonal) bucketed, each column sorted with its duplicates removed in place
+        let low = |r: usize, c: usize| if r >= c { (r, c) } else { (c, r) };
         let mut count = vec![0usize; n + 1];
-        lin.for_each_entry(|_, c| count[c + 1] += 1);
-        for &(_, c, _, _) in &extra {
-            count[c + 1] += 1;
+        let mut count_entry = |r: usize, c: usize| {
+            if r >= c {
+                count[c + 1] += 1;
+            }
+        };
+        lin.for_each_entry(&mut count_entry);
+        for &(r, c, _, _) in &extra {
+            count_entry(r, c);
         }
         for c in 0..n {
             count[c + 1] += 1;
@@ -136,12 +143,14 @@ impl Problem {
         for c in 0..n {
             count[c + 1] += count[c];
         }
-        let mut rows = vec![0u32; total];
+        let mut rows = vec![0u32; count[n]];
         {
             let mut fill = count.clone();
             let mut put = |r: usize, c: usize| {
-                rows[fill[c]] = r as u32;
-                fill[c] += 1;
+                if r >= c {
+                    rows[fill[c]] = r as u32;
+                    fill[c] += 1;
+                }
             };
             lin.for_each_entry(&mut put);
             for &(r, c, _, _) in &extra {
@@ -170,66 +179,82 @@ impl Problem {
         rows.shrink_to_fit();
         let row_idx = rows;
         // the values, summed into their places in the order of the entries (element entries,
-        // node masses and added rows), each found by bisection in its column
+        // node masses and added rows), each found by bisection in its column; an entry off the
+        // diagonal adds half its value to its place, and so does its mirror: the lower
+        // triangle holds the symmetric part (K + Kᵀ)/2, as the factorisation needs (the load
+        // stiffness of moments is not symmetric; the dense path takes the same part)
         let at = |r: usize, c: usize| {
+            let (r, c) = low(r, c);
             let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
             lo + row_idx[lo..hi].partition_point(|&x| (x as usize) < r)
         };
+        let half = |r: usize, c: usize| if r == c { 1.0 } else { 0.5 };
         let (mut k, mut m) = (vec![0.0; nnz], vec![0.0; nnz]);
         let mut i = 0;
         lin.for_each_entry(|r, c| {
-            let q = at(r, c);
-            k[q] += lin.vals[i];
-            m[q] += m_el[i];
+            let (q, w) = (at(r, c), half(r, c));
+            k[q] += w * lin.vals[i];
+            m[q] += w * m_el[i];
             i += 1;
         });
         for &(r, c, kv, mv) in &extra {
-            let q = at(r, c);
-            k[q] += kv;
-            m[q] += mv;
+            let (q, w) = (at(r, c), half(r, c));
+            k[q] += w * kv;
+            m[q] += w * mv;
         }
         // the saddle-point matrix holds the stage's element values now: released before the
         // rest is built (the peak memory of a large model's modal analysis was here)
         drop(m_el);
         lin.vals = Vec::new();
-        // the load stiffness of moments is not symmetric: its symmetric part, as the dense path
-        // (the pattern is symmetric, rows sorted)
-        if lin.has_moment_loads() {
-            let orig = k.clone();
-            for c in 0..n {
-                for q in col_ptr[c]..col_ptr[c + 1] {
-                    let r = row_idx[q] as usize;
-                    if r > c {
-                        let t = col_ptr[r]
-                            + row_idx[col_ptr[r]..col_ptr[r + 1]]
-                                .binary_search(&(c as u32))
-                                .expect("symmetric pattern");
-                        let v = 0.5 * (orig[q] + orig[t]);
-                        k[q] = v;
-                        k[t] = v;
+        // the coordinate block of M (non-zero entries) in both triangles, for products by
+        // columns (gather, parallel): each column's rows above the diagonal (the mirrors of
+        // the lower entries of the columns before it, in their order) and then its own lower
+        // entries; and where each lower entry lies in that block
+        let is_m = |p: usize| (row_idx[p] as usize) < nc && m[p] != 0.0;
+        let mut m_count = vec![0usize; nc + 1];
+        let mut upper = vec![0usize; nc];
+        for c in 0..nc {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                if is_m(p) {
+                    let r = row_idx[p] as usize;
+                    m_count[c + 1] += 1;
+                    if r != c {
+                        m_count[r + 1] += 1;
+                        upper[r] += 1;
                     }
                 }
             }
         }
-        // the coordinate block of M (non-zero entries), and where each lies in the structure
-        let nnz_m = (0..col_ptr[nc])
-            .filter(|&p| (row_idx[p] as usize) < nc && m[p] != 0.0)
-            .count();
+        for c in 0..nc {
+            m_count[c + 1] += m_count[c];
+        }
+        let m_ptr = m_count;
+        let nnz_m = m_ptr[nc];
         // (32-bit like the rows above: below 4·10⁹ entries, some 3·10⁷ beams, far beyond the
         // memory of the machines this runs on)
         let mut m_at = vec![NO_M; row_idx.len()];
-        let mut m_ptr = Vec::with_capacity(nc + 1);
-        m_ptr.push(0);
-        let (mut m_idx, mut m_val) = (Vec::with_capacity(nnz_m), Vec::with_capacity(nnz_m));
-        for c in 0..nc {
-            for p in col_ptr[c]..col_ptr[c + 1] {
-                if (row_idx[p] as usize) < nc && m[p] != 0.0 {
-                    m_at[p] = m_val.len() as u32;
-                    m_idx.push(row_idx[p]);
-                    m_val.push(m[p]);
+        let (mut m_idx, mut m_val) = (vec![0u32; nnz_m], vec![0.0; nnz_m]);
+        {
+            let mut fill_up: Vec<usize> = m_ptr[..nc].to_vec();
+            let mut fill_low: Vec<usize> = (0..nc).map(|c| m_ptr[c] + upper[c]).collect();
+            for c in 0..nc {
+                for p in col_ptr[c]..col_ptr[c + 1] {
+                    if is_m(p) {
+                        let r = row_idx[p] as usize;
+                        let q = fill_low[c];
+                        fill_low[c] += 1;
+                        m_at[p] = q as u32;
+                        m_idx[q] = r as u32;
+                        m_val[q] = m[p];
+                        if r != c {
+                            let q = fill_up[r];
+                            fill_up[r] += 1;
+                            m_idx[q] = c as u32;
+                            m_val[q] = m[p];
+                        }
+                    }
                 }
             }
-            m_ptr.push(m_idx.len());
         }
         drop(m);
         if lin.geo.iter().all(|&v| v == 0.0) {
@@ -281,18 +306,74 @@ impl Problem {
     /// columns: G, Gᵀ (with the added rows) and the constraint diagonal.
     pub(super) fn constraint_entries(&self) -> Vec<(usize, usize, f64)> {
         let nc = self.nc;
-        (0..self.n)
-            .flat_map(|c| {
+        let mut out = Vec::new();
+        for c in 0..self.n {
+            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+            // (lower triangle: a constraint row or column means a row ≥ nc)
+            let first = lo + self.row_idx[lo..hi].partition_point(|&r| (r as usize) < nc);
+            for q in first..hi {
+                let (r, v) = (self.row_idx[q] as usize, self.k[q]);
+                if v != 0.0 {
+                    out.push((r, c, v));
+                    if r != c {
+                        out.push((c, r, v));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The structure of both triangles (CSC, rows sorted), for the orderings and the symbolic
+    /// factorisation, which follow the neighbours of an unknown: built when they need it and
+    /// released after (the lower triangle is what is kept).
+    pub(super) fn full_pattern(&self) -> (Vec<usize>, Vec<u32>) {
+        let n = self.n;
+        let mut ptr = vec![0usize; n + 1];
+        for c in 0..n {
+            for q in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[q] as usize;
+                ptr[c + 1] += 1;
+                if r != c {
+                    ptr[r + 1] += 1;
+                }
+            }
+        }
+        for c in 0..n {
+            ptr[c + 1] += ptr[c];
+        }
+        // column j: the mirrors of the lower entries in row j (columns < j, ascending), then
+        // its own lower entries (rows ≥ j, ascending)
+        let mut rows = vec![0u32; ptr[n]];
+        let mut fill: Vec<usize> = ptr[..n].to_vec();
+        for c in 0..n {
+            for q in self.col_ptr[c] + 1..self.col_ptr[c + 1] {
+                let r = self.row_idx[q] as usize;
+                rows[fill[r]] = c as u32;
+                fill[r] += 1;
+            }
+        }
+        for c in 0..n {
+            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+            rows[fill[c]..fill[c] + (hi - lo)].copy_from_slice(&self.row_idx[lo..hi]);
+        }
+        (ptr, rows)
+    }
+
+    /// For every entry of the structure of both triangles ([`Problem::full_pattern`]), the
+    /// position of its value in the stored lower triangle.
+    pub(super) fn full_positions(&self, ptr: &[usize], rows: &[u32]) -> Vec<u32> {
+        let mut at = Vec::with_capacity(rows.len());
+        for c in 0..self.n {
+            for &r in &rows[ptr[c]..ptr[c + 1]] {
+                let (r, c) = ((r as usize).max(c), (r as usize).min(c));
                 let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-                let first = if c >= nc {
-                    lo
-                } else {
-                    lo + self.row_idx[lo..hi].partition_point(|&r| (r as usize) < nc)
-                };
-                (first..hi).map(move |q| (self.row_idx[q] as usize, c, self.k[q]))
-            })
-            .filter(|e| e.2 != 0.0)
-            .collect()
+                let q = lo + self.row_idx[lo..hi].partition_point(|&x| (x as usize) < r);
+                debug_assert_eq!(self.row_idx[q] as usize, r);
+                at.push(q as u32);
+            }
+        }
+        at
     }
 
     /// Diagonal entries of K and M of the coordinates.
@@ -300,12 +381,11 @@ impl Problem {
         let mut kd = vec![0.0; self.nc];
         let mut md = vec![0.0; self.nc];
         for c in 0..self.nc {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                if self.row_idx[p] as usize == c {
-                    kd[c] = self.k[p];
-                    md[c] = self.m_entry(p).unwrap_or(0.0);
-                }
-            }
+            // (each column of the lower triangle starts with its diagonal entry)
+            let p = self.col_ptr[c];
+            debug_assert_eq!(self.row_idx[p] as usize, c);
+            kd[c] = self.k[p];
+            md[c] = self.m_entry(p).unwrap_or(0.0);
         }
         (kd, md)
     }
@@ -315,8 +395,14 @@ impl Problem {
     /// its supervariables found in advance, and far cheaper), each node's coordinates together;
     /// each constraint row placed right after the last coordinate it couples, so that its pivot
     /// (minus a Schur complement of the coordinates) exists.
-    pub(super) fn saddle_order(&self, group: &[usize]) -> Result<Vec<usize>, String> {
+    /// `full`: the structure of both triangles ([`Problem::full_pattern`]).
+    pub(super) fn saddle_order(
+        &self,
+        group: &[usize],
+        full: (&[usize], &[u32]),
+    ) -> Result<Vec<usize>, String> {
         let (n, nc) = (self.n, self.nc);
+        let (col_ptr, row_idx) = full;
         // groups numbered 0..ng in order of first appearance
         let mut gid = vec![usize::MAX; group.iter().copied().max().map_or(0, |g| g + 1)];
         let mut members: Vec<Vec<usize>> = Vec::new();
@@ -334,8 +420,8 @@ impl Problem {
         for (g, cols) in members.iter().enumerate() {
             let start = idx.len();
             for &c in cols {
-                for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                    let r = self.row_idx[p] as usize;
+                for p in col_ptr[c]..col_ptr[c + 1] {
+                    let r = row_idx[p] as usize;
                     if r < nc {
                         let h = gid[group[r]];
                         if mark[h] != g {
@@ -361,8 +447,8 @@ impl Problem {
         // each constraint after the latest of its coordinates
         let mut after: Vec<Vec<usize>> = vec![Vec::new(); nc + 1];
         for c in nc..n {
-            let last = (self.col_ptr[c]..self.col_ptr[c + 1])
-                .map(|p| self.row_idx[p] as usize)
+            let last = (col_ptr[c]..col_ptr[c + 1])
+                .map(|p| row_idx[p] as usize)
                 .filter(|&r| r < nc)
                 .map(|r| pos[r] + 1)
                 .max()

@@ -4,7 +4,7 @@
 
 use super::problem::Problem;
 use super::refined::{refined_solve, Exact};
-use crate::math::sparse_lu::{csc_residual_with, LuFailure, SparseLu};
+use crate::math::sparse_lu::{csc_sym_residual_with, LuFailure, SparseLu};
 
 /// Accepted componentwise backward error of a solve with a new factorisation.
 pub(super) const MAX_BACKWARD_ERROR: f64 = 1e-9;
@@ -21,13 +21,22 @@ impl Rng {
     }
 }
 
+/// The structure of both triangles of the saddle-point matrix, and the position of each of its
+/// entries in the stored lower triangle ([`Problem::full_positions`]), for the LU fall-back.
+pub(super) struct FullPattern {
+    ptr: Vec<usize>,
+    rows: Vec<u32>,
+    at: Vec<u32>,
+}
+
 /// A factorisation of the shifted saddle-point matrix A(σ) = [K − σM, Gᵀ; G, 0].
 pub(super) struct Shifted<'a> {
     /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused), and the
     /// CSC positions of the lower triangle it reads.
     pub(super) sym: Option<(SparseLu, Vec<u32>)>,
-    /// LU with partial pivoting (created when L D Lᵀ fails).
-    pub(super) lu: Option<SparseLu>,
+    /// LU with partial pivoting (created when L D Lᵀ fails), with the structure of both
+    /// triangles it reads ([`Problem::full_pattern`]).
+    pub(super) lu: Option<(SparseLu, FullPattern)>,
     /// Which factorisation holds A(σ): true L D Lᵀ, false LU.
     pub(super) use_sym: bool,
     pub(super) sigma: f64,
@@ -44,15 +53,25 @@ pub(super) struct Shifted<'a> {
 
 impl<'a> Shifted<'a> {
     pub(super) fn new(p: &Problem) -> Self {
-        let sym = p.saddle_order(&p.point).ok().and_then(|order| {
-            let mut lu = SparseLu::with_order(p.n, order).ok()?;
-            if !lu.set_diagonal_pivots(&p.col_ptr, &p.row_idx) {
-                return None;
-            }
-            lu.set_pivot_tolerance(0.0);
-            let slots = lu.lower_layout(&p.col_ptr, &p.row_idx);
-            Some((lu, slots))
-        });
+        // (the structure of both triangles for the order and the symbolic factorisation only:
+        // released before the factorisation's values are made)
+        let (ptr, rows) = p.full_pattern();
+        let sym = p
+            .saddle_order(&p.point, (&ptr, &rows))
+            .ok()
+            .and_then(|order| {
+                let mut lu = SparseLu::with_order(p.n, order).ok()?;
+                if !lu.set_diagonal_pivots(&ptr, &rows) {
+                    return None;
+                }
+                lu.set_pivot_tolerance(0.0);
+                Some(lu)
+            })
+            .map(|mut lu| {
+                drop((ptr, rows));
+                let slots = lu.lower_layout_of_triangle(&p.col_ptr, &p.row_idx);
+                (lu, slots)
+            });
         Self {
             sym,
             lu: None,
@@ -94,13 +113,21 @@ impl<'a> Shifted<'a> {
             return false;
         }
         if self.lu.is_none() {
-            self.lu = SparseLu::new(p.n, &p.col_ptr, &p.row_idx).ok();
+            let (ptr, rows) = p.full_pattern();
+            let at = p.full_positions(&ptr, &rows);
+            self.lu = SparseLu::new(p.n, &ptr, &rows)
+                .ok()
+                .map(|lu| (lu, FullPattern { ptr, rows, at }));
         }
-        let Some(lu) = &mut self.lu else {
+        let Some((lu, full)) = &mut self.lu else {
             return false;
         };
-        let vals: Vec<f64> = (0..p.k.len()).map(|q| p.shifted(q, sigma)).collect();
-        if lu.factor(&p.col_ptr, &p.row_idx, &vals).is_err() {
+        let vals: Vec<f64> = full
+            .at
+            .iter()
+            .map(|&q| p.shifted(q as usize, sigma))
+            .collect();
+        if lu.factor(&full.ptr, &full.rows, &vals).is_err() {
             return false;
         }
         self.use_sym = false;
@@ -114,7 +141,7 @@ impl<'a> Shifted<'a> {
         let mut z = b.clone();
         self.solve_factored(&mut z);
         z.iter().all(|v| v.is_finite())
-            && csc_residual_with(&p.col_ptr, &p.row_idx, |q| p.shifted(q, self.sigma), &z, &b).1
+            && csc_sym_residual_with(&p.col_ptr, &p.row_idx, |q| p.shifted(q, self.sigma), &z, &b).1
                 <= MAX_BACKWARD_ERROR
     }
 
@@ -124,7 +151,7 @@ impl<'a> Shifted<'a> {
             if let Some((lu, _)) = &mut self.sym {
                 lu.solve(b);
             }
-        } else if let Some(lu) = &mut self.lu {
+        } else if let Some((lu, _)) = &mut self.lu {
             lu.solve(b);
         }
     }

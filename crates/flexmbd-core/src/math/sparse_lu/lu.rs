@@ -17,7 +17,8 @@ impl SparseLu {
         self.diagonal_structure = false;
         self.a_step.clear();
         self.pinv.iter_mut().for_each(|p| *p = usize::MAX);
-        self.mark.iter_mut().for_each(|m| *m = usize::MAX);
+        self.mark.clear();
+        self.mark.resize(n, usize::MAX);
         self.l_idx.clear();
         self.l_val.clear();
         self.u_idx.clear();

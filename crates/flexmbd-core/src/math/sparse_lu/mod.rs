@@ -67,7 +67,8 @@ pub struct SparseLu {
     /// [`SparseLu::refactor`]; empty until the first refactorisation after the pivot order is
     /// set.
     a_step: Vec<u32>,
-    /// Dense work vector (kept zero between uses) and DFS work.
+    /// Dense work vector (kept zero between uses) and DFS work (empty until LU with pivoting
+    /// runs).
     work: Vec<f64>,
     mark: Vec<usize>,
     stack: Vec<usize>,
@@ -76,8 +77,6 @@ pub struct SparseLu {
     factored: bool,
     /// The factors are L D Lᵀ (from [`SparseLu::refactor_symmetric`]): U is not stored.
     symmetric_factors: bool,
-    /// Symmetric refactorisation work: next entry of each column of L.
-    next: Vec<usize>,
     /// Lower triangle of A in pivot order (see [`SparseLu::lower_layout`]): entries of step k
     /// are `lower_row[lower_ptr[k]..lower_ptr[k + 1]]` (pivot numbering, ≥ k).
     lower_ptr: Vec<usize>,
@@ -175,15 +174,48 @@ pub(crate) fn csc_residual_with<R: RowIndex>(
             scale[r] += a.abs();
         }
     }
-    let be = res.iter().zip(&scale).fold(0.0, |m: f64, (r, s)| {
+    let be = backward_error(&res, &scale);
+    (res, be)
+}
+
+/// [`csc_residual_with`] of a symmetric matrix of which one triangle is stored (each entry off
+/// the diagonal stands for itself and its mirror).
+pub(crate) fn csc_sym_residual_with<R: RowIndex>(
+    cp: &[usize],
+    ri: &[R],
+    value: impl Fn(usize) -> f64,
+    z: &[f64],
+    b: &[f64],
+) -> (Vec<f64>, f64) {
+    let mut res = b.to_vec();
+    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
+    for (j, &zj) in z.iter().enumerate() {
+        for p in cp[j]..cp[j + 1] {
+            let (v, r) = (value(p), ri[p].ix());
+            let a = v * zj;
+            res[r] -= a;
+            scale[r] += a.abs();
+            if r != j {
+                let a = v * z[r];
+                res[j] -= a;
+                scale[j] += a.abs();
+            }
+        }
+    }
+    let be = backward_error(&res, &scale);
+    (res, be)
+}
+
+/// max_i |r_i| / s_i (|r_i| where s_i = 0; infinite when it is NaN).
+fn backward_error(res: &[f64], scale: &[f64]) -> f64 {
+    res.iter().zip(scale).fold(0.0, |m: f64, (r, s)| {
         let e = if *s > 0.0 { r.abs() / s } else { r.abs() };
         if e.is_nan() {
             f64::INFINITY
         } else {
             m.max(e)
         }
-    });
-    (res, be)
+    })
 }
 
 impl SparseLu {
@@ -250,13 +282,14 @@ impl SparseLu {
             u_diag: vec![0.0; n],
             a_step: Vec::new(),
             work: vec![0.0; n],
-            mark: vec![usize::MAX; n],
-            stack: Vec::with_capacity(n),
-            pstack: Vec::with_capacity(n),
-            reach: Vec::with_capacity(n),
+            // (the search work of LU with pivoting, made when it runs: the symmetric strategy
+            // needs none of it beside its factors)
+            mark: Vec::new(),
+            stack: Vec::new(),
+            pstack: Vec::new(),
+            reach: Vec::new(),
             factored: false,
             symmetric_factors: false,
-            next: Vec::new(),
             lower_ptr: Vec::new(),
             lower_row: Vec::new(),
             pivot_tol: PIVOT_TOL,

@@ -79,8 +79,7 @@ impl SparseLu {
         }
         // row k of L (= column k of U): the nodes on the paths from the entries of row k of
         // the lower triangle up the tree to k
-        let mark = &mut self.mark;
-        mark.iter_mut().for_each(|m| *m = NONE);
+        let mut mark = vec![NONE; n];
         self.u_idx.clear();
         self.u_ptr[0] = 0;
         let mut l_count = vec![0usize; n];
@@ -170,6 +169,45 @@ impl SparseLu {
         slot
     }
 
+    /// [`SparseLu::lower_layout`] of a symmetric matrix of which one triangle is stored (in its
+    /// own numbering, CSC): each stored entry (r, c) is the entry of the pivot order's lower
+    /// triangle at step min(pinv r, pinv c), row max(pinv r, pinv c). Returns, for each entry
+    /// of the layout, the position of its stored entry.
+    pub fn lower_layout_of_triangle<R: RowIndex>(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[R],
+    ) -> Vec<u32> {
+        let n = self.n;
+        let step = |p: usize, c: usize| {
+            let (a, b) = (self.pinv[row_idx[p].ix()], self.pinv[c]);
+            (a.min(b), a.max(b))
+        };
+        let mut ptr = vec![0usize; n + 1];
+        for c in 0..n {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                ptr[step(p, c).0 + 1] += 1;
+            }
+        }
+        for k in 0..n {
+            ptr[k + 1] += ptr[k];
+        }
+        let mut fill: Vec<usize> = ptr[..n].to_vec();
+        let mut rows = vec![0u32; ptr[n]];
+        let mut slot = vec![0u32; ptr[n]];
+        for c in 0..n {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                let (k, s) = step(p, c);
+                rows[fill[k]] = s as u32;
+                slot[fill[k]] = p as u32;
+                fill[k] += 1;
+            }
+        }
+        self.lower_ptr = ptr;
+        self.lower_row = rows;
+        slot
+    }
+
     /// L D Lᵀ refactorisation of a symmetric matrix with the diagonal pivot order of
     /// [`set_diagonal_pivots`], from the values of its lower triangle in the layout of
     /// [`lower_layout`]: the same arithmetic as [`refactor`] restricted to the lower triangle,
@@ -201,8 +239,9 @@ impl SparseLu {
         self.symmetric_factors = false;
         let n = self.n;
         let x = &mut self.work;
-        self.next.clear();
-        self.next.extend_from_slice(&self.l_ptr[..n]);
+        // next entry of each column of L (made for each refactorisation: not kept beside the
+        // factors)
+        let mut next = self.l_ptr[..n].to_vec();
         let mut min_ratio: f64 = 1.0;
         let mut all_positive = true;
         let pivot_tol = self.pivot_tol;
@@ -215,7 +254,7 @@ impl SparseLu {
             for p in self.u_ptr[k]..self.u_ptr[k + 1] {
                 let s = self.u_idx[p] as usize;
                 // L(:, s) from row k on (its columns are sorted by row)
-                let start = self.next[s];
+                let start = next[s];
                 let end = self.l_ptr[s + 1];
                 debug_assert_eq!(self.l_idx[start] as usize, k);
                 let u = self.u_diag[s] * self.l_val[start];
@@ -226,7 +265,7 @@ impl SparseLu {
                 {
                     x[i as usize] -= l * u;
                 }
-                self.next[s] = start + 1;
+                next[s] = start + 1;
             }
             let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
             let (d, ok) = pivot_step(
