@@ -7,20 +7,17 @@ use crate::math::small_eigen::{sym_eigen_small, sym_eigen_small_largest, SMALL_E
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
 
+/// A set of long vectors (the Lanczos basis, Ritz vectors, mode shapes in the coordinates), each
+/// its own allocation: columns no longer needed are released one by one (the Ritz vectors
+/// replace the basis they are combined in, without a second block of that size beside it).
+pub(super) type Cols = Vec<Vec<f64>>;
+
 /// Vectors at least this long are processed in parallel (rayon); shorter ones sequentially,
 /// where the thread hand-over would cost more than it saves.
 pub(super) const PAR_MIN: usize = 32_768;
 
 /// Rows per parallel chunk of the basis operations.
 pub(super) const ROW_CHUNK: usize = 8192;
-
-/// Column `i` of a column-major matrix as a slice.
-pub(super) fn col_slice<'a>(v: MatRef<'a, f64>, i: usize) -> &'a [f64] {
-    v.col(i)
-        .try_as_col_major()
-        .expect("basis matrices are column-major")
-        .as_slice()
-}
 
 /// a · b with eight independent partial sums (the additions pipeline instead of waiting for
 /// each other).
@@ -43,7 +40,7 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// c[i] = V[:, i] · y for the first `c.len()` columns of `v`.
-pub(super) fn basis_dots(v: MatRef<'_, f64>, y: &[f64], c: &mut [f64]) {
+pub(super) fn basis_dots(v: &[Vec<f64>], y: &[f64], c: &mut [f64]) {
     let n = y.len();
     let j = c.len();
     if n < PAR_MIN {
@@ -72,9 +69,9 @@ pub(super) fn basis_dots(v: MatRef<'_, f64>, y: &[f64], c: &mut [f64]) {
 /// c[i] = V[r, i] · y[r] for the first `c.len()` columns: four columns at a time, each with
 /// two partial sums (even and odd rows), so that one pass over y serves four columns and the
 /// products vectorise.
-pub(super) fn dots_rows(v: MatRef<'_, f64>, y: &[f64], r: std::ops::Range<usize>, c: &mut [f64]) {
+pub(super) fn dots_rows(v: &[Vec<f64>], y: &[f64], r: std::ops::Range<usize>, c: &mut [f64]) {
     let y = &y[r.clone()];
-    let col = |i: usize| &col_slice(v, i)[r.clone()];
+    let col = |i: usize| &v[i][r.clone()];
     let mut quads = c.chunks_exact_mut(4);
     let mut i = 0;
     for out in &mut quads {
@@ -115,10 +112,10 @@ pub(super) fn dots_rows(v: MatRef<'_, f64>, y: &[f64], r: std::ops::Range<usize>
 }
 
 /// w −= V[:, ..j] c.
-pub(super) fn basis_subtract(v: MatRef<'_, f64>, c: &[f64], w: &mut [f64]) {
+pub(super) fn basis_subtract(v: &[Vec<f64>], c: &[f64], w: &mut [f64]) {
     let update = |start: usize, chunk: &mut [f64]| {
         let len = chunk.len();
-        let col = |i: usize| &col_slice(v, i)[start..start + len];
+        let col = |i: usize| &v[i][start..start + len];
         let mut quads = c.chunks_exact(4);
         let mut i = 0;
         for q in &mut quads {
@@ -173,26 +170,19 @@ pub(super) fn projected_eigen_largest(
     }
 }
 
-/// V[:, ..] Y (columns of `y`) into a new matrix with `y.ncols()` columns, each column a sum
-/// of the columns of V. Long vectors in blocks of [`ROW_CHUNK`] rows in parallel: a block of V
-/// stays in cache for all the columns of the result, and no workspace is needed (a general
-/// matrix product packs its operands into per-thread buffers, 64 MiB at 10⁴ beams). Every
-/// entry is summed in the same order whatever the number of threads.
-pub(super) fn basis_combine(v: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> {
-    let mut out = Mat::<f64>::zeros(v.nrows(), y.ncols());
-    let block = |r0: usize, mut o: faer::MatMut<'_, f64>| {
-        let rows = o.nrows();
-        for c in 0..y.ncols() {
-            let oc = o
-                .as_mut()
-                .col_mut(c)
-                .try_as_col_major_mut()
-                .expect("a column of a column-major matrix")
-                .as_slice_mut();
+/// V[:, ..] Y (columns of `y`) as new vectors, each a sum of the columns of V. Long vectors in
+/// blocks of [`ROW_CHUNK`] rows in parallel: a block of V stays in cache for all the columns of
+/// the result, and no workspace is needed. Every entry is summed in the same order whatever the
+/// number of threads.
+pub(super) fn basis_combine(v: &[Vec<f64>], y: MatRef<'_, f64>) -> Cols {
+    let n = v.first().map_or(0, Vec::len);
+    let mut out: Cols = vec![vec![0.0; n]; y.ncols()];
+    let block = |r0: usize, o: &mut [&mut [f64]]| {
+        for (c, oc) in o.iter_mut().enumerate() {
             for j in 0..y.nrows() {
                 let f = y[(j, c)];
                 if f != 0.0 {
-                    let vj = &col_slice(v, j)[r0..r0 + rows];
+                    let vj = &v[j][r0..r0 + oc.len()];
                     for (x, a) in oc.iter_mut().zip(vj) {
                         *x += f * a;
                     }
@@ -200,51 +190,64 @@ pub(super) fn basis_combine(v: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> 
             }
         }
     };
-    if v.nrows() < PAR_MIN {
-        block(0, out.as_mut());
+    if n < PAR_MIN {
+        let mut o: Vec<&mut [f64]> = out.iter_mut().map(|c| c.as_mut_slice()).collect();
+        block(0, &mut o);
     } else {
-        out.as_mut()
-            .par_row_chunks_mut(ROW_CHUNK)
+        row_blocks(&mut out)
+            .into_par_iter()
             .enumerate()
-            .for_each(|(k, o)| block(k * ROW_CHUNK, o));
+            .for_each(|(k, mut o)| block(k * ROW_CHUNK, &mut o));
     }
     out
 }
 
-/// V[:, ..m] Y into the first `y.ncols()` columns of `v` (m = `v.ncols()` = `y.nrows()`), in
+/// The columns cut into blocks of [`ROW_CHUNK`] rows: for each block, its piece of every column.
+fn row_blocks(cols: &mut [Vec<f64>]) -> Vec<Vec<&mut [f64]>> {
+    let n = cols.first().map_or(0, Vec::len);
+    let mut blocks: Vec<Vec<&mut [f64]>> = (0..n.div_ceil(ROW_CHUNK))
+        .map(|_| Vec::with_capacity(cols.len()))
+        .collect();
+    for col in cols.iter_mut() {
+        for (b, piece) in blocks.iter_mut().zip(col.chunks_mut(ROW_CHUNK)) {
+            b.push(piece);
+        }
+    }
+    blocks
+}
+
+/// V[:, ..m] Y into the first `y.ncols()` columns of `v` (m = `v.len()` = `y.nrows()`), in
 /// place: block by block of [`ROW_CHUNK`] rows (in parallel on long vectors), each block's
 /// result formed in a small buffer before it overwrites the block. The same sums in the same
-/// order as [`basis_combine`], without a second basis-sized matrix (the thick restart of the
-/// Lanczos basis).
-pub(super) fn basis_combine_in_place(v: faer::MatMut<'_, f64>, y: MatRef<'_, f64>) {
+/// order as [`basis_combine`], without a second basis-sized set (the thick restart of the
+/// Lanczos basis, and its Ritz vectors at the end of a run).
+pub(super) fn basis_combine_in_place(v: &mut [Vec<f64>], y: MatRef<'_, f64>) {
     let (m, k) = (y.nrows(), y.ncols());
-    debug_assert_eq!(v.ncols(), m);
-    let block = |mut o: faer::MatMut<'_, f64>| {
-        let rows = o.nrows();
+    debug_assert_eq!(v.len(), m);
+    let block = |o: &mut [&mut [f64]]| {
+        let rows = o.first().map_or(0, |c| c.len());
         let mut tmp = vec![0.0; rows * k];
         for c in 0..k {
             let t = &mut tmp[c * rows..(c + 1) * rows];
-            for j in 0..m {
+            for (j, vj) in o.iter().enumerate() {
                 let f = y[(j, c)];
                 if f != 0.0 {
-                    let vj = o.as_ref().col(j);
-                    for (r, x) in t.iter_mut().enumerate() {
-                        *x += f * vj[r];
+                    for (x, a) in t.iter_mut().zip(vj.iter()) {
+                        *x += f * a;
                     }
                 }
             }
         }
-        for c in 0..k {
-            let t = &tmp[c * rows..(c + 1) * rows];
-            let mut oc = o.as_mut().col_mut(c);
-            for (r, x) in t.iter().enumerate() {
-                oc[r] = *x;
-            }
+        for (c, oc) in o.iter_mut().take(k).enumerate() {
+            oc.copy_from_slice(&tmp[c * rows..(c + 1) * rows]);
         }
     };
-    if v.nrows() < PAR_MIN {
-        block(v);
+    if v.first().map_or(0, Vec::len) < PAR_MIN {
+        let mut o: Vec<&mut [f64]> = v.iter_mut().map(|c| c.as_mut_slice()).collect();
+        block(&mut o);
     } else {
-        v.par_row_chunks_mut(ROW_CHUNK).for_each(block);
+        row_blocks(v)
+            .into_par_iter()
+            .for_each(|mut o| block(&mut o));
     }
 }

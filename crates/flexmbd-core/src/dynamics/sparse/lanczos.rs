@@ -2,19 +2,19 @@
 //! eigenvalue was missed (module docs of `sparse`).
 
 use super::basis::{
-    basis_combine, basis_combine_in_place, basis_dots, basis_subtract, dot, projected_eigen_largest,
+    basis_combine_in_place, basis_dots, basis_subtract, dot, projected_eigen_largest, Cols,
 };
 use super::problem::Problem;
 use super::shifted::{Rng, Shifted};
 use super::TOL;
 use crate::dynamics::ModalError;
-use faer::{Mat, MatRef};
+use faer::Mat;
 
 /// The first `j` columns of `v`, M-orthonormal, and their products `mv` = M v when they are
 /// kept.
 pub(super) struct Basis<'a> {
-    v: MatRef<'a, f64>,
-    mv: Option<MatRef<'a, f64>>,
+    v: &'a [Vec<f64>],
+    mv: Option<&'a [Vec<f64>]>,
     /// Number of columns in use.
     j: usize,
 }
@@ -70,7 +70,7 @@ pub(super) fn orthogonalise(
 /// Converged Ritz pairs of one Krylov–Schur run: θ (descending) and vectors (columns).
 pub(super) struct Run {
     theta: Vec<f64>,
-    x: Mat<f64>,
+    x: Cols,
     applications: usize,
 }
 
@@ -81,7 +81,7 @@ pub(super) fn krylov_schur(
     p: &Problem,
     op: &mut Shifted,
     nev: usize,
-    locked: &Mat<f64>,
+    locked: &[Vec<f64>],
     seed: u64,
     max_applications: usize,
     keep_mv: bool,
@@ -92,8 +92,8 @@ pub(super) fn krylov_schur(
     // in time (bench/README.md §3b)
     let mmax = (2 * nev + 1).max(20).min(nc);
     let mut st = Store {
-        v: Mat::zeros(nc, mmax + 1),
-        mv: keep_mv.then(|| Mat::zeros(nc, mmax + 1)),
+        v: vec![vec![0.0; nc]; mmax + 1],
+        mv: keep_mv.then(|| vec![vec![0.0; nc]; mmax + 1]),
         mvj: vec![0.0; nc],
     };
     let mut h = Mat::<f64>::zeros(mmax, mmax);
@@ -101,21 +101,24 @@ pub(super) fn krylov_schur(
     let mut mw = vec![0.0; nc];
     // Gram–Schmidt coefficients and their scratch (the larger of the two bases)
     let mut hc = vec![0.0; mmax + 1];
-    let mut scratch = vec![0.0; (mmax + 1).max(locked.ncols())];
-    let mut start_scratch = vec![0.0; 2 * (mmax + 1) + locked.ncols()];
+    let mut scratch = vec![0.0; (mmax + 1).max(locked.len())];
+    let mut start_scratch = vec![0.0; 2 * (mmax + 1) + locked.len()];
     let mut rng = Rng(seed);
     let mut applications = 0;
-    let ml = keep_mv.then(|| {
-        let mut ml = Mat::<f64>::zeros(nc, locked.ncols());
-        for c in 0..locked.ncols() {
-            p.m_times(locked.col_as_slice(c), ml.col_as_slice_mut(c));
-        }
-        ml
+    let ml: Option<Cols> = keep_mv.then(|| {
+        locked
+            .iter()
+            .map(|l| {
+                let mut m = vec![0.0; nc];
+                p.m_times(l, &mut m);
+                m
+            })
+            .collect()
     });
     let lk = Basis {
-        v: locked.as_ref(),
-        mv: ml.as_ref().map(|m| m.as_ref()),
-        j: locked.ncols(),
+        v: locked,
+        mv: ml.as_deref(),
+        j: locked.len(),
     };
     let lk = (lk.j > 0).then_some(&lk);
     // a start vector from the operator's range, M-orthogonal to the first j basis vectors,
@@ -147,7 +150,7 @@ pub(super) fn krylov_schur(
     if !new_start(&mut st, 0, &mut w, &mut mw, op, &mut applications) {
         return Ok(Run {
             theta: Vec::new(),
-            x: Mat::zeros(nc, 0),
+            x: Vec::new(),
             applications,
         });
     }
@@ -199,9 +202,14 @@ pub(super) fn krylov_schur(
         };
         let conv = (0..want).take_while(|&c| converged(c)).count();
         if conv == want || exhausted || beta == 0.0 {
+            // the Ritz vectors in the first `want` columns of the basis, the rest released
+            let mut x = st.v;
+            x.truncate(m);
+            basis_combine_in_place(&mut x, y.subcols(0, want));
+            x.truncate(want);
             return Ok(Run {
                 theta: (0..want).map(|c| s[m - 1 - c]).collect(),
-                x: basis_combine(st.v.subcols(0, m), y.subcols(0, want)),
+                x,
                 applications,
             });
         }
@@ -211,9 +219,9 @@ pub(super) fn krylov_schur(
         // thick restart: the best `keep` Ritz vectors, then the residual vector (whose M
         // product is mvj)
         for basis in std::iter::once(&mut st.v).chain(st.mv.as_mut()) {
-            basis_combine_in_place(basis.as_mut().subcols_mut(0, m), y.subcols(0, keep));
-            let (head, tail) = basis.as_mut().split_at_col_mut(m);
-            head.col_mut(keep).copy_from(tail.col(0));
+            basis_combine_in_place(&mut basis[..m], y.subcols(0, keep));
+            // (column m is written again before it is read)
+            basis.swap(keep, m);
         }
         h.fill(0.0);
         for c in 0..keep {
@@ -228,8 +236,8 @@ pub(super) fn krylov_schur(
 /// The Lanczos basis of a run: its columns `v`, M times its newest column `mvj` (the
 /// operator's right-hand side) and, when kept ([`orthogonalise`]), M V.
 struct Store {
-    v: Mat<f64>,
-    mv: Option<Mat<f64>>,
+    v: Cols,
+    mv: Option<Cols>,
     mvj: Vec<f64>,
 }
 
@@ -237,22 +245,18 @@ impl Store {
     /// The first `j` columns as a [`Basis`].
     fn basis(&self, j: usize) -> Basis<'_> {
         Basis {
-            v: self.v.as_ref(),
-            mv: self.mv.as_ref().map(|m| m.as_ref()),
+            v: &self.v,
+            mv: self.mv.as_deref(),
             j,
         }
     }
 
     /// Column j: w / norm, with its M product mw / norm.
     fn push(&mut self, j: usize, w: &[f64], mw: &[f64], norm: f64) {
-        self.v
-            .col_as_slice_mut(j)
-            .iter_mut()
-            .zip(w)
-            .for_each(|(a, b)| *a = b / norm);
+        self.v[j].iter_mut().zip(w).for_each(|(a, b)| *a = b / norm);
         self.mvj.iter_mut().zip(mw).for_each(|(a, b)| *a = b / norm);
         if let Some(mv) = &mut self.mv {
-            mv.col_as_slice_mut(j).copy_from_slice(&self.mvj);
+            mv[j].copy_from_slice(&self.mvj);
         }
     }
 }
@@ -268,10 +272,9 @@ pub(super) fn lanczos_runs(
     want: usize,
     max_applications: usize,
     keep_mv: bool,
-) -> Result<(Mat<f64>, Vec<f64>, usize), ModalError> {
-    let nc = p.nc;
+) -> Result<(Cols, Vec<f64>, usize), ModalError> {
     let sigma = op.sigma;
-    let mut found: Mat<f64> = Mat::zeros(nc, 0);
+    let mut found: Cols = Vec::new();
     let mut thetas: Vec<f64> = Vec::new();
     let mut applications = 0;
     for run in 0..8u64 {
@@ -294,17 +297,7 @@ pub(super) fn lanczos_runs(
         if r.theta.is_empty() {
             break;
         }
-        let old = found.ncols();
-        let mut all = Mat::<f64>::zeros(nc, old + r.x.ncols());
-        for c in 0..old {
-            all.col_as_slice_mut(c)
-                .copy_from_slice(found.col_as_slice(c));
-        }
-        for c in 0..r.x.ncols() {
-            all.col_as_slice_mut(old + c)
-                .copy_from_slice(r.x.col_as_slice(c));
-        }
-        found = all;
+        found.extend(r.x);
         thetas.extend(&r.theta);
         if thetas.len() < want {
             continue;

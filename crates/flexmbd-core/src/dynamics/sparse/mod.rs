@@ -63,7 +63,7 @@ use crate::model::Model;
 use crate::statics::{MaterialOperator, StepResult};
 #[cfg(test)]
 use basis::projected_eigen_largest;
-use basis::{projected_eigen, PAR_MIN};
+use basis::{basis_combine, dot, projected_eigen, Cols, PAR_MIN};
 use faer::Mat;
 use lanczos::lanczos_runs;
 use problem::Problem;
@@ -289,6 +289,8 @@ fn modes_of(
     };
     let (kd, md) = p.diagonals();
     let lambda_ref = eigenvalue_scale(&kd, &md);
+    let with_mass = md.iter().filter(|&&m| m > 0.0).count();
+    drop((kd, md));
     // massless directions: the finite eigenvalues all lie below a shift far above them, counted
     // in the factorisation itself before it is made at the shift of the iteration, so that no
     // copy of it is needed (when L D Lᵀ cannot count there — a coordinate with neither
@@ -298,7 +300,7 @@ fn modes_of(
     // constrained space is no larger)
     let massless = match op.count_below_in_place(p, 1e8 * lambda_ref) {
         Some(finite) if finite <= ndof => ndof - finite,
-        _ => ndof - md.iter().filter(|&&m| m > 0.0).count().min(ndof),
+        _ => ndof - with_mass.min(ndof),
     };
     // shift: 0 when K is positive definite on the constrained space, else lowered until no
     // eigenvalue lies below it (inertia), starting just above the round-off level
@@ -396,27 +398,37 @@ fn modes_of(
     order.sort_by(|&a, &b| (sigma + 1.0 / thetas[a]).total_cmp(&(sigma + 1.0 / thetas[b])));
     order.truncate(want);
     let nf = order.len();
-    let mut y = Mat::<f64>::zeros(nc, nf);
-    for (c, &i) in order.iter().enumerate() {
+    // the wanted Ritz vectors taken out of the found ones (moved, not copied), the others
+    // released before the mode shapes in x are made (the peak of a large model's modal
+    // analysis)
+    let mut found: Vec<Option<Vec<f64>>> = found.into_iter().map(Some).collect();
+    let mut y: Cols = Vec::with_capacity(nf);
+    for &i in &order {
+        let xc = found[i].take().expect("each Ritz vector is taken once");
         if massless > 0 {
-            let xc = found.col_as_slice(i).to_vec();
-            op.apply(p, &xc, y.col_as_slice_mut(c));
+            let mut out = vec![0.0; nc];
+            op.apply(p, &xc, &mut out);
+            y.push(out);
         } else {
-            y.col_as_slice_mut(c).copy_from_slice(found.col_as_slice(i));
+            y.push(xc);
         }
     }
-    // the Ritz vectors are in y: released before the mode shapes in x are made (the peak of
-    // a large model's modal analysis)
     drop(found);
     // M-orthonormal: the Ritz vectors are (full reorthogonalisation); purified ones are made so
     // again (Löwdin: Y (YᵀMY)^-½, the nearest M-orthonormal set)
-    let q = if massless > 0 {
-        let mut my = Mat::<f64>::zeros(nc, nf);
-        for c in 0..nf {
-            p.m_times(y.col_as_slice(c), my.col_as_slice_mut(c));
-        }
-        let g = y.transpose() * &my;
-        let g = Mat::from_fn(nf, nf, |a, b| 0.5 * (g[(a, b)] + g[(b, a)]));
+    let q: Cols = if massless > 0 {
+        let my: Cols = y
+            .iter()
+            .map(|yc| {
+                let mut m = vec![0.0; nc];
+                p.m_times(yc, &mut m);
+                m
+            })
+            .collect();
+        let g = Mat::from_fn(nf, nf, |a, b| {
+            0.5 * (dot(&y[a], &my[b]) + dot(&y[b], &my[a]))
+        });
+        drop(my);
         let (gs, gu) = projected_eigen(g.as_ref())?;
         if (0..nf).any(|i| gs[i].is_nan() || gs[i] <= 0.0) {
             return Err(ModalError::Eigen(EigenError::NotPositiveDefinite {
@@ -430,49 +442,34 @@ fn modes_of(
                 .map(|k| gu[(a, k)] * gu[(b, k)] / gs[k].sqrt())
                 .sum::<f64>()
         });
-        &y * &inv_sqrt
+        basis_combine(&y, inv_sqrt.as_ref())
     } else {
         y
     };
-    let shapes: Vec<Vec<f64>> = if nc < PAR_MIN {
-        (0..nf)
-            .map(|k| p.lin.to_x(model, &step.x, q.col_as_slice(k)))
-            .collect()
-    } else {
-        (0..nf)
-            .into_par_iter()
-            .map(|k| p.lin.to_x(model, &step.x, q.col_as_slice(k)))
-            .collect()
-    };
-    // eigenvalues: Rayleigh quotients, the stiffness through the element deformations
-    let e2 = p.lin.material_energy2(model, &step.x, &shapes);
-    let mut g2 = vec![0.0; nf];
-    if p.lin.geo.iter().any(|&v| v != 0.0) {
-        let mut e = 0;
-        p.lin.for_each_entry(|r, c| {
-            let gv = p.lin.geo[e];
-            if gv != 0.0 {
-                for (k, g) in g2.iter_mut().enumerate() {
-                    *g += gv * q[(r, k)] * q[(c, k)];
+    // each mode from its Ritz vector, which is released as soon as the mode is made (the
+    // shapes in x replace the vectors in the coordinates instead of being held beside them):
+    // the shape, the geometric and point-mass stiffness uᵀ K_g u, uᵀ M u, and the kinetic
+    // energy by node
+    let has_geo = p.lin.geo.iter().any(|&v| v != 0.0);
+    let mode_of = |u: Vec<f64>| -> (Vec<f64>, f64, f64, NodeKinetic) {
+        let shape = p.lin.to_x(model, &step.x, &u);
+        let mut g2 = 0.0;
+        if has_geo {
+            let mut e = 0;
+            p.lin.for_each_entry(|r, c| {
+                let gv = p.lin.geo[e];
+                if gv != 0.0 {
+                    g2 += gv * u[r] * u[c];
                 }
-            }
-            e += 1;
-        });
-    }
-    for &(r, c, kv) in &p.extra_k {
-        for (k, g) in g2.iter_mut().enumerate() {
-            *g += kv * q[(r, k)] * q[(c, k)];
+                e += 1;
+            });
         }
-    }
-    // (Rayleigh quotient, Ritz value, shape, kinetic energy by node)
-    let mut modes: Vec<(f64, f64, Vec<f64>, NodeKinetic)> = Vec::with_capacity(nf);
-    let mut mu = vec![0.0; nc];
-    for (k, shape) in shapes.into_iter().enumerate() {
-        let u = q.col_as_slice(k);
-        let g2 = g2[k];
-        p.m_times(u, &mut mu);
+        for &(r, c, kv) in &p.extra_k {
+            g2 += kv * u[r] * u[c];
+        }
+        let mut mu = vec![0.0; nc];
+        p.m_times(&u, &mut mu);
         let m2: f64 = u.iter().zip(&mu).map(|(a, b)| a * b).sum();
-        let lam = (e2[k] + g2) / m2;
         let mut kinetic = vec![(0.0, 0.0); model.nodes.len()];
         for (m, (&node, (a, b))) in p.group.iter().zip(u.iter().zip(&mu)).enumerate() {
             if let Some(t) = kinetic.get_mut(node) {
@@ -483,8 +480,32 @@ fn modes_of(
                 }
             }
         }
-        modes.push((lam, sigma + 1.0 / thetas[order[k]], shape, kinetic));
+        (shape, g2, m2, kinetic)
+    };
+    let parts: Vec<(Vec<f64>, f64, f64, NodeKinetic)> = if nc < PAR_MIN {
+        q.into_iter().map(mode_of).collect()
+    } else {
+        q.into_par_iter().map(mode_of).collect()
+    };
+    let mut shapes = Vec::with_capacity(nf);
+    let mut rest = Vec::with_capacity(nf);
+    for (shape, g2, m2, kinetic) in parts {
+        shapes.push(shape);
+        rest.push((g2, m2, kinetic));
     }
+    // eigenvalues: Rayleigh quotients, the stiffness through the element deformations
+    let e2 = p.lin.material_energy2(model, &step.x, &shapes);
+    // (Rayleigh quotient, Ritz value, shape, kinetic energy by node)
+    let modes: Vec<(f64, f64, Vec<f64>, NodeKinetic)> = shapes
+        .into_iter()
+        .zip(rest)
+        .enumerate()
+        .map(|(k, (shape, (g2, m2, kinetic)))| {
+            let lam = (e2[k] + g2) / m2;
+            (lam, sigma + 1.0 / thetas[order[k]], shape, kinetic)
+        })
+        .collect();
+    let mut modes = modes;
     modes.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut eigenvalues = Vec::with_capacity(nf);
     let mut ritz = Vec::with_capacity(nf);

@@ -610,27 +610,32 @@ fn projected_eigenpairs_small_and_faer_branches_agree() {
 
 #[test]
 fn basis_combined_in_place_equals_the_matrix_product() {
-    // the thick restart's V ← V Y (first k columns), in place, against faer's product of the
-    // original V and Y; below and above the parallel threshold (several row blocks)
-    use super::basis::{basis_combine_in_place, PAR_MIN, ROW_CHUNK};
+    // the thick restart's V ← V Y (first k columns), in place, and the combination into new
+    // vectors, against faer's product of the original V and Y; below and above the parallel
+    // threshold (several row blocks)
+    use super::basis::{basis_combine, basis_combine_in_place, PAR_MIN, ROW_CHUNK};
     use faer::Mat;
     for rows in [1000, PAR_MIN + ROW_CHUNK / 2] {
         let (m, k) = (31, 17);
         let v0 = Mat::from_fn(rows, m, |i, j| ((i * 31 + j * 17) % 23) as f64 / 23.0 - 0.5);
         let y = Mat::from_fn(m, k, |i, j| ((i * 7 + j * 13) % 19) as f64 / 19.0 - 0.4);
         let want = &v0 * &y;
-        let mut v = v0.clone();
-        basis_combine_in_place(v.as_mut(), y.as_ref());
+        let cols0: Vec<Vec<f64>> = (0..m).map(|j| v0.col_as_slice(j).to_vec()).collect();
+        let new = basis_combine(&cols0, y.as_ref());
+        let mut v = cols0.clone();
+        basis_combine_in_place(&mut v, y.as_ref());
         let mut worst = 0.0f64;
         for c in 0..k {
             for i in 0..rows {
-                worst = worst.max((v[(i, c)] - want[(i, c)]).abs());
+                worst = worst.max((v[c][i] - want[(i, c)]).abs());
+                worst = worst.max((new[c][i] - want[(i, c)]).abs());
             }
         }
         assert!(worst < 1e-13, "{rows} rows: {worst}");
+        assert_eq!(new.len(), k);
         // the columns beyond k are left as they were
         for c in k..m {
-            assert!((0..rows).all(|i| v[(i, c)] == v0[(i, c)]));
+            assert_eq!(v[c], cols0[c]);
         }
     }
 }
