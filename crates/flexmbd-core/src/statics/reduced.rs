@@ -236,6 +236,12 @@ impl ReducedLinear {
         to_x(&self.su, model, x, u)
     }
 
+    /// Releases what only the assembly reads ([`Setup::release_assembly`]), once the values
+    /// are held elsewhere: this can no longer assemble afterwards.
+    pub(crate) fn release_assembly(&mut self) {
+        self.su.release_assembly();
+    }
+
     /// The setup the values were assembled with (the effective stiffnesses).
     pub(crate) fn setup(&self) -> &Setup {
         &self.su

@@ -36,6 +36,17 @@ pub(super) struct PatternLayout {
 }
 
 impl Pattern {
+    /// No entries: what [`crate::statics::ReducedLinear::release_assembly`] leaves.
+    pub(super) fn released(nf: usize) -> Self {
+        Self {
+            layout: std::sync::OnceLock::new(),
+            elem_free: Vec::new(),
+            elem_constraints: Vec::new(),
+            nf,
+            f_start: Vec::new(),
+        }
+    }
+
     pub(super) fn new(
         model: &Model,
         unknown: &[Option<usize>],

@@ -483,6 +483,8 @@ pub(super) fn apply_loads(
     a.f_scale = f_abs.iter().cloned().fold(0.0, f64::max);
     a.r = r;
     a.g = g;
+    // (room was made for 12 entries per rotational node; a reduced node writes 3)
+    tail.shrink_to_fit();
     a.tail = tail;
     a.balance = balance;
 }

@@ -206,6 +206,7 @@ impl Problem {
         // rest is built (the peak memory of a large model's modal analysis was here)
         drop(m_el);
         lin.vals = Vec::new();
+        lin.release_assembly();
         // the coordinate block of M (non-zero entries) in both triangles, for products by
         // columns (gather, parallel): each column's rows above the diagonal (the mirrors of
         // the lower entries of the columns before it, in their order) and then its own lower
