@@ -46,7 +46,7 @@ pub(super) fn describe_all(
     // per element one list, mode k's energies at k ne … (k + 1) ne
     let element_energies = |entry: &crate::model::ElementEntry| -> Vec<f64> {
         let s = entry.element.stiffness();
-        let mut e = crate::statics::deformation_energies(entry, &s, &step.x, &shapes);
+        let mut e = crate::statics::deformation_energies(entry, s.as_ref(), &step.x, &shapes);
         e.iter_mut().for_each(|v| *v *= 0.5);
         e
     };

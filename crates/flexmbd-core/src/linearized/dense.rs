@@ -78,7 +78,7 @@ pub fn linearize(model: &Model, step: &StepResult) -> Linearized {
     let m = assemble_part(model, &su, &step.x, &step.multipliers, t, Part::Material);
     let g = assemble_part(model, &su, &step.x, &step.multipliers, t, Part::Geometric);
     Linearized {
-        unknown: su.unknown,
+        unknown: su.unknown.iter().map(|u| u.get()).collect(),
         km: dense(nf, nf, &m.triplets, 0, 0),
         kg: dense(nf, nf, &g.triplets, 0, 0),
         g: dense(nk, nf, &m.triplets, nf, 0),

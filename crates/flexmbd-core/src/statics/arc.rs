@@ -118,7 +118,7 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Ve
     }
     let mut qg = vec![0.0; su.nk];
     for (i, role) in su.roles.iter().enumerate() {
-        if let (Role::Input, Some(kc)) = (role, su.constraint[i]) {
+        if let (Role::Input, Some(kc)) = (role, su.constraint[i].get()) {
             qg[kc] = -su.e_targets[i];
         }
     }
@@ -128,7 +128,8 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Ve
     for &(r, kc) in &su.norm {
         qg[kc] += (r..r + 4).map(|i| 2.0 * x[i] * rate[i]).sum::<f64>();
     }
-    for (entry, s) in model.elements.iter().zip(&su.s_eff) {
+    for (el, entry) in model.elements.iter().enumerate() {
+        let s = su.s_eff.get(el);
         let v: Vec<f64> = entry.xmap.iter().map(|&i| rate[i]).collect();
         if v.iter().all(|&r| r == 0.0) {
             continue;
@@ -150,14 +151,14 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Ve
             qx[xi] += f;
         }
         for m in 0..ne {
-            if let Some(kc) = su.constraint[entry.ie + m] {
+            if let Some(kc) = su.constraint[entry.ie + m].get() {
                 qg[kc] += dv[m];
             }
         }
     }
     let mut qr = vec![0.0; su.nf];
     for (i, q) in qx.iter().enumerate() {
-        if let Some(u) = su.unknown[i] {
+        if let Some(u) = su.unknown[i].get() {
             qr[u] = *q;
         }
     }
@@ -663,7 +664,7 @@ pub(super) fn reduced_increment(su: &Setup, x0: &[f64], x1: &[f64]) -> Vec<f64> 
     let red = &su.red;
     let mut v = vec![0.0; red.n];
     for (i, u) in su.unknown.iter().enumerate() {
-        if let Some(m) = u.and_then(|u| red.map[u]) {
+        if let Some(m) = u.get().and_then(|u| red.map[u].get()) {
             v[m] = x1[i] - x0[i];
         }
     }

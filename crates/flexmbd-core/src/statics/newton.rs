@@ -366,7 +366,7 @@ pub(super) fn reference_stiffness(su: &Setup, a: &Assembled) -> f64 {
 pub(super) fn increment_size(model: &Model, su: &Setup, dx: &[f64]) -> f64 {
     let mut m: f64 = 0.0;
     for i in 0..model.nx {
-        if let Some(u) = su.unknown[i] {
+        if let Some(u) = su.unknown[i].get() {
             let v = if su.is_lambda[i] {
                 dx[u].abs()
             } else {
@@ -439,13 +439,13 @@ pub(super) fn reduced_rhs(su: &Setup, x: &[f64], r: &[f64], g: &[f64]) -> Vec<f6
     let (red, nf) = (&su.red, su.nf);
     let mut dr = vec![0.0; red.n];
     for (u, m) in red.map.iter().enumerate() {
-        if let Some(m) = *m {
+        if let Some(m) = m.get() {
             dr[m] = if u < nf { -r[u] } else { -g[u - nf] };
         }
     }
     for &(rr, d0, _) in &red.nodes {
         let nb = rot_basis(&x[rr..rr + 4]);
-        let rl: [f64; 4] = std::array::from_fn(|i| r[su.unknown[rr + i].expect("free λ")]);
+        let rl: [f64; 4] = std::array::from_fn(|i| r[su.unknown[rr + i].get().expect("free λ")]);
         for j in 0..3 {
             dr[d0 + j] = -(0..4).map(|i| nb[i][j] * rl[i]).sum::<f64>();
         }
@@ -462,7 +462,7 @@ pub(super) fn expand(su: &Setup, x: &[f64], mu: &[f64], r: &[f64], dr: &[f64]) -
     let (red, nf) = (&su.red, su.nf);
     let mut dz = vec![0.0; nf + su.nk];
     for (u, m) in red.map.iter().enumerate() {
-        if let Some(m) = *m {
+        if let Some(m) = m.get() {
             dz[u] = dr[m];
         }
     }
@@ -471,7 +471,7 @@ pub(super) fn expand(su: &Setup, x: &[f64], mu: &[f64], r: &[f64], dr: &[f64]) -
         let (mut work, mut l2) = (0.0, 0.0);
         let sc = chord_consistent_scale((0..3).map(|j| dr[d0 + j] * dr[d0 + j]).sum());
         for i in 0..4 {
-            let u = su.unknown[rr + i].expect("free λ");
+            let u = su.unknown[rr + i].get().expect("free λ");
             let dl: f64 = (0..3).map(|j| nb[i][j] * dr[d0 + j]).sum();
             dz[u] = sc * dl;
             work += (r[u] - 2.0 * mu[kc] * x[rr + i]) * dl;
@@ -492,7 +492,7 @@ pub(super) fn step_to(
     alpha: f64,
 ) {
     for (i, xi) in x.iter_mut().enumerate() {
-        if let Some(u) = su.unknown[i] {
+        if let Some(u) = su.unknown[i].get() {
             *xi = x_old[i] + alpha * dz[u];
         }
     }

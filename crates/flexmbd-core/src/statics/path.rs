@@ -250,7 +250,7 @@ fn follow(
             if let (Some((xp, dtp)), false) = (&prev_x, su.x_targets.is_empty()) {
                 let s = (t_try - t) / dtp;
                 for i in 0..model.nx {
-                    if su.unknown[i].is_some() {
+                    if su.unknown[i].get().is_some() {
                         x[i] += s * (x_save[i] - xp[i]);
                     }
                 }
@@ -364,7 +364,7 @@ fn jump(
         su.unknown
             .iter()
             .enumerate()
-            .filter(|(_, u)| u.is_some())
+            .filter(|(_, u)| u.get().is_some())
             .map(|(i, _)| (q.x[i] - p.x[i]).abs())
             .fold(0.0, f64::max)
     };

@@ -108,7 +108,9 @@ impl ReducedLinear {
 
     /// The row of the system that holds deformation `e` (a rigid or input deformation).
     pub(crate) fn constraint_row(&self, e: usize) -> Option<usize> {
-        self.su.constraint[e].and_then(|k| self.su.red.map[self.su.nf + k])
+        self.su.constraint[e]
+            .get()
+            .and_then(|k| self.su.red.map[self.su.nf + k].get())
     }
 
     /// Size of the system (coordinates and kept constraints).
@@ -169,7 +171,7 @@ impl ReducedLinear {
         blk: &[[f64; 4]; 4],
     ) -> Vec<(usize, usize, f64)> {
         let mut out = Vec::new();
-        if let Some(k) = self.su.red.node_at[r] {
+        if let Some(k) = self.su.red.node_at[r].get() {
             let nb = rot_basis(&x[r..r + 4]);
             let d0 = self.su.red.nodes[k].1;
             for p in 0..3 {
@@ -251,7 +253,7 @@ impl ReducedLinear {
 /// The reduced index of x coordinate `i` when it is an unknown of its own (a free translation,
 /// or an Euler parameter of a node that is not reduced).
 fn coord_index(su: &Setup, i: usize) -> Option<usize> {
-    su.unknown[i].and_then(|u| su.red.map[u])
+    su.unknown[i].get().and_then(|u| su.red.map[u].get())
 }
 
 /// Generalised forces on the reduced coordinates (the first `su.red.nfr` unknowns of the
@@ -291,7 +293,7 @@ fn to_x(su: &Setup, model: &Model, x: &[f64], u: &[f64]) -> Vec<f64> {
 }
 
 /// Whether an element has stiffness: a non-zero entry in its effective S.
-fn has_stiffness(s: &Mat<f64>, ne: usize) -> bool {
+fn has_stiffness(s: faer::MatRef<'_, f64>, ne: usize) -> bool {
     (0..ne).any(|a| (0..ne).any(|b| s[(a, b)] != 0.0))
 }
 
@@ -311,7 +313,7 @@ impl MaterialOperator {
     /// state `x`.
     pub(crate) fn new(model: &Model, su: &Setup, x: &[f64]) -> Self {
         let stiff: Vec<usize> = (0..model.elements.len())
-            .filter(|&el| has_stiffness(&su.s_eff[el], model.elements[el].element.ne()))
+            .filter(|&el| has_stiffness(su.s_eff.get(el), model.elements[el].element.ne()))
             .collect();
         let jac = |&el: &usize| -> Vec<f64> {
             let entry = &model.elements[el];
@@ -350,7 +352,7 @@ impl MaterialOperator {
         let mut sig = Vec::new();
         for &(el, off) in &self.elements {
             let entry = &model.elements[el];
-            let s = &su.s_eff[el];
+            let s = su.s_eff.get(el);
             let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
             let d = &self.d[off..off + ne * nxe];
             de.clear();
@@ -395,7 +397,7 @@ pub(crate) fn material_energy2(
 ) -> Vec<f64> {
     let per_element = |el: usize| -> Vec<f64> {
         let entry = &model.elements[el];
-        let s = &su.s_eff[el];
+        let s = su.s_eff.get(el);
         let ne = entry.element.ne();
         if !has_stiffness(s, ne) {
             return vec![0.0; shapes.len()];
@@ -429,7 +431,7 @@ pub(crate) fn material_energy2(
 /// for the beam.
 pub(crate) fn deformation_energies(
     entry: &crate::model::ElementEntry,
-    s: &Mat<f64>,
+    s: faer::MatRef<'_, f64>,
     x: &[f64],
     shapes: &[Vec<f64>],
 ) -> Vec<f64> {

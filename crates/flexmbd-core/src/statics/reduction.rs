@@ -115,9 +115,9 @@ impl Pattern {
 #[derive(Clone, Copy, Debug)]
 pub(super) enum RCol {
     /// The local coordinate itself.
-    Plain(usize),
+    Plain(u32),
     /// Rotation increment j of the node whose λ0 is local coordinate `a0`: Δλ = N(λ) δ.
-    Rot { a0: usize, j: usize },
+    Rot { a0: u32, j: u8 },
 }
 
 /// The Newton system in reduced unknowns. A rotational node whose four Euler parameters are
@@ -133,7 +133,7 @@ pub(super) enum RCol {
 pub(super) struct Reduction {
     /// Reduced index of every original unknown (free coordinates, then constraints); `None`
     /// for the Euler parameters and normalisations of reduced nodes.
-    pub(super) map: Vec<Option<usize>>,
+    pub(super) map: Vec<Slot>,
     /// Reduced nodes: (λ0 x index, first of its three reduced indices, normalisation index).
     pub(super) nodes: Vec<(usize, usize, usize)>,
     /// Nodes with a single free Euler parameter (a clamped or rotation-driven node): it follows
@@ -143,7 +143,7 @@ pub(super) struct Reduction {
     /// index).
     pub(super) singles: Vec<(usize, usize, usize)>,
     /// x index of λ0 → index into `nodes`.
-    pub(super) node_at: Vec<Option<usize>>,
+    pub(super) node_at: Vec<Slot>,
     /// Reduced coordinate unknowns (the constraints follow).
     pub(super) nfr: usize,
     /// Size of the reduced system.
@@ -256,22 +256,30 @@ impl Reduction {
         let mut beam_full = Vec::with_capacity(model.elements.len());
         let mut elem_cons = Vec::with_capacity(model.elements.len());
         let mut n_entries = 0;
+        // (each element's columns gathered here and kept at their exact size)
+        let mut ec = Vec::new();
         for entry in &model.elements {
             elem_start.push(n_entries);
-            let mut ec = Vec::with_capacity(entry.xmap.len());
+            ec.clear();
             let mut a = 0;
             while a < entry.xmap.len() {
                 let xi = entry.xmap[a];
                 if let Some(k) = node_at[xi] {
                     let d0 = nodes[k].1;
                     for j in 0..3 {
-                        ec.push((RCol::Rot { a0: a, j }, d0 + j));
+                        ec.push((
+                            RCol::Rot {
+                                a0: a as u32,
+                                j: j as u8,
+                            },
+                            d0 + j,
+                        ));
                     }
                     a += 4;
                     continue;
                 }
                 if let Some(m) = unknown[xi].and_then(|u| map[u]) {
-                    ec.push((RCol::Plain(a), m));
+                    ec.push((RCol::Plain(a as u32), m));
                 }
                 a += 1;
             }
@@ -285,14 +293,14 @@ impl Reduction {
                 && ec.len() == 12
                 && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
                 && ec.iter().enumerate().all(|(c, (col, _))| match (c, *col) {
-                    (0..=2, RCol::Plain(a)) => a == c,
-                    (3..=5, RCol::Rot { a0, j }) => a0 == 3 && j == c - 3,
-                    (6..=8, RCol::Plain(a)) => a == c + 1,
-                    (9..=11, RCol::Rot { a0, j }) => a0 == 10 && j == c - 9,
+                    (0..=2, RCol::Plain(a)) => a as usize == c,
+                    (3..=5, RCol::Rot { a0, j }) => a0 == 3 && j as usize == c - 3,
+                    (6..=8, RCol::Plain(a)) => a as usize == c + 1,
+                    (9..=11, RCol::Rot { a0, j }) => a0 == 10 && j as usize == c - 9,
                     _ => false,
                 });
             beam_full.push(full);
-            elem_cols.push(ec);
+            elem_cols.push(ec.to_vec());
         }
         elem_start.push(n_entries);
         let mut diag_trans = Vec::new();
@@ -303,12 +311,13 @@ impl Reduction {
                 }
             }
         }
+        diag_trans.shrink_to_fit();
         Self {
-            map,
+            map: slots(&map),
             nodes,
             singles,
             diag_trans,
-            node_at,
+            node_at: slots(&node_at),
             nfr,
             n,
             is_trans,
@@ -380,7 +389,7 @@ pub(super) fn chord_consistent_scale(d2: f64) -> f64 {
 /// solution exactly.)
 pub(super) fn solve_single_multipliers(su: &Setup, x: &[f64], mu: &mut [f64], a: &mut Assembled) {
     for &(r, xi, kc) in &su.red.singles {
-        let (Some(u), l) = (su.unknown[xi], x[xi]) else {
+        let (Some(u), l) = (su.unknown[xi].get(), x[xi]) else {
             continue;
         };
         if l == 0.0 {
@@ -390,7 +399,7 @@ pub(super) fn solve_single_multipliers(su: &Setup, x: &[f64], mu: &mut [f64], a:
         mu[kc] += dmu;
         for c in r..r + 4 {
             a.balance[c] += 2.0 * dmu * x[c];
-            if let Some(uc) = su.unknown[c] {
+            if let Some(uc) = su.unknown[c].get() {
                 a.r[uc] = a.balance[c];
             }
         }
@@ -428,8 +437,9 @@ pub(super) fn write_reduced(
     let mut nb = 0;
     let mut tcol = |c: &RCol| -> ([(usize, f64); 4], usize) {
         match *c {
-            RCol::Plain(a) => ([(a, 1.0), (0, 0.0), (0, 0.0), (0, 0.0)], 1),
+            RCol::Plain(a) => ([(a as usize, 1.0), (0, 0.0), (0, 0.0), (0, 0.0)], 1),
             RCol::Rot { a0, j } => {
+                let (a0, j) = (a0 as usize, j as usize);
                 let slot = match base_a0[..nb].iter().position(|&v| v == a0) {
                     Some(s) => s,
                     None => {
@@ -474,7 +484,7 @@ pub(super) fn write_reduced(
         }
     }
     for m in 0..ne {
-        if su.constraint[ie + m].is_some() {
+        if su.constraint[ie + m].get().is_some() {
             for (t, len) in ts.iter() {
                 let v: f64 = t[..*len].iter().map(|&(b, w)| w * d(m, b)).sum();
                 vals[i] = v;

@@ -3,17 +3,68 @@
 
 use super::*;
 
+/// An index that may be absent, in 4 bytes (`u32::MAX` for none; an `Option<usize>` takes 16):
+/// the per-coordinate and per-deformation maps of the setup, which large models hold for the
+/// whole analysis (0.3 KB per beam as options).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Slot(u32);
+
+impl Slot {
+    pub(crate) const NONE: Slot = Slot(u32::MAX);
+
+    /// The index, if any.
+    #[inline]
+    pub(crate) fn get(self) -> Option<usize> {
+        (self.0 != u32::MAX).then_some(self.0 as usize)
+    }
+}
+
+impl From<Option<usize>> for Slot {
+    fn from(o: Option<usize>) -> Self {
+        match o {
+            Some(i) => {
+                assert!(i < u32::MAX as usize, "index {i} beyond 32 bits");
+                Slot(i as u32)
+            }
+            None => Slot::NONE,
+        }
+    }
+}
+
+/// The options as slots.
+pub(crate) fn slots(v: &[Option<usize>]) -> Vec<Slot> {
+    v.iter().map(|&o| Slot::from(o)).collect()
+}
+
+/// The flexible part of each element's stiffness (other rows and columns zeroed), all in one
+/// array: element `el`'s ne × ne block, column-major, from `start[el]` (a matrix of its own per
+/// element took 424 bytes for a beam's 288 of values).
+pub(crate) struct ElementStiffness {
+    start: Vec<usize>,
+    vals: Vec<f64>,
+}
+
+impl ElementStiffness {
+    /// The block of element `el`.
+    #[inline]
+    pub(crate) fn get(&self, el: usize) -> faer::MatRef<'_, f64> {
+        let (lo, hi) = (self.start[el], self.start[el + 1]);
+        let ne = (hi - lo).isqrt();
+        faer::MatRef::from_column_major_slice(&self.vals[lo..hi], ne, ne)
+    }
+}
+
 /// Problem data derived once from the model.
 pub(crate) struct Setup {
     pub(crate) roles: Vec<Role>,
     /// x index → unknown index (free coordinates).
-    pub(crate) unknown: Vec<Option<usize>>,
+    pub(crate) unknown: Vec<Slot>,
     pub(crate) nf: usize,
     /// e index → constraint index.
-    pub(crate) constraint: Vec<Option<usize>>,
+    pub(crate) constraint: Vec<Slot>,
     pub(crate) nk: usize,
     /// Flexible part of each element's stiffness (other rows and columns zeroed).
-    pub(crate) s_eff: Vec<Mat<f64>>,
+    pub(crate) s_eff: ElementStiffness,
     /// Dead nodal forces in x (translations only), at t = 1, including gravity.
     pub(crate) f_dead: Vec<f64>,
     /// Moments at t = 1: (λ0 index, M).
@@ -38,7 +89,7 @@ pub(crate) struct Setup {
 
 impl Setup {
     /// Releases what only the assembly reads (the element pattern of the unreduced system, the
-    /// dead loads and deformation targets), for a holder of assembled values that keeps the
+    /// dead loads and targets, the positions of the translational diagonal entries), for a holder of assembled values that keeps the
     /// setup for its maps and the element stiffnesses (the sparse modal problem: 0.3 KB per
     /// beam). The setup can no longer assemble afterwards.
     pub(crate) fn release_assembly(&mut self) {
@@ -46,6 +97,7 @@ impl Setup {
         self.f_dead = Vec::new();
         self.e_targets = Vec::new();
         self.x_targets = Vec::new();
+        self.red.diag_trans = Vec::new();
     }
 }
 
@@ -68,21 +120,25 @@ pub(crate) fn setup(model: &Model) -> Setup {
         }
     }
     let pattern = Pattern::new(model, &unknown, &constraint, nf);
-    let s_eff = model
-        .elements
-        .iter()
-        .map(|entry| {
-            let s = entry.element.stiffness();
-            let flex = |m: usize| roles[entry.ie + m] == Role::Flexible;
-            Mat::from_fn(s.nrows(), s.ncols(), |a, b| {
-                if flex(a) && flex(b) {
-                    s[(a, b)]
-                } else {
-                    0.0
-                }
-            })
-        })
-        .collect();
+    let mut s_eff = ElementStiffness {
+        start: Vec::with_capacity(model.elements.len() + 1),
+        vals: Vec::new(),
+    };
+    s_eff.start.push(0);
+    for entry in &model.elements {
+        let s = entry.element.stiffness();
+        let flex = |m: usize| roles[entry.ie + m] == Role::Flexible;
+        let ne = s.nrows();
+        debug_assert_eq!(s.ncols(), ne);
+        for b in 0..ne {
+            for a in 0..ne {
+                let v = if flex(a) && flex(b) { s[(a, b)] } else { 0.0 };
+                s_eff.vals.push(v);
+            }
+        }
+        s_eff.start.push(s_eff.vals.len());
+    }
+    s_eff.vals.shrink_to_fit();
     // dead loads and gravity
     let mut f_dead = vec![0.0; model.nx];
     let mut moments = Vec::new();
@@ -148,9 +204,9 @@ pub(crate) fn setup(model: &Model) -> Setup {
     let red = Reduction::new(model, &unknown, &constraint, nf, nk, &norm, &is_lambda);
     Setup {
         roles,
-        unknown,
+        unknown: slots(&unknown),
         nf,
-        constraint,
+        constraint: slots(&constraint),
         nk,
         s_eff,
         f_dead,

@@ -94,7 +94,7 @@ pub(super) fn element_local(
     f_out: &mut [f64],
     vals: &mut [f64],
 ) -> f64 {
-    let s = &su.s_eff[el];
+    let s = su.s_eff.get(el);
     let ne = e_out.len();
     let free = &su.pattern.elem_free[el];
     // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
@@ -198,7 +198,7 @@ fn stress(
     e: &[f64],
     sigma: &mut [f64],
     s: impl Fn(usize, usize) -> f64,
-    constrained: &[Option<usize>],
+    constrained: &[Slot],
     mu: &[f64],
 ) -> f64 {
     let ne = e.len();
@@ -206,7 +206,7 @@ fn stress(
     for a in 0..ne {
         sigma[a] = (0..ne).map(|b| s(a, b) * e[b]).sum();
         energy += 0.5 * sigma[a] * e[a];
-        if let Some(c) = constrained[a] {
+        if let Some(c) = constrained[a].get() {
             sigma[a] += mu[c];
         }
     }
@@ -219,7 +219,7 @@ fn stress(
 fn write_entries(
     vals: &mut [f64],
     free: &[(usize, usize)],
-    constrained: &[Option<usize>],
+    constrained: &[Slot],
     k: impl Fn(usize, usize) -> f64,
     d: impl Fn(usize, usize) -> f64,
 ) {
@@ -231,7 +231,7 @@ fn write_entries(
         }
     }
     for (m, c) in constrained.iter().enumerate() {
-        if c.is_some() {
+        if c.get().is_some() {
             for &(b, _) in free {
                 let v = d(m, b);
                 vals[i] = v;
@@ -377,7 +377,7 @@ pub(super) fn apply_loads(
     for entry in &model.elements {
         for m in 0..entry.element.ne() {
             let i = entry.ie + m;
-            let Some(kc) = su.constraint[i] else {
+            let Some(kc) = su.constraint[i].get() else {
                 continue;
             };
             let target = match su.roles[i] {
@@ -412,7 +412,7 @@ pub(super) fn apply_loads(
             [m[1], m[2], 0.0, -m[0]],
             [m[2], -m[1], m[0], 0.0],
         ];
-        if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
+        if let (true, Some(k)) = (reduced, su.red.node_at[r].get()) {
             // Nᵀ (−2 t A) N on the node's rotation increments
             let nb = rot_basis(&x[r..r + 4]);
             let d0 = su.red.nodes[k].1;
@@ -430,13 +430,19 @@ pub(super) fn apply_loads(
             }
             continue;
         }
-        let idx = |u: usize| if reduced { su.red.map[u] } else { Some(u) };
+        let idx = |u: usize| {
+            if reduced {
+                su.red.map[u].get()
+            } else {
+                Some(u)
+            }
+        };
         for i in 0..4 {
-            let Some(ui) = su.unknown[r + i].and_then(idx) else {
+            let Some(ui) = su.unknown[r + i].get().and_then(idx) else {
                 continue;
             };
             for j in 0..4 {
-                if let Some(uj) = su.unknown[r + j].and_then(idx) {
+                if let Some(uj) = su.unknown[r + j].get().and_then(idx) {
                     tail.push((ui, uj));
                     vals.push(-2.0 * t * am[i][j] * geo);
                 }
@@ -453,7 +459,7 @@ pub(super) fn apply_loads(
         if !entries {
             continue;
         }
-        if let (true, Some(k)) = (reduced, su.red.node_at[r]) {
+        if let (true, Some(k)) = (reduced, su.red.node_at[r].get()) {
             // Nᵀ (2μ I) N = 2μ I on the rotation increments (N orthonormal)
             let d0 = su.red.nodes[k].1;
             for j in 0..3 {
@@ -462,12 +468,18 @@ pub(super) fn apply_loads(
             }
             continue;
         }
-        let idx = |u: usize| if reduced { su.red.map[u] } else { Some(u) };
+        let idx = |u: usize| {
+            if reduced {
+                su.red.map[u].get()
+            } else {
+                Some(u)
+            }
+        };
         let Some(kr) = idx(nf + kc) else {
             continue;
         };
         for i in 0..4 {
-            let Some(ui) = su.unknown[r + i].and_then(idx) else {
+            let Some(ui) = su.unknown[r + i].get().and_then(idx) else {
                 continue;
             };
             tail.extend([(ui, ui), (kr, ui), (ui, kr)]);
@@ -476,7 +488,7 @@ pub(super) fn apply_loads(
     }
     let mut r = vec![0.0; nf];
     for i in 0..model.nx {
-        if let Some(u) = su.unknown[i] {
+        if let Some(u) = su.unknown[i].get() {
             r[u] = balance[i];
         }
     }
@@ -514,7 +526,7 @@ pub(super) fn normalise_lambda(su: &Setup, x: &mut [f64]) {
     for &r in &su.lambda {
         let (mut free2, mut fixed2) = (0.0, 0.0);
         for i in r..r + 4 {
-            if su.unknown[i].is_some() {
+            if su.unknown[i].get().is_some() {
                 free2 += x[i] * x[i];
             } else {
                 fixed2 += x[i] * x[i];
@@ -523,7 +535,7 @@ pub(super) fn normalise_lambda(su: &Setup, x: &mut [f64]) {
         if free2 > 0.0 && fixed2 < 1.0 {
             let s = ((1.0 - fixed2) / free2).sqrt();
             for i in r..r + 4 {
-                if su.unknown[i].is_some() {
+                if su.unknown[i].get().is_some() {
                     x[i] *= s;
                 }
             }

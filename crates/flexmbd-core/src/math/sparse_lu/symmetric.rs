@@ -106,6 +106,8 @@ impl SparseLu {
             sort_small(&mut self.u_idx[start..]);
             self.u_ptr[k + 1] = self.u_idx.len();
         }
+        // (grown by pushes: up to twice its length in room, 13 MB at 10⁵ beams)
+        self.u_idx.shrink_to_fit();
         // columns of L (rows ascending: k increases)
         self.l_ptr[0] = 0;
         for j in 0..n {

@@ -40,13 +40,16 @@ fn lambda_at(x: &[f64], r: usize) -> [f64; 4] {
 }
 
 /// The co-rotated nodes of a model: every node whose four Euler parameters are free.
-pub(super) fn corot_nodes(model: &crate::model::Model, unknown: &[Option<usize>]) -> Vec<CoRot> {
+pub(super) fn corot_nodes(
+    model: &crate::model::Model,
+    unknown: &[crate::statics::Slot],
+) -> Vec<CoRot> {
     model
         .nodes
         .iter()
         .filter_map(|n| {
             let r = n.ix_rot?;
-            let u = |i: usize| unknown[i];
+            let u = |i: usize| unknown[i].get();
             let rot = [u(r)?, u(r + 1)?, u(r + 2)?, u(r + 3)?];
             let pos = match (n.host, u(n.ix_pos), u(n.ix_pos + 1), u(n.ix_pos + 2)) {
                 (None, Some(a), Some(b), Some(c)) => Some([a, b, c]),

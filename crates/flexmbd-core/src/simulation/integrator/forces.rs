@@ -124,7 +124,7 @@ impl Engine<'_> {
             }
             let xk = crate::assembly::gather(entry, x);
             let jac = entry.element.jacobian(&xk);
-            let s = &self.su.s_eff[el];
+            let s = self.su.s_eff.get(el);
             let ne = jac.nrows();
             let ed: Vec<f64> = (0..ne)
                 .map(|m| (0..xk.len()).map(|c| jac[(m, c)] * w[entry.xmap[c]]).sum())
@@ -291,7 +291,7 @@ impl Engine<'_> {
         for entry in &self.model.elements {
             let ne = entry.element.ne();
             let cons: Vec<(usize, usize)> = (0..ne)
-                .filter_map(|m| su.constraint[entry.ie + m].map(|kc| (m, kc)))
+                .filter_map(|m| su.constraint[entry.ie + m].get().map(|kc| (m, kc)))
                 .collect();
             if cons.is_empty() {
                 continue;

@@ -187,7 +187,7 @@ impl Engine<'_> {
             let n = &self.model.nodes[iv.node];
             let rot = n.ix_rot.map_or(0..0, |r| r..r + 4);
             for i in (n.ix_pos..n.ix_pos + 3).chain(rot) {
-                if let Some(u) = self.su.unknown[i] {
+                if let Some(u) = self.su.unknown[i].get() {
                     if u < self.su.nf {
                         given[u] = true;
                     }

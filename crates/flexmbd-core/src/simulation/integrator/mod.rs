@@ -459,7 +459,7 @@ impl<'a> Engine<'a> {
         let nx = self.model.nx;
         let p_ext: f64 = (0..nx).map(|i| ev.ext[i] * s.v[i]).sum();
         let mut p_presc: f64 = (0..nx)
-            .filter(|&i| self.su.unknown[i].is_none())
+            .filter(|&i| self.su.unknown[i].get().is_none())
             .map(|i| ev.balance[i] * s.v[i])
             .sum();
         for (kc, tv) in self.input_targets(s.t) {
@@ -473,7 +473,7 @@ impl<'a> Engine<'a> {
     fn frame(&self, s: &State, ev: &Eval, energy: Energies) -> Frame {
         let reactions = (0..self.model.nx)
             .map(|i| {
-                if self.su.unknown[i].is_none() {
+                if self.su.unknown[i].get().is_none() {
                     ev.balance[i]
                 } else {
                     0.0

@@ -130,8 +130,8 @@ impl<'a> Engine<'a> {
         let su = setup(model);
         let mut free = vec![0; su.nf];
         for (i, u) in su.unknown.iter().enumerate() {
-            if let Some(u) = u {
-                free[*u] = i;
+            if let Some(u) = u.get() {
+                free[u] = i;
             }
         }
         let mut presc = Vec::new();
@@ -145,7 +145,7 @@ impl<'a> Engine<'a> {
                     lambda: su.is_lambda[i],
                 }),
                 Target::Deformation(i) => {
-                    if let Some(kc) = su.constraint[i] {
+                    if let Some(kc) = su.constraint[i].get() {
                         let periodic = model.elements.iter().any(|en| {
                             (en.ie..en.ie + en.element.ne()).contains(&i)
                                 && en.element.mode_is_periodic(i - en.ie)
@@ -191,7 +191,7 @@ impl<'a> Engine<'a> {
                 let n = entry.xmap.len();
                 for i in 0..me.len() {
                     let (r, c) = (entry.xmap[i / n], entry.xmap[i % n]);
-                    match (su.unknown[r], su.unknown[c]) {
+                    match (su.unknown[r].get(), su.unknown[c].get()) {
                         (Some(a), Some(b)) => {
                             mass.local.push((rows.len() - start) as u32);
                             rows.push((a, b));
@@ -204,7 +204,7 @@ impl<'a> Engine<'a> {
             mass.piece_start.push(rows.len() - mass.first);
         }
         for_each_node_entry(model, &x0, None, true, |r, c, _| {
-            match (su.unknown[r], su.unknown[c]) {
+            match (su.unknown[r].get(), su.unknown[c].get()) {
                 (Some(a), Some(b)) => {
                     mass.node.push(Some(rows.len()));
                     rows.push((a, b));
@@ -217,7 +217,7 @@ impl<'a> Engine<'a> {
             let mut s = [[None; 4]; 4];
             for (i, si) in s.iter_mut().enumerate() {
                 for (j, sij) in si.iter_mut().enumerate() {
-                    if let (Some(a), Some(b)) = (su.unknown[r + i], su.unknown[r + j]) {
+                    if let (Some(a), Some(b)) = (su.unknown[r + i].get(), su.unknown[r + j].get()) {
                         *sij = Some(rows.len());
                         rows.push((a, b));
                     }
