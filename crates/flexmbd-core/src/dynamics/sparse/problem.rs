@@ -18,17 +18,20 @@ pub(super) struct Problem {
     pub(super) extra_k: Vec<(usize, usize, f64)>,
     /// The node of every coordinate.
     pub(super) group: Vec<usize>,
-    /// The point of every coordinate: its node, or the host of a node placed `at` another (a
-    /// SPACAR rotational node), so that the fill-reducing order keeps a point's translations and
-    /// rotations together ([`Problem::saddle_order`]).
-    pub(super) point: Vec<usize>,
     /// Size of the saddle-point system.
     pub(super) n: usize,
     /// Number of coordinates (the first `nc` unknowns).
     pub(super) nc: usize,
+    /// The pivot order of the factorisation (step k eliminates unknown `perm[k]`;
+    /// [`saddle_order`]), in which the matrix is kept; the identity when no such order was
+    /// found (`ordered` false).
+    pub(super) perm: Vec<u32>,
+    pub(super) ordered: bool,
     /// CSC structure of the lower triangle (row ≥ column) of the symmetric saddle-point matrix
-    /// (rows sorted, every diagonal entry present, so each column starts with it; u32 rows, 4
-    /// bytes per entry): half the entries of both triangles.
+    /// in the pivot order (column k: step k, rows: the steps s ≥ k coupled to it, sorted,
+    /// starting with the diagonal; u32 rows, 4 bytes per entry): half the entries of both
+    /// triangles, and the very layout the L D Lᵀ factorisation reads (not held a second time
+    /// beside it).
     pub(super) col_ptr: Vec<usize>,
     pub(super) row_idx: Vec<u32>,
     /// K values on that structure (the symmetric part of K).
@@ -71,6 +74,86 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], 
                     .sum();
             }
         });
+}
+
+/// The structure of both triangles (CSC, rows sorted) of a symmetric matrix from that of its
+/// lower triangle (rows sorted, each column starting with its diagonal entry).
+fn full_of_lower(n: usize, col_ptr: &[usize], row_idx: &[u32]) -> (Vec<usize>, Vec<u32>) {
+    let mut ptr = vec![0usize; n + 1];
+    for c in 0..n {
+        for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+            ptr[c + 1] += 1;
+            if r as usize != c {
+                ptr[r as usize + 1] += 1;
+            }
+        }
+    }
+    for c in 0..n {
+        ptr[c + 1] += ptr[c];
+    }
+    // column j: the mirrors of the lower entries in row j (columns < j, ascending), then its
+    // own lower entries (rows ≥ j, ascending)
+    let mut rows = vec![0u32; ptr[n]];
+    let mut fill: Vec<usize> = ptr[..n].to_vec();
+    for c in 0..n {
+        for &r in &row_idx[col_ptr[c] + 1..col_ptr[c + 1]] {
+            rows[fill[r as usize]] = c as u32;
+            fill[r as usize] += 1;
+        }
+    }
+    for c in 0..n {
+        let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
+        rows[fill[c]..fill[c] + (hi - lo)].copy_from_slice(&row_idx[lo..hi]);
+    }
+    (ptr, rows)
+}
+
+/// The lower triangle of P A Pᵀ (step k = unknown `perm[k]`) from that of A, with the values
+/// and mass places of its entries: each entry (r, c) goes to column min(inv r, inv c), row
+/// max(inv r, inv c), the rows of each column sorted.
+fn permuted_lower(
+    perm: &[u32],
+    col_ptr: &[usize],
+    row_idx: &[u32],
+    k: &[f64],
+    m_at: &[u32],
+) -> (Vec<usize>, Vec<u32>, Vec<f64>, Vec<u32>) {
+    let n = perm.len();
+    let mut inv = vec![0u32; n];
+    for (s, &c) in perm.iter().enumerate() {
+        inv[c as usize] = s as u32;
+    }
+    let place = |q: usize, c: usize| {
+        let (a, b) = (inv[row_idx[q] as usize], inv[c]);
+        (a.max(b), a.min(b) as usize)
+    };
+    let mut ptr = vec![0usize; n + 1];
+    for c in 0..n {
+        for q in col_ptr[c]..col_ptr[c + 1] {
+            ptr[place(q, c).1 + 1] += 1;
+        }
+    }
+    for t in 0..n {
+        ptr[t + 1] += ptr[t];
+    }
+    // (row, source entry) of every new position, each column sorted by row
+    let mut fill: Vec<usize> = ptr[..n].to_vec();
+    let mut at = vec![(0u32, 0u32); ptr[n]];
+    for c in 0..n {
+        for q in col_ptr[c]..col_ptr[c + 1] {
+            let (s, t) = place(q, c);
+            at[fill[t]] = (s, q as u32);
+            fill[t] += 1;
+        }
+    }
+    drop(fill);
+    for t in 0..n {
+        sort_small(&mut at[ptr[t]..ptr[t + 1]]);
+    }
+    let rows = at.iter().map(|&(s, _)| s).collect();
+    let kp = at.iter().map(|&(_, q)| k[q as usize]).collect();
+    let mp = at.iter().map(|&(_, q)| m_at[q as usize]).collect();
+    (ptr, rows, kp, mp)
 }
 
 impl Problem {
@@ -262,17 +345,30 @@ impl Problem {
             lin.geo = Vec::new();
         }
         let group = lin.coord_nodes(model);
-        let point = group
+        // the pivot order, and the lower triangle (K and the places of M) permuted into it
+        let point: Vec<usize> = group
             .iter()
             .map(|&g| model.nodes.get(g).and_then(|n| n.host).unwrap_or(g))
             .collect();
+        let order = {
+            let (fp, fr) = full_of_lower(n, &col_ptr, &row_idx);
+            Self::saddle_order(n, nc, &point, (&fp, &fr)).ok()
+        };
+        drop(point);
+        let ordered = order.is_some();
+        let perm: Vec<u32> = match order {
+            Some(o) => o.into_iter().map(|c| c as u32).collect(),
+            None => (0..n as u32).collect(),
+        };
+        let (col_ptr, row_idx, k, m_at) = permuted_lower(&perm, &col_ptr, &row_idx, &k, &m_at);
         Self {
             lin,
             extra_k,
             group,
-            point,
             n,
             nc,
+            perm,
+            ordered,
             col_ptr,
             row_idx,
             k,
@@ -308,13 +404,11 @@ impl Problem {
     pub(super) fn constraint_entries(&self) -> Vec<(usize, usize, f64)> {
         let nc = self.nc;
         let mut out = Vec::new();
-        for c in 0..self.n {
-            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-            // (lower triangle: a constraint row or column means a row ≥ nc)
-            let first = lo + self.row_idx[lo..hi].partition_point(|&r| (r as usize) < nc);
-            for q in first..hi {
-                let (r, v) = (self.row_idx[q] as usize, self.k[q]);
-                if v != 0.0 {
+        for t in 0..self.n {
+            let c = self.perm[t] as usize;
+            for q in self.col_ptr[t]..self.col_ptr[t + 1] {
+                let (r, v) = (self.perm[self.row_idx[q] as usize] as usize, self.k[q]);
+                if (r >= nc || c >= nc) && v != 0.0 {
                     out.push((r, c, v));
                     if r != c {
                         out.push((c, r, v));
@@ -325,15 +419,16 @@ impl Problem {
         out
     }
 
-    /// The structure of both triangles (CSC, rows sorted), for the orderings and the symbolic
-    /// factorisation, which follow the neighbours of an unknown: built when they need it and
-    /// released after (the lower triangle is what is kept).
+    /// The structure of both triangles in the original numbering of the unknowns (CSC, rows
+    /// sorted), for the symbolic factorisation and the LU fall-back: made when they need it and
+    /// released after.
     pub(super) fn full_pattern(&self) -> (Vec<usize>, Vec<u32>) {
         let n = self.n;
         let mut ptr = vec![0usize; n + 1];
-        for c in 0..n {
-            for q in self.col_ptr[c]..self.col_ptr[c + 1] {
-                let r = self.row_idx[q] as usize;
+        for t in 0..n {
+            let c = self.perm[t] as usize;
+            for q in self.col_ptr[t]..self.col_ptr[t + 1] {
+                let r = self.perm[self.row_idx[q] as usize] as usize;
                 ptr[c + 1] += 1;
                 if r != c {
                     ptr[r + 1] += 1;
@@ -343,20 +438,22 @@ impl Problem {
         for c in 0..n {
             ptr[c + 1] += ptr[c];
         }
-        // column j: the mirrors of the lower entries in row j (columns < j, ascending), then
-        // its own lower entries (rows ≥ j, ascending)
         let mut rows = vec![0u32; ptr[n]];
         let mut fill: Vec<usize> = ptr[..n].to_vec();
-        for c in 0..n {
-            for q in self.col_ptr[c] + 1..self.col_ptr[c + 1] {
-                let r = self.row_idx[q] as usize;
-                rows[fill[r]] = c as u32;
-                fill[r] += 1;
+        for t in 0..n {
+            let c = self.perm[t] as usize;
+            for q in self.col_ptr[t]..self.col_ptr[t + 1] {
+                let r = self.perm[self.row_idx[q] as usize] as usize;
+                rows[fill[c]] = r as u32;
+                fill[c] += 1;
+                if r != c {
+                    rows[fill[r]] = c as u32;
+                    fill[r] += 1;
+                }
             }
         }
         for c in 0..n {
-            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-            rows[fill[c]..fill[c] + (hi - lo)].copy_from_slice(&self.row_idx[lo..hi]);
+            sort_small(&mut rows[ptr[c]..ptr[c + 1]]);
         }
         (ptr, rows)
     }
@@ -364,13 +461,18 @@ impl Problem {
     /// For every entry of the structure of both triangles ([`Problem::full_pattern`]), the
     /// position of its value in the stored lower triangle.
     pub(super) fn full_positions(&self, ptr: &[usize], rows: &[u32]) -> Vec<u32> {
+        let mut inv = vec![0u32; self.n];
+        for (k, &c) in self.perm.iter().enumerate() {
+            inv[c as usize] = k as u32;
+        }
         let mut at = Vec::with_capacity(rows.len());
         for c in 0..self.n {
             for &r in &rows[ptr[c]..ptr[c + 1]] {
-                let (r, c) = ((r as usize).max(c), (r as usize).min(c));
-                let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-                let q = lo + self.row_idx[lo..hi].partition_point(|&x| (x as usize) < r);
-                debug_assert_eq!(self.row_idx[q] as usize, r);
+                let (a, b) = (inv[r as usize] as usize, inv[c] as usize);
+                let (s, t) = (a.max(b), a.min(b));
+                let (lo, hi) = (self.col_ptr[t], self.col_ptr[t + 1]);
+                let q = lo + self.row_idx[lo..hi].partition_point(|&x| (x as usize) < s);
+                debug_assert_eq!(self.row_idx[q] as usize, s);
                 at.push(q as u32);
             }
         }
@@ -381,12 +483,15 @@ impl Problem {
     pub(super) fn diagonals(&self) -> (Vec<f64>, Vec<f64>) {
         let mut kd = vec![0.0; self.nc];
         let mut md = vec![0.0; self.nc];
-        for c in 0..self.nc {
-            // (each column of the lower triangle starts with its diagonal entry)
-            let p = self.col_ptr[c];
-            debug_assert_eq!(self.row_idx[p] as usize, c);
-            kd[c] = self.k[p];
-            md[c] = self.m_entry(p).unwrap_or(0.0);
+        for (t, &c) in self.perm.iter().enumerate() {
+            let c = c as usize;
+            if c < self.nc {
+                // (each column of the lower triangle starts with its diagonal entry)
+                let p = self.col_ptr[t];
+                debug_assert_eq!(self.row_idx[p] as usize, t);
+                kd[c] = self.k[p];
+                md[c] = self.m_entry(p).unwrap_or(0.0);
+            }
         }
         (kd, md)
     }
@@ -396,13 +501,15 @@ impl Problem {
     /// its supervariables found in advance, and far cheaper), each node's coordinates together;
     /// each constraint row placed right after the last coordinate it couples, so that its pivot
     /// (minus a Schur complement of the coordinates) exists.
-    /// `full`: the structure of both triangles ([`Problem::full_pattern`]).
-    pub(super) fn saddle_order(
-        &self,
+    /// `full`: the structure of both triangles; `group`: the point of every coordinate (its
+    /// node, or the host of a node placed `at` another, a SPACAR rotational node), so that a
+    /// point's translations and rotations stay together.
+    fn saddle_order(
+        n: usize,
+        nc: usize,
         group: &[usize],
         full: (&[usize], &[u32]),
     ) -> Result<Vec<usize>, String> {
-        let (n, nc) = (self.n, self.nc);
         let (col_ptr, row_idx) = full;
         // groups numbered 0..ng in order of first appearance
         let mut gid = vec![usize::MAX; group.iter().copied().max().map_or(0, |g| g + 1)];

@@ -31,9 +31,9 @@ pub(super) struct FullPattern {
 
 /// A factorisation of the shifted saddle-point matrix A(σ) = [K − σM, Gᵀ; G, 0].
 pub(super) struct Shifted<'a> {
-    /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused), and the
-    /// CSC positions of the lower triangle it reads.
-    pub(super) sym: Option<(SparseLu, Vec<u32>)>,
+    /// L D Lᵀ with diagonal pivots in the saddle order (symbolic structure reused); it reads
+    /// the lower triangle of the problem, which is kept in that order.
+    pub(super) sym: Option<SparseLu>,
     /// LU with partial pivoting (created when L D Lᵀ fails), with the structure of both
     /// triangles it reads ([`Problem::full_pattern`]).
     pub(super) lu: Option<(SparseLu, FullPattern)>,
@@ -53,25 +53,19 @@ pub(super) struct Shifted<'a> {
 
 impl<'a> Shifted<'a> {
     pub(super) fn new(p: &Problem) -> Self {
-        // (the structure of both triangles for the order and the symbolic factorisation only:
-        // released before the factorisation's values are made)
-        let (ptr, rows) = p.full_pattern();
-        let sym = p
-            .saddle_order(&p.point, (&ptr, &rows))
-            .ok()
-            .and_then(|order| {
-                let mut lu = SparseLu::with_order(p.n, order).ok()?;
-                if !lu.set_diagonal_pivots(&ptr, &rows) {
-                    return None;
-                }
-                lu.set_pivot_tolerance(0.0);
-                Some(lu)
-            })
-            .map(|mut lu| {
-                drop((ptr, rows));
-                let slots = lu.lower_layout_of_triangle(&p.col_ptr, &p.row_idx);
-                (lu, slots)
-            });
+        // (the structure of both triangles for the symbolic factorisation only: released
+        // before the factorisation's values are made)
+        let sym = p.ordered.then(|| {
+            let (ptr, rows) = p.full_pattern();
+            let order = p.perm.iter().map(|&c| c as usize).collect();
+            let mut lu = SparseLu::with_order(p.n, order).ok()?;
+            if !lu.set_diagonal_pivots(&ptr, &rows) {
+                return None;
+            }
+            lu.set_pivot_tolerance(0.0);
+            Some(lu)
+        });
+        let sym = sym.flatten();
         Self {
             sym,
             lu: None,
@@ -99,11 +93,11 @@ impl<'a> Shifted<'a> {
         self.sigma = sigma;
         self.below = None;
         let n_constraints = p.n - p.nc;
-        if let Some((lu, slots)) = &mut self.sym {
-            if refactor_at(lu, slots, p, sigma).is_ok() {
+        if let Some(lu) = &mut self.sym {
+            if refactor_at(lu, p, sigma).is_ok() {
                 self.use_sym = true;
                 if self.accurate(p) {
-                    let neg = self.sym.as_ref().map_or(0, |s| s.0.negative_pivots());
+                    let neg = self.sym.as_ref().map_or(0, |s| s.negative_pivots());
                     self.below = neg.checked_sub(n_constraints);
                     return true;
                 }
@@ -140,15 +134,19 @@ impl<'a> Shifted<'a> {
         let b: Vec<f64> = (0..p.n).map(|_| rng.next()).collect();
         let mut z = b.clone();
         self.solve_factored(&mut z);
+        // (the matrix is kept in the pivot order: the residual in that order)
+        let zp: Vec<f64> = p.perm.iter().map(|&c| z[c as usize]).collect();
+        let bp: Vec<f64> = p.perm.iter().map(|&c| b[c as usize]).collect();
+        let sigma = self.sigma;
         z.iter().all(|v| v.is_finite())
-            && csc_sym_residual_with(&p.col_ptr, &p.row_idx, |q| p.shifted(q, self.sigma), &z, &b).1
+            && csc_sym_residual_with(&p.col_ptr, &p.row_idx, |q| p.shifted(q, sigma), &zp, &bp).1
                 <= MAX_BACKWARD_ERROR
     }
 
     /// A solve with the factorisation alone.
     pub(super) fn solve_factored(&mut self, b: &mut [f64]) {
         if self.use_sym {
-            if let Some((lu, _)) = &mut self.sym {
+            if let Some(lu) = &mut self.sym {
                 lu.solve(b);
             }
         } else if let Some((lu, _)) = &mut self.lu {
@@ -229,21 +227,20 @@ impl<'a> Shifted<'a> {
         self.sigma = f64::NAN;
         self.below = None;
         self.use_sym = false;
-        let (lu, slots) = self.sym.as_mut()?;
-        inertia_count(lu, slots, p, s)
+        let lu = self.sym.as_mut()?;
+        inertia_count(lu, p, s)
     }
 }
 
 /// The eigenvalues below `s` by the inertia of A(s) = [K − sM, Gᵀ; G, 0], refactored in `lu`
-/// (the L D Lᵀ structure; `slots` the CSC positions of its lower triangle): its negative
-/// pivots less one per constraint.
-fn inertia_count(lu: &mut SparseLu, slots: &[u32], p: &Problem, s: f64) -> Option<usize> {
-    refactor_at(lu, slots, p, s).ok()?;
+/// (the L D Lᵀ structure): its negative pivots less one per constraint.
+fn inertia_count(lu: &mut SparseLu, p: &Problem, s: f64) -> Option<usize> {
+    refactor_at(lu, p, s).ok()?;
     lu.negative_pivots().checked_sub(p.n - p.nc)
 }
 
-/// L D Lᵀ of A(s) in `lu` (`slots`: the CSC positions of its lower triangle), its values
-/// formed as the factorisation reads them (no array of them beside the factor).
-fn refactor_at(lu: &mut SparseLu, slots: &[u32], p: &Problem, s: f64) -> Result<f64, LuFailure> {
-    lu.refactor_symmetric_with(|q| p.shifted(slots[q] as usize, s))
+/// L D Lᵀ of A(s) in `lu`, from the lower triangle of the problem in its pivot order, the
+/// values formed as the factorisation reads them (no array of them beside the factor).
+fn refactor_at(lu: &mut SparseLu, p: &Problem, s: f64) -> Result<f64, LuFailure> {
+    lu.refactor_symmetric_on(&p.col_ptr, &p.row_idx, |q| p.shifted(q, s))
 }

@@ -171,45 +171,6 @@ impl SparseLu {
         slot
     }
 
-    /// [`SparseLu::lower_layout`] of a symmetric matrix of which one triangle is stored (in its
-    /// own numbering, CSC): each stored entry (r, c) is the entry of the pivot order's lower
-    /// triangle at step min(pinv r, pinv c), row max(pinv r, pinv c). Returns, for each entry
-    /// of the layout, the position of its stored entry.
-    pub fn lower_layout_of_triangle<R: RowIndex>(
-        &mut self,
-        col_ptr: &[usize],
-        row_idx: &[R],
-    ) -> Vec<u32> {
-        let n = self.n;
-        let step = |p: usize, c: usize| {
-            let (a, b) = (self.pinv[row_idx[p].ix()], self.pinv[c]);
-            (a.min(b), a.max(b))
-        };
-        let mut ptr = vec![0usize; n + 1];
-        for c in 0..n {
-            for p in col_ptr[c]..col_ptr[c + 1] {
-                ptr[step(p, c).0 + 1] += 1;
-            }
-        }
-        for k in 0..n {
-            ptr[k + 1] += ptr[k];
-        }
-        let mut fill: Vec<usize> = ptr[..n].to_vec();
-        let mut rows = vec![0u32; ptr[n]];
-        let mut slot = vec![0u32; ptr[n]];
-        for c in 0..n {
-            for p in col_ptr[c]..col_ptr[c + 1] {
-                let (k, s) = step(p, c);
-                rows[fill[k]] = s as u32;
-                slot[fill[k]] = p as u32;
-                fill[k] += 1;
-            }
-        }
-        self.lower_ptr = ptr;
-        self.lower_row = rows;
-        slot
-    }
-
     /// L D Lᵀ refactorisation of a symmetric matrix with the diagonal pivot order of
     /// [`set_diagonal_pivots`], from the values of its lower triangle in the layout of
     /// [`lower_layout`]: the same arithmetic as [`refactor`] restricted to the lower triangle,
@@ -234,7 +195,27 @@ impl SparseLu {
         &mut self,
         lower: impl Fn(usize) -> f64,
     ) -> Result<f64, LuFailure> {
-        if !self.diagonal_structure || !self.diag_pref {
+        let (ptr, row) = (
+            std::mem::take(&mut self.lower_ptr),
+            std::mem::take(&mut self.lower_row),
+        );
+        let r = self.refactor_symmetric_on(&ptr, &row, lower);
+        (self.lower_ptr, self.lower_row) = (ptr, row);
+        r
+    }
+
+    /// [`SparseLu::refactor_symmetric_with`] with the layout of the lower triangle in pivot order
+    /// given by the caller instead of [`SparseLu::lower_layout`]: entries of step k are
+    /// `row[ptr[k]..ptr[k + 1]]` (pivot numbering, ≥ k), entry q's value `lower(q)`. For a
+    /// caller that keeps its matrix in pivot order (the sparse modal problem), so that the
+    /// layout is not held twice.
+    pub fn refactor_symmetric_on(
+        &mut self,
+        ptr: &[usize],
+        row: &[u32],
+        lower: impl Fn(usize) -> f64,
+    ) -> Result<f64, LuFailure> {
+        if !self.diagonal_structure || !self.diag_pref || ptr.len() != self.n + 1 {
             return Err(LuFailure::PivotTooSmall);
         }
         self.factored = false;
@@ -249,8 +230,8 @@ impl SparseLu {
         let pivot_tol = self.pivot_tol;
         self.n_negative = 0;
         for k in 0..n {
-            let (alo, ahi) = (self.lower_ptr[k], self.lower_ptr[k + 1]);
-            for (q, &s) in (alo..ahi).zip(&self.lower_row[alo..ahi]) {
+            let (alo, ahi) = (ptr[k], ptr[k + 1]);
+            for (q, &s) in (alo..ahi).zip(&row[alo..ahi]) {
                 x[s as usize] += lower(q);
             }
             for p in self.u_ptr[k]..self.u_ptr[k + 1] {
