@@ -413,7 +413,7 @@ pub fn run_sweep(a: SweepArgs) -> anyhow::Result<ExitCode> {
     }
     if a.json {
         let doc = report::sweep_json(&model, &file, &points, &nodes, note);
-        emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
+        crate::emit_json(&doc)?;
     } else {
         emit(&report::sweep_text(
             &model, &file, &points, a.count, &nodes, a.local, note,

@@ -342,6 +342,24 @@ fn emit(text: &str) -> anyhow::Result<()> {
     }
 }
 
+/// Writes a JSON document to standard output as it is serialised, marked with the parameters
+/// a study set ([`params::Marked`]): the text of a large model's results is never held whole.
+fn emit_json<T: serde::Serialize>(doc: &T) -> anyhow::Result<()> {
+    use std::io::Write;
+    let out = std::io::stdout().lock();
+    let mut w = params::Marked::new(std::io::BufWriter::with_capacity(1 << 16, out));
+    let written = serde_json::to_writer_pretty(&mut w, doc)
+        .map_err(std::io::Error::from)
+        .and_then(|()| w.write_all(b"\n"))
+        .and_then(|()| w.flush());
+    match written {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::Error::new(e).context("cannot write to standard output"))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// `flexmbd convert IN.dat OUT.toml`.
 fn convert(input: &Path, output: &Path) -> anyhow::Result<ExitCode> {
     if extension(input).as_deref() != Some("dat") {
@@ -531,14 +549,14 @@ fn run_modes(
     {
         opts.steps = opts.steps.min(1);
     }
-    let run = partial::Path::of_solution(
+    let mut run = partial::Path::of_solution(
         progress::solve_static(&model, &opts),
         "the static equilibrium to linearise about was not found",
     )?;
     let sol = run.solution();
     // a path that stopped part-way: its last converged step, unless another one is asked for
     let k = at_step.unwrap_or(sol.steps.len() - 1);
-    let Some(step) = sol.steps.get(k) else {
+    if k >= sol.steps.len() {
         return Err(BadInput(format!(
             "--at-step {k}: the static solution has steps 0 to {}{}",
             sol.steps.len() - 1,
@@ -549,23 +567,23 @@ fn run_modes(
             }
         ))
         .into());
-    };
+    }
     let note = run.note();
+    run.keep_only_step(k);
+    let step = &run.solution().steps[k];
     let modal = progress::stage("modal analysis", || {
         modes_with(&model, step, count, &modal_opts)
     })
     .context("modal analysis failed")?;
     let fname = path.display().to_string();
     if json {
-        emit(
-            &(serde_json::to_string_pretty(&flexmbd_io::modes_report::ModesDoc {
-                model: &model,
-                file: &fname,
-                load_factor: step.load_factor,
-                modal: &modal,
-                stop: note.as_ref(),
-            })? + "\n"),
-        )?;
+        emit_json(&flexmbd_io::modes_report::ModesDoc {
+            model: &model,
+            file: &fname,
+            load_factor: step.load_factor,
+            modal: &modal,
+            stop: note.as_ref(),
+        })?;
     } else {
         emit(&flexmbd_io::modes_report::modes_text(
             &model,
@@ -659,7 +677,7 @@ fn run_static(
             extras,
             stop: note.as_ref(),
         };
-        emit(&(serde_json::to_string_pretty(&doc)? + "\n"))?;
+        emit_json(&doc)?;
     } else {
         emit(&static_text(&model, &fname, sol, extras, note.as_ref()))?;
     }

@@ -56,6 +56,27 @@ impl Path {
         &self.analysis.solution
     }
 
+    /// Releases the states of every step but `k` (coordinates, deformations, stress
+    /// resultants, reactions, multipliers; load factors and counts stay), for a command that
+    /// goes on with that one step after its notes are made ([`Path::note`]): the reference
+    /// state of a large model is as large as the one analysed (0.2 KB per beam).
+    pub fn keep_only_step(&mut self, k: usize) {
+        for (i, s) in self.analysis.solution.steps.iter_mut().enumerate() {
+            if i != k {
+                for v in [
+                    &mut s.x,
+                    &mut s.e,
+                    &mut s.sigma,
+                    &mut s.reactions,
+                    &mut s.multipliers,
+                ] {
+                    *v = Vec::new();
+                }
+                s.tangent_eigenvalues = None;
+            }
+        }
+    }
+
     /// The mark of the outputs: where and why the path stopped, what to try.
     pub fn note(&self) -> Option<StopNote> {
         self.stop

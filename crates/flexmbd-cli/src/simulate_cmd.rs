@@ -1,6 +1,6 @@
 //! `flexmbd simulate`: parse the arguments, one core call, the writers.
 
-use crate::{emit, load_sim_file, outputs, progress, BadInput};
+use crate::{emit, emit_json, load_sim_file, outputs, progress, BadInput};
 use flexmbd_core::simulation::{simulate, Excitation, SimFailure, SimOptions, Simulation, Stopped};
 use flexmbd_core::Model;
 use flexmbd_io::sim_report::{sim_text, write_sim_csv, SimDoc};
@@ -193,14 +193,12 @@ pub fn run(a: SimulateArgs) -> anyhow::Result<ExitCode> {
         write_vtk(dir, model, &sim, stopped.as_ref())?;
     }
     if a.json {
-        emit(
-            &(serde_json::to_string_pretty(&SimDoc {
-                model,
-                file: &fname,
-                sim: &sim,
-                stopped: stopped.as_ref(),
-            })? + "\n"),
-        )?;
+        emit_json(&SimDoc {
+            model,
+            file: &fname,
+            sim: &sim,
+            stopped: stopped.as_ref(),
+        })?;
     } else {
         emit(&sim_text(model, &fname, &sim, stopped.as_ref()))?;
     }
