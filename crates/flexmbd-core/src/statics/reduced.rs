@@ -297,15 +297,18 @@ fn has_stiffness(s: faer::MatRef<'_, f64>, ne: usize) -> bool {
     (0..ne).any(|a| (0..ne).any(|b| s[(a, b)] != 0.0))
 }
 
-/// The material stiffness times displacements, K_m δx = Σ Dᵀ S (D δx) over the elements'
-/// flexible deformations, evaluated through the deformations δe = D δx for the reason given at
-/// [`ReducedLinear::material_energy2`], with the elements' deformation Jacobians D computed once
-/// and kept (ne × nxe values per element with stiffness, 84 for a beam). For the refined solves
-/// of the sparse modes and of statics' Newton, which take hundreds of these products.
+/// The material stiffness times displacements on the reduced coordinates, K_m u = Σ (D T)ᵀ S
+/// (D T u) over the elements' flexible deformations, evaluated through the deformations
+/// δe = D T u for the reason given at [`ReducedLinear::material_energy2`]. Each element's D T
+/// (its deformation Jacobian on its reduced columns, T as in the reduced Newton system:
+/// [`super::reduction::TColumns`]) is computed once and kept: ne × (reduced columns) values per
+/// element with stiffness, 72 for a beam of two free rotational nodes (D alone has 84, and a
+/// product through it went through vectors in x and back). For the refined solves of the sparse
+/// modes and of statics' Newton, which take hundreds of these products.
 pub(crate) struct MaterialOperator {
-    /// Per element with stiffness: its index, and the offset of its D (row-major) in `d`.
+    /// Per element with stiffness: its index, and the offset of its D T (row-major) in `dt`.
     elements: Vec<(usize, usize)>,
-    d: Vec<f64>,
+    dt: Vec<f64>,
 }
 
 impl MaterialOperator {
@@ -315,74 +318,78 @@ impl MaterialOperator {
         let stiff: Vec<usize> = (0..model.elements.len())
             .filter(|&el| has_stiffness(su.s_eff.get(el), model.elements[el].element.ne()))
             .collect();
-        let jac = |&el: &usize| -> Vec<f64> {
+        let jac_t = |&el: &usize| -> Vec<f64> {
             let entry = &model.elements[el];
-            if let (Some(cf), 6, 14) = (
-                entry.element.closed_form(),
-                entry.element.ne(),
-                entry.xmap.len(),
-            ) {
-                let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
-                return cf.first(&xk).d.iter().flatten().copied().collect();
+            let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
+            let d: Vec<f64> = match (entry.element.closed_form(), ne, nxe) {
+                (Some(cf), 6, 14) => {
+                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+                    cf.first(&xk).d.iter().flatten().copied().collect()
+                }
+                _ => {
+                    let d = entry.element.jacobian(&gather(entry, x));
+                    (0..ne)
+                        .flat_map(|r| (0..nxe).map(move |c| (r, c)))
+                        .map(|(r, c)| d[(r, c)])
+                        .collect()
+                }
+            };
+            let xk = |a: usize| x[entry.xmap[a]];
+            let mut tc = super::reduction::TColumns::new(&xk);
+            let cols: Vec<([(usize, f64); 4], usize)> = su.red.elem_cols[el]
+                .iter()
+                .map(|(c, _)| tc.col(c))
+                .collect();
+            let mut dt = Vec::with_capacity(ne * cols.len());
+            for r in 0..ne {
+                let row = &d[r * nxe..(r + 1) * nxe];
+                dt.extend(
+                    cols.iter()
+                        .map(|(t, len)| t[..*len].iter().map(|&(a, w)| w * row[a]).sum::<f64>()),
+                );
             }
-            let d = entry.element.jacobian(&gather(entry, x));
-            (0..d.nrows())
-                .flat_map(|r| (0..d.ncols()).map(move |c| (r, c)))
-                .map(|(r, c)| d[(r, c)])
-                .collect()
+            dt
         };
         let blocks: Vec<Vec<f64>> = if stiff.len() < 256 {
-            stiff.iter().map(jac).collect()
+            stiff.iter().map(jac_t).collect()
         } else {
-            stiff.par_iter().with_min_len(64).map(jac).collect()
+            stiff.par_iter().with_min_len(64).map(jac_t).collect()
         };
         let mut elements = Vec::with_capacity(stiff.len());
-        let mut d = Vec::with_capacity(blocks.iter().map(Vec::len).sum());
+        let mut dt = Vec::with_capacity(blocks.iter().map(Vec::len).sum());
         for (&el, b) in stiff.iter().zip(&blocks) {
-            elements.push((el, d.len()));
-            d.extend_from_slice(b);
+            elements.push((el, dt.len()));
+            dt.extend_from_slice(b);
         }
-        MaterialOperator { elements, d }
+        MaterialOperator { elements, dt }
     }
 
-    /// K_m δx = Σ Dᵀ S (D δx) as forces in x, into `f` (length nx, overwritten).
-    pub(crate) fn forces(&self, model: &Model, su: &Setup, dx: &[f64], f: &mut [f64]) {
-        f.iter_mut().for_each(|v| *v = 0.0);
+    /// K_m u on the reduced coordinates (the first `su.red.nfr` unknowns of the reduced Newton
+    /// system) at the state the operator was made at.
+    pub(crate) fn reduced_forces(&self, model: &Model, su: &Setup, u: &[f64]) -> Vec<f64> {
+        let mut f = vec![0.0; su.red.nfr];
         let mut de = Vec::new();
         let mut sig = Vec::new();
         for &(el, off) in &self.elements {
-            let entry = &model.elements[el];
+            let ne = model.elements[el].element.ne();
             let s = su.s_eff.get(el);
-            let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
-            let d = &self.d[off..off + ne * nxe];
+            let cols = &su.red.elem_cols[el];
+            let nc = cols.len();
+            let dt = &self.dt[off..off + ne * nc];
             de.clear();
-            de.extend(d.chunks_exact(nxe).map(|row| {
+            de.extend(dt.chunks_exact(nc).map(|row| {
                 row.iter()
-                    .zip(&entry.xmap)
-                    .map(|(a, &i)| a * dx[i])
+                    .zip(cols)
+                    .map(|(a, &(_, m))| a * u[m])
                     .sum::<f64>()
             }));
             sig.clear();
             sig.extend((0..ne).map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
-            for (c, &i) in entry.xmap.iter().enumerate() {
-                f[i] += (0..ne).map(|r| d[r * nxe + c] * sig[r]).sum::<f64>();
+            for (c, &(_, m)) in cols.iter().enumerate() {
+                f[m] += (0..ne).map(|r| dt[r * nc + c] * sig[r]).sum::<f64>();
             }
         }
-    }
-
-    /// K_m u on the reduced coordinates (the first `su.red.nfr` unknowns of the reduced Newton
-    /// system) at the state `x`: [`to_x`], [`MaterialOperator::forces`], [`force_to_coords`].
-    pub(crate) fn reduced_forces(
-        &self,
-        model: &Model,
-        su: &Setup,
-        x: &[f64],
-        u: &[f64],
-    ) -> Vec<f64> {
-        let dx = to_x(su, model, x, u);
-        let mut f = vec![0.0; model.nx];
-        self.forces(model, su, &dx, &mut f);
-        force_to_coords(su, x, &f)
+        f
     }
 }
 

@@ -414,6 +414,54 @@ pub(super) fn rot_basis(l: &[f64]) -> [[f64; 3]; 4] {
     std::array::from_fn(|i| std::array::from_fn(|j| lb[j][i] * inv))
 }
 
+/// The columns of an element's T (reduced → original local coordinates, see [`Reduction`]):
+/// up to four (local coordinate, coefficient) pairs each, with the rotation bases N(λ) of up to
+/// four nodes cached. `xk(a)`: the element's local coordinate a at the state.
+pub(super) struct TColumns<'a> {
+    xk: &'a dyn Fn(usize) -> f64,
+    bases: [[[f64; 3]; 4]; 4],
+    base_a0: [usize; 4],
+    nb: usize,
+}
+
+impl<'a> TColumns<'a> {
+    pub(super) fn new(xk: &'a dyn Fn(usize) -> f64) -> Self {
+        Self {
+            xk,
+            bases: [[[0.0; 3]; 4]; 4],
+            base_a0: [usize::MAX; 4],
+            nb: 0,
+        }
+    }
+
+    /// The column of reduced coordinate `c`: its pairs and how many there are.
+    pub(super) fn col(&mut self, c: &RCol) -> ([(usize, f64); 4], usize) {
+        match *c {
+            RCol::Plain(a) => ([(a as usize, 1.0), (0, 0.0), (0, 0.0), (0, 0.0)], 1),
+            RCol::Rot { a0, j } => {
+                let (a0, j) = (a0 as usize, j as usize);
+                let slot = match self.base_a0[..self.nb].iter().position(|&v| v == a0) {
+                    Some(s) => s,
+                    None => {
+                        let xk = self.xk;
+                        let l = [xk(a0), xk(a0 + 1), xk(a0 + 2), xk(a0 + 3)];
+                        if self.nb == self.bases.len() {
+                            // more than four rotational nodes in one element: no cache
+                            let nm = rot_basis(&l);
+                            return (std::array::from_fn(|i| (a0 + i, nm[i][j])), 4);
+                        }
+                        self.bases[self.nb] = rot_basis(&l);
+                        self.base_a0[self.nb] = a0;
+                        self.nb += 1;
+                        self.nb - 1
+                    }
+                };
+                (std::array::from_fn(|i| (a0 + i, self.bases[slot][i][j])), 4)
+            }
+        }
+    }
+}
+
 /// The reduced element entries Tᵀ K T and G T (see [`Reduction`]), written in its order.
 /// `kt` is scratch of at least nx_k × (number of reduced columns).
 #[allow(clippy::too_many_arguments)]
@@ -431,34 +479,7 @@ pub(super) fn write_reduced(
 ) {
     let cols = &su.red.elem_cols[el];
     let nc = cols.len();
-    // the columns of T: up to four (local coordinate, coefficient) pairs each
-    let mut bases: [[[f64; 3]; 4]; 4] = [[[0.0; 3]; 4]; 4];
-    let mut base_a0 = [usize::MAX; 4];
-    let mut nb = 0;
-    let mut tcol = |c: &RCol| -> ([(usize, f64); 4], usize) {
-        match *c {
-            RCol::Plain(a) => ([(a as usize, 1.0), (0, 0.0), (0, 0.0), (0, 0.0)], 1),
-            RCol::Rot { a0, j } => {
-                let (a0, j) = (a0 as usize, j as usize);
-                let slot = match base_a0[..nb].iter().position(|&v| v == a0) {
-                    Some(s) => s,
-                    None => {
-                        let l = [xk(a0), xk(a0 + 1), xk(a0 + 2), xk(a0 + 3)];
-                        if nb == bases.len() {
-                            // more than four rotational nodes in one element: no cache
-                            let nm = rot_basis(&l);
-                            return (std::array::from_fn(|i| (a0 + i, nm[i][j])), 4);
-                        }
-                        bases[nb] = rot_basis(&l);
-                        base_a0[nb] = a0;
-                        nb += 1;
-                        nb - 1
-                    }
-                };
-                (std::array::from_fn(|i| (a0 + i, bases[slot][i][j])), 4)
-            }
-        }
-    };
+    let mut tcol = TColumns::new(xk);
     let mut ts_buf = [([(0usize, 0.0f64); 4], 0usize); 16];
     let mut ts_vec;
     let ts: &mut [([(usize, f64); 4], usize)] = if nc <= ts_buf.len() {
@@ -468,7 +489,7 @@ pub(super) fn write_reduced(
         &mut ts_vec
     };
     for (t, (c, _)) in ts.iter_mut().zip(cols) {
-        *t = tcol(c);
+        *t = tcol.col(c);
     }
     // K T
     for a in 0..nxk {

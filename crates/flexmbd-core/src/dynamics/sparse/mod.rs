@@ -284,7 +284,7 @@ fn modes_of(
         )
     });
     let mut op = match &exact_parts {
-        Some((km, g)) => Shifted::refined(p, refined::Exact { model, step, km, g }),
+        Some((km, g)) => Shifted::refined(p, refined::Exact { model, km, g }),
         None => Shifted::new(p),
     };
     let (kd, md) = p.diagonals();

@@ -17,18 +17,17 @@ use super::problem::Problem;
 use super::shifted::Shifted;
 use crate::math::gmres;
 use crate::model::Model;
-use crate::statics::{MaterialOperator, StepResult};
+use crate::statics::MaterialOperator;
 
 /// A refined solve stops when the correction the factorisation gives for its residual, Â⁻¹ (b −
 /// A z), is this small against z (both in the coordinates).
 pub(super) const REFINED_TOL: f64 = 1e-12;
 
-/// The model and state a problem came from, with the element Jacobians there: what the
-/// products through the element deformations need.
+/// The model a problem came from, with the element Jacobians at its state: what the products
+/// through the element deformations need.
 #[derive(Clone, Copy)]
 pub(super) struct Exact<'a> {
     pub(super) model: &'a Model,
-    pub(super) step: &'a StepResult,
     pub(super) km: &'a MaterialOperator,
     /// The entries of the constraint rows and columns of the saddle-point matrix
     /// ([`Problem::constraint_entries`]).
@@ -42,8 +41,8 @@ pub(super) struct Exact<'a> {
 /// rows of [`Problem::with_rows`]).
 pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], out: &mut [f64]) {
     let nc = p.nc;
-    let (model, x) = (ex.model, &ex.step.x);
-    let f = ex.km.reduced_forces(model, p.lin.setup(), x, &z[..nc]);
+    let model = ex.model;
+    let f = ex.km.reduced_forces(model, p.lin.setup(), &z[..nc]);
     out[..nc].copy_from_slice(&f);
     out[nc..].iter_mut().for_each(|v| *v = 0.0);
     if !p.lin.geo.is_empty() {

@@ -49,7 +49,6 @@ pub(super) fn saddle_solutions(
     let g = p.constraint_entries();
     let exact = Exact {
         model,
-        step,
         km: &km,
         g: &g,
     };
