@@ -164,18 +164,7 @@ pub(crate) fn csc_residual_with<R: RowIndex>(
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
-    let mut res = b.to_vec();
-    let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
-    for (j, &zj) in z.iter().enumerate() {
-        for p in cp[j]..cp[j + 1] {
-            let a = value(p) * zj;
-            let r = ri[p].ix();
-            res[r] -= a;
-            scale[r] += a.abs();
-        }
-    }
-    let be = backward_error(&res, &scale);
-    (res, be)
+    residual_of(cp, ri, value, z, b, false)
 }
 
 /// [`csc_residual_with`] of a symmetric matrix of which one triangle is stored (each entry off
@@ -187,6 +176,19 @@ pub(crate) fn csc_sym_residual_with<R: RowIndex>(
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
+    residual_of(cp, ri, value, z, b, true)
+}
+
+/// b − A z and its componentwise backward error; `mirror`: each stored entry off the diagonal
+/// also stands for its mirror (one triangle of a symmetric matrix).
+fn residual_of<R: RowIndex>(
+    cp: &[usize],
+    ri: &[R],
+    value: impl Fn(usize) -> f64,
+    z: &[f64],
+    b: &[f64],
+    mirror: bool,
+) -> (Vec<f64>, f64) {
     let mut res = b.to_vec();
     let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
     for (j, &zj) in z.iter().enumerate() {
@@ -195,7 +197,7 @@ pub(crate) fn csc_sym_residual_with<R: RowIndex>(
             let a = v * zj;
             res[r] -= a;
             scale[r] += a.abs();
-            if r != j {
+            if mirror && r != j {
                 let a = v * z[r];
                 res[j] -= a;
                 scale[j] += a.abs();
