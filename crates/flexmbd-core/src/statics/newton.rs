@@ -22,11 +22,13 @@ pub(crate) type EntryLister<'a> = &'a dyn Fn(&mut dyn FnMut(usize, usize));
 /// the values and refactors numerically (see [`KktSolver::solve`] and [`SparseLu`]).
 pub(crate) struct KktSolver {
     col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    /// (u32 like the entry indices below: 4 bytes per entry where usize took 8)
+    row_idx: Vec<u32>,
     /// The assembled entries summed into CSC value slot k: `src[src_ptr[k]..src_ptr[k + 1]]`
     /// (indices into the assembly order: element blocks, then the tail).
-    src_ptr: Vec<usize>,
+    src_ptr: Vec<u32>,
     src: Vec<u32>,
+    /// The CSC values (empty until LU or a residual needs them).
     values: Vec<f64>,
     lu: SparseLu,
     /// Whether `lu` holds a factorisation whose pivot order can be reused.
@@ -38,7 +40,7 @@ pub(crate) struct KktSolver {
     /// from the lower triangle in pivot order, gathered as `lower` from the assembled entries
     /// `lower_src[lower_ptr[e]..lower_ptr[e + 1]]`.
     symmetric: bool,
-    lower_ptr: Vec<usize>,
+    lower_ptr: Vec<u32>,
     lower_src: Vec<u32>,
     lower: Vec<f64>,
     /// Whether `values` (CSC) holds the current matrix.
@@ -98,7 +100,7 @@ impl KktSolver {
         });
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::new();
-        let mut src_ptr = vec![0usize];
+        let mut src_ptr = vec![0u32];
         let mut src = Vec::with_capacity(m);
         col_ptr.push(0);
         for c in 0..n {
@@ -108,18 +110,17 @@ impl KktSolver {
             for (k, &(r, i)) in list.iter().enumerate() {
                 if k == 0 || list[k - 1].0 != r {
                     if k > 0 {
-                        src_ptr.push(src.len());
+                        src_ptr.push(src.len() as u32);
                     }
-                    row_idx.push(r as usize);
+                    row_idx.push(r);
                 }
                 src.push(i);
             }
             if !list.is_empty() {
-                src_ptr.push(src.len());
+                src_ptr.push(src.len() as u32);
             }
             col_ptr.push(row_idx.len());
         }
-        let nnz = row_idx.len();
         let lu = SparseLu::new(n, &col_ptr, &row_idx)?;
         let mut diag = lu.clone();
         let mut diag = diag.set_diagonal_pivots(&col_ptr, &row_idx).then_some(diag);
@@ -128,18 +129,17 @@ impl KktSolver {
         if let (true, Some(d)) = (symmetric, &mut diag) {
             for p in d.lower_layout(&col_ptr, &row_idx) {
                 let p = p as usize;
-                lower_src.extend_from_slice(&src[src_ptr[p]..src_ptr[p + 1]]);
-                lower_ptr.push(lower_src.len());
+                lower_src.extend_from_slice(&src[src_ptr[p] as usize..src_ptr[p + 1] as usize]);
+                lower_ptr.push(lower_src.len() as u32);
             }
         }
         let lower = vec![0.0; lower_ptr.len() - 1];
-        let values = vec![0.0; nnz];
         Ok(Self {
             col_ptr,
             row_idx,
             src_ptr,
             src,
-            values,
+            values: Vec::new(),
             lu,
             have_pivots: false,
             diag,
@@ -285,6 +285,8 @@ impl KktSolver {
 
     /// The CSC values of the matrix with entries `vals`.
     fn gather_csc(&mut self, vals: &[f64]) {
+        // (made when first needed: L D Lᵀ of a symmetric matrix reads `lower` alone)
+        self.values.resize(self.row_idx.len(), 0.0);
         gather_sum(&mut self.values, &self.src_ptr, &self.src, vals);
         self.csc_current = true;
     }
@@ -292,12 +294,12 @@ impl KktSolver {
 
 /// out[k] = Σ vals[src[ptr[k]..ptr[k + 1]]] (in parallel in chunks; one chunk on the calling
 /// thread, which does not even start the thread pool for a small matrix).
-fn gather_sum(out: &mut [f64], ptr: &[usize], src: &[u32], vals: &[f64]) {
+fn gather_sum(out: &mut [f64], ptr: &[u32], src: &[u32], vals: &[f64]) {
     const CHUNK: usize = 4096;
     let chunk_sums = |(c, chunk): (usize, &mut [f64])| {
         for (o, v) in chunk.iter_mut().enumerate() {
             let k = c * CHUNK + o;
-            *v = src[ptr[k]..ptr[k + 1]]
+            *v = src[ptr[k] as usize..ptr[k + 1] as usize]
                 .iter()
                 .map(|&i| vals[i as usize])
                 .sum();
