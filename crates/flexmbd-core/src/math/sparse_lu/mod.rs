@@ -152,23 +152,12 @@ pub(crate) fn csc_residual<R: RowIndex>(
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
-    csc_residual_with(cp, ri, |p| v[p], z, b)
+    residual_of(cp, ri, |p| v[p], z, b, false)
 }
 
-/// [`csc_residual`] with the value of CSC entry p given by `value(p)` (a matrix whose values
-/// are formed on the fly, as K − σM).
-pub(crate) fn csc_residual_with<R: RowIndex>(
-    cp: &[usize],
-    ri: &[R],
-    value: impl Fn(usize) -> f64,
-    z: &[f64],
-    b: &[f64],
-) -> (Vec<f64>, f64) {
-    residual_of(cp, ri, value, z, b, false)
-}
-
-/// [`csc_residual_with`] of a symmetric matrix of which one triangle is stored (each entry off
-/// the diagonal stands for itself and its mirror).
+/// [`csc_residual`] of a symmetric matrix of which one triangle is stored (each entry off the
+/// diagonal stands for itself and its mirror), with the value of entry p given by `value(p)`
+/// (a matrix whose values are formed on the fly, as K − σM).
 pub(crate) fn csc_sym_residual_with<R: RowIndex>(
     cp: &[usize],
     ri: &[R],
