@@ -199,6 +199,19 @@ struct MassSlots {
 /// at h = 1 ms (bench/README.md §4).
 const NEWTON_TOL: f64 = 1e-2;
 
+/// The step after a step `h_try` that failed for `reason` (Newton did not converge, an element
+/// turned inside out): half of it; `Err` with the message of the run's stop when that is below
+/// the smallest step `dt_min`.
+fn halved(h_try: f64, dt_min: f64, reason: &str) -> Result<f64, String> {
+    let h = 0.5 * h_try;
+    if h < dt_min {
+        return Err(format!(
+            "{reason} even with the smallest step {dt_min:.3e} s"
+        ));
+    }
+    Ok(h)
+}
+
 /// Every this many steps a carried matrix that failed lately is tried again for a whole step.
 const PROBE_STEPS: usize = 16;
 
@@ -572,17 +585,13 @@ impl<'a> Engine<'a> {
                 }
                 Err(reason) => {
                     stats.newton_failures += 1;
-                    h = 0.5 * h_try;
-                    if h < o.dt_min {
-                        let hint = "reduce the first step or the tolerances, check the model for a coordinate without mass and stiffness or an element driven through itself, or add numerical damping (rho_inf < 1)";
-                        return Err(stop(
-                            frames,
-                            stats,
-                            s.t,
-                            format!("{reason} even with the smallest step {:.3e} s", o.dt_min),
-                            hint,
-                        ));
-                    }
+                    h = match halved(h_try, o.dt_min, &reason) {
+                        Ok(h) => h,
+                        Err(why) => {
+                            let hint = "reduce the first step or the tolerances, check the model for a coordinate without mass and stiffness or an element driven through itself, or add numerical damping (rho_inf < 1)";
+                            return Err(stop(frames, stats, s.t, why, hint));
+                        }
+                    };
                 }
                 Ok((n1, ev)) => {
                     // local error estimate
@@ -610,16 +619,13 @@ impl<'a> Engine<'a> {
                         // Halved as a failed step; the run stops only below the smallest step
                         let reason = format!("element `{name}` turned inside out (zero length or reversed chord) in the step to t = {:.6e} s", n1.t);
                         stats.rejected += 1;
-                        h = 0.5 * h_try;
-                        if h < o.dt_min {
-                            return Err(stop(
-                                frames,
-                                stats,
-                                s.t,
-                                format!("{reason} even with the smallest step {:.3e} s", o.dt_min),
-                                "check the loads and the stiffness of that element: it is driven through itself",
-                            ));
-                        }
+                        h = match halved(h_try, o.dt_min, &reason) {
+                            Ok(h) => h,
+                            Err(why) => {
+                                let hint = "check the loads and the stiffness of that element: it is driven through itself";
+                                return Err(stop(frames, stats, s.t, why, hint));
+                            }
+                        };
                         continue;
                     }
                     if !finite(&n1.x) || !finite(&n1.v) || !finite(&n1.mu) {
