@@ -74,12 +74,7 @@ pub fn mark(text: &str) -> std::borrow::Cow<'_, str> {
         return text.into();
     }
     if let Some(rest) = text.strip_prefix("{\n") {
-        let map: serde_json::Map<String, serde_json::Value> = used
-            .iter()
-            .map(|(k, v)| (k.clone(), serde_json::Value::from(*v)))
-            .collect();
-        let obj = serde_json::Value::Object(map).to_string();
-        return format!("{{\n  \"parameters\": {obj},\n{rest}").into();
+        return format!("{}{rest}", json_head(&used)).into();
     }
     let items: Vec<String> = used.iter().map(|(k, v)| format!("{k} = {v:?}")).collect();
     let line = format!("parameters: {}\n", items.join(", "));
@@ -91,20 +86,17 @@ pub fn mark(text: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
-/// The first member of a marked JSON document ([`mark`]): `None` when no parameter was set.
-fn json_head() -> Option<String> {
-    let used = USED.lock().unwrap_or_else(|e| e.into_inner());
-    if used.is_empty() {
-        return None;
-    }
+/// The opening of a marked JSON document ([`mark`]): the brace and the parameters `used` as its
+/// first member.
+fn json_head(used: &[(String, f64)]) -> String {
     let map: serde_json::Map<String, serde_json::Value> = used
         .iter()
         .map(|(k, v)| (k.clone(), serde_json::Value::from(*v)))
         .collect();
-    Some(format!(
+    format!(
         "{{\n  \"parameters\": {},\n",
         serde_json::Value::Object(map)
-    ))
+    )
 }
 
 /// A writer that marks a JSON document as [`mark`] does while it is written: the parameters go
@@ -121,7 +113,10 @@ impl<W: std::io::Write> Marked<W> {
     pub fn new(inner: W) -> Self {
         Self {
             inner,
-            head: json_head(),
+            head: {
+                let used = USED.lock().unwrap_or_else(|e| e.into_inner());
+                (!used.is_empty()).then(|| json_head(&used))
+            },
             seen: Vec::new(),
         }
     }

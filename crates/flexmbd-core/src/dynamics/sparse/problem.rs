@@ -76,34 +76,46 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], 
         });
 }
 
-/// The structure of both triangles (CSC, rows sorted) of a symmetric matrix from that of its
-/// lower triangle (rows sorted, each column starting with its diagonal entry).
-fn full_of_lower(n: usize, col_ptr: &[usize], row_idx: &[u32]) -> (Vec<usize>, Vec<u32>) {
+/// The structure of both triangles (CSC, rows sorted) of a symmetric matrix from that of one
+/// triangle, each unknown i renamed `label(i)` (a permutation; the identity keeps the
+/// numbering).
+fn full_of_triangle(
+    n: usize,
+    col_ptr: &[usize],
+    row_idx: &[u32],
+    label: impl Fn(usize) -> usize,
+) -> (Vec<usize>, Vec<u32>) {
     let mut ptr = vec![0usize; n + 1];
-    for c in 0..n {
-        for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+    for t in 0..n {
+        let c = label(t);
+        for &r in &row_idx[col_ptr[t]..col_ptr[t + 1]] {
+            let r = label(r as usize);
             ptr[c + 1] += 1;
-            if r as usize != c {
-                ptr[r as usize + 1] += 1;
+            if r != c {
+                ptr[r + 1] += 1;
             }
         }
     }
     for c in 0..n {
         ptr[c + 1] += ptr[c];
     }
-    // column j: the mirrors of the lower entries in row j (columns < j, ascending), then its
-    // own lower entries (rows ≥ j, ascending)
     let mut rows = vec![0u32; ptr[n]];
     let mut fill: Vec<usize> = ptr[..n].to_vec();
-    for c in 0..n {
-        for &r in &row_idx[col_ptr[c] + 1..col_ptr[c + 1]] {
-            rows[fill[r as usize]] = c as u32;
-            fill[r as usize] += 1;
+    for t in 0..n {
+        let c = label(t);
+        for &r in &row_idx[col_ptr[t]..col_ptr[t + 1]] {
+            let r = label(r as usize);
+            rows[fill[c]] = r as u32;
+            fill[c] += 1;
+            if r != c {
+                rows[fill[r]] = c as u32;
+                fill[r] += 1;
+            }
         }
     }
     for c in 0..n {
-        let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
-        rows[fill[c]..fill[c] + (hi - lo)].copy_from_slice(&row_idx[lo..hi]);
+        // (already ascending for the identity: insertion sort passes over it once)
+        sort_small(&mut rows[ptr[c]..ptr[c + 1]]);
     }
     (ptr, rows)
 }
@@ -351,7 +363,7 @@ impl Problem {
             .map(|&g| model.nodes.get(g).and_then(|n| n.host).unwrap_or(g))
             .collect();
         let order = {
-            let (fp, fr) = full_of_lower(n, &col_ptr, &row_idx);
+            let (fp, fr) = full_of_triangle(n, &col_ptr, &row_idx, |i| i);
             Self::saddle_order(n, nc, &point, (&fp, &fr)).ok()
         };
         drop(point);
@@ -423,39 +435,9 @@ impl Problem {
     /// sorted), for the symbolic factorisation and the LU fall-back: made when they need it and
     /// released after.
     pub(super) fn full_pattern(&self) -> (Vec<usize>, Vec<u32>) {
-        let n = self.n;
-        let mut ptr = vec![0usize; n + 1];
-        for t in 0..n {
-            let c = self.perm[t] as usize;
-            for q in self.col_ptr[t]..self.col_ptr[t + 1] {
-                let r = self.perm[self.row_idx[q] as usize] as usize;
-                ptr[c + 1] += 1;
-                if r != c {
-                    ptr[r + 1] += 1;
-                }
-            }
-        }
-        for c in 0..n {
-            ptr[c + 1] += ptr[c];
-        }
-        let mut rows = vec![0u32; ptr[n]];
-        let mut fill: Vec<usize> = ptr[..n].to_vec();
-        for t in 0..n {
-            let c = self.perm[t] as usize;
-            for q in self.col_ptr[t]..self.col_ptr[t + 1] {
-                let r = self.perm[self.row_idx[q] as usize] as usize;
-                rows[fill[c]] = r as u32;
-                fill[c] += 1;
-                if r != c {
-                    rows[fill[r]] = c as u32;
-                    fill[r] += 1;
-                }
-            }
-        }
-        for c in 0..n {
-            sort_small(&mut rows[ptr[c]..ptr[c + 1]]);
-        }
-        (ptr, rows)
+        full_of_triangle(self.n, &self.col_ptr, &self.row_idx, |i| {
+            self.perm[i] as usize
+        })
     }
 
     /// For every entry of the structure of both triangles ([`Problem::full_pattern`]), the
