@@ -496,7 +496,7 @@ fn modes_of(
     // eigenvalues: Rayleigh quotients, the stiffness through the element deformations
     let e2 = p.lin.material_energy2(model, &step.x, &shapes);
     // (Rayleigh quotient, Ritz value, shape, kinetic energy by node)
-    let modes: Vec<(f64, f64, Vec<f64>, NodeKinetic)> = shapes
+    let mut modes: Vec<(f64, f64, Vec<f64>, NodeKinetic)> = shapes
         .into_iter()
         .zip(rest)
         .enumerate()
@@ -505,7 +505,6 @@ fn modes_of(
             (lam, sigma + 1.0 / thetas[order[k]], shape, kinetic)
         })
         .collect();
-    let mut modes = modes;
     modes.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut eigenvalues = Vec::with_capacity(nf);
     let mut ritz = Vec::with_capacity(nf);
