@@ -19,11 +19,14 @@ pub(crate) struct ReducedLinear {
     pub(super) su: Setup,
     /// Row and column of the entries after the element blocks (moments, normalisations).
     pub(super) tail: Vec<(usize, usize)>,
-    /// Value of every entry: the element blocks (in [`Reduction`] order, see
-    /// [`ReducedLinear::for_each_entry`]), then the tail.
-    pub vals: Vec<f64>,
-    /// The geometric (load-proportional) part K_g of the values: zero in the constraint rows
-    /// and columns; empty when it is zero everywhere (an unstressed state).
+    /// Value of every tail entry. The values of the element blocks are not held: they are
+    /// made a block of elements at a time ([`ReducedLinear::element_values`]), as many as
+    /// 144 per beam.
+    pub tail_vals: Vec<f64>,
+    /// The geometric (load-proportional) part K_g of the values of every entry (the element
+    /// blocks in [`Reduction`] order, see [`ReducedLinear::for_each_entry`], then the tail):
+    /// zero in the constraint rows and columns; empty when it is zero everywhere (an
+    /// unstressed state).
     pub geo: Vec<f64>,
 }
 
@@ -31,7 +34,7 @@ impl ReducedLinear {
     /// The reduced tangent at a converged step.
     pub(crate) fn new(model: &Model, step: &StepResult) -> Self {
         let su = setup(model);
-        let a = assemble_values(
+        let (tail, tail_vals) = tail_entries(
             model,
             &su,
             &step.x,
@@ -39,9 +42,7 @@ impl ReducedLinear {
             step.load_factor,
             Part::Full,
             true,
-            Vec::new(),
         );
-        debug_assert_eq!(su.red.n_entries + a.tail.len(), a.vals.len());
         // the geometric part vanishes in a state without stress resultants, multipliers and
         // moment loads (the unloaded reference state)
         let unstressed = step.sigma.iter().all(|&v| v == 0.0)
@@ -60,7 +61,7 @@ impl ReducedLinear {
                 true,
                 Vec::new(),
             );
-            debug_assert_eq!(g.tail, a.tail);
+            debug_assert_eq!(g.tail, tail);
             g.vals
         };
         if !geo.is_empty() {
@@ -73,16 +74,60 @@ impl ReducedLinear {
                 i += 1;
             };
             su.red.for_each_entry(&mut clear_constraints);
-            for &(r, c) in &a.tail {
+            for &(r, c) in &tail {
                 clear_constraints(r, c);
             }
         }
         Self {
             su,
-            tail: a.tail,
-            vals: a.vals,
+            tail,
+            tail_vals,
             geo,
         }
+    }
+
+    /// The values of the element entries of elements `els` (K = K_m + K_g at `step`, the state
+    /// this was made at), written into `out` in the order of
+    /// [`ReducedLinear::for_each_entry_in`]: the element part of the matrix a block at a time.
+    pub(crate) fn element_values(
+        &self,
+        model: &Model,
+        step: &StepResult,
+        els: std::ops::Range<usize>,
+        out: &mut [f64],
+    ) {
+        element_values(
+            model,
+            &self.su,
+            &step.x,
+            &step.multipliers,
+            Part::Full,
+            true,
+            els,
+            out,
+        );
+    }
+
+    /// Number of entries: the element blocks and the tail.
+    pub(crate) fn n_entries(&self) -> usize {
+        self.su.red.n_entries + self.tail.len()
+    }
+
+    /// Row and column of the entries of elements `els` ([`ReducedLinear::for_each_entry`]).
+    pub(crate) fn for_each_entry_in(
+        &self,
+        els: std::ops::Range<usize>,
+        f: impl FnMut(usize, usize),
+    ) {
+        self.su.red.for_each_entry_in(els, f);
+    }
+
+    /// The tail entries (after the element blocks): row, column and value.
+    pub(crate) fn tail(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.tail
+            .iter()
+            .zip(&self.tail_vals)
+            .map(|(&(r, c), &v)| (r, c, v))
     }
 
     /// Row and column of every entry, in the order of `vals`.

@@ -332,8 +332,17 @@ impl Reduction {
     /// Row and column of every KKT entry written by the element assembly, in order: per
     /// element its block on the reduced columns (row-major), then for each constrained mode
     /// the pairs (G, Gᵀ). Generated, not stored (millions of entries on large models).
-    pub(super) fn for_each_entry(&self, mut f: impl FnMut(usize, usize)) {
-        for (ec, cons) in self.elem_cols.iter().zip(&self.elem_cons) {
+    pub(super) fn for_each_entry(&self, f: impl FnMut(usize, usize)) {
+        self.for_each_entry_in(0..self.elem_cols.len(), f);
+    }
+
+    /// [`Reduction::for_each_entry`] for the elements `els` only.
+    pub(super) fn for_each_entry_in(
+        &self,
+        els: std::ops::Range<usize>,
+        mut f: impl FnMut(usize, usize),
+    ) {
+        for (ec, cons) in self.elem_cols[els.clone()].iter().zip(&self.elem_cons[els]) {
             element_entries(ec, cons.iter().copied(), &mut f);
         }
     }

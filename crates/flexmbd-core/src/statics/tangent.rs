@@ -348,6 +348,96 @@ pub(crate) fn assemble_values(
     a
 }
 
+/// The KKT entries of the elements `els` alone, as [`assemble_values`] writes them (the full
+/// system's order, or with `reduced` the reduced one's), into `vals` (their entries, in element
+/// order; in parallel): the element part of a large tangent a block of elements at a time,
+/// without an array of all its entries (`linearized::sparse`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn element_values(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    part: Part,
+    reduced: bool,
+    els: std::ops::Range<usize>,
+    vals: &mut [f64],
+) {
+    debug_assert!(part != Part::Residual);
+    let starts = if reduced {
+        &su.red.elem_start[els.start..=els.end]
+    } else {
+        &su.pattern.layout().elem_start[els.start..=els.end]
+    };
+    debug_assert_eq!(vals.len(), starts[starts.len() - 1] - starts[0]);
+    let entries = &model.elements[els.clone()];
+    // the deformations, stress resultants and forces the element writes beside its entries
+    let (mut e_starts, mut f_starts) = (vec![0], vec![0]);
+    for en in entries {
+        e_starts.push(e_starts[e_starts.len() - 1] + en.element.ne());
+        f_starts.push(f_starts[f_starts.len() - 1] + en.xmap.len());
+    }
+    let mut e = vec![0.0; e_starts[entries.len()]];
+    let mut sigma = e.clone();
+    let mut f = vec![0.0; f_starts[entries.len()]];
+    let pieces: Vec<_> = split_at_starts(vals, starts)
+        .into_iter()
+        .zip(split_at_starts(&mut e, &e_starts))
+        .zip(split_at_starts(&mut sigma, &e_starts))
+        .zip(split_at_starts(&mut f, &f_starts))
+        .collect();
+    map_elements(entries, pieces, |i, entry, (((v, ek), sk), fk)| {
+        element_local(
+            su,
+            els.start + i,
+            entry,
+            x,
+            mu,
+            part,
+            reduced,
+            ek,
+            sk,
+            fk,
+            v,
+        );
+    });
+}
+
+/// The matrix entries an assembly appends after the element entries ([`apply_loads`]: load
+/// stiffness of moments, normalisation terms), as (row, column) and value, without the
+/// element part.
+pub(crate) fn tail_entries(
+    model: &Model,
+    su: &Setup,
+    x: &[f64],
+    mu: &[f64],
+    t: f64,
+    part: Part,
+    reduced: bool,
+) -> (Vec<(usize, usize)>, Vec<f64>) {
+    debug_assert!(part != Part::Residual);
+    // (the element values, forces and deformations are not needed for the entries: zeros)
+    let mut a = Assembled {
+        r: Vec::new(),
+        g: Vec::new(),
+        vals: Vec::with_capacity(tail_capacity(su)),
+        n_el: 0,
+        tail: Vec::new(),
+        triplets: Vec::new(),
+        f_scale: 0.0,
+        balance: Vec::new(),
+        int_force: vec![0.0; model.nx],
+        int_abs: vec![0.0; model.nx],
+        e: vec![0.0; model.ne],
+        sigma: Vec::new(),
+        energy: 0.0,
+        reduced,
+    };
+    apply_loads(model, su, x, mu, t, part, &mut a);
+    a.vals.shrink_to_fit();
+    (a.tail, a.vals)
+}
+
 /// The parts of an assembly that depend on the load factor t, the multipliers of the
 /// normalisations and the prescribed deformations, on top of its element part: external
 /// forces and load stiffness, normalisation terms, constraint violations, residual and force

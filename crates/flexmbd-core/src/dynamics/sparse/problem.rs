@@ -4,7 +4,6 @@
 //! saddle-point order of its factorisation.
 
 use super::basis::PAR_MIN;
-use crate::linearized::sparse::SparseTangent;
 use crate::linearized::Tangent;
 use crate::math::sparse_lu::{amd_order, sort_small};
 use crate::statics::ReducedLinear;
@@ -184,11 +183,9 @@ impl Problem {
     pub(super) fn with_rows(t: &Tangent, rows: &[Vec<f64>]) -> Self {
         let (model, step) = (t.model(), t.step());
         // K (with the softening) and M of the stage, in the reduced unknowns
-        let SparseTangent {
-            mut lin,
-            m_el,
-            nodes: mut extra,
-        } = t.sparse();
+        let mut tangent = t.sparse();
+        let mut extra = std::mem::take(&mut tangent.nodes);
+        let lin = &tangent.lin;
         let rows: Vec<Vec<(usize, f64)>> = rows
             .iter()
             .map(|w| {
@@ -285,22 +282,27 @@ impl Problem {
         };
         let half = |r: usize, c: usize| if r == c { 1.0 } else { 0.5 };
         let (mut k, mut m) = (vec![0.0; nnz], vec![0.0; nnz]);
-        let mut i = 0;
-        lin.for_each_entry(|r, c| {
-            let (q, w) = (at(r, c), half(r, c));
-            k[q] += w * lin.vals[i];
-            m[q] += w * m_el[i];
-            i += 1;
+        tangent.element_blocks(model, step, |els, kb, mb| {
+            let mut i = 0;
+            lin.for_each_entry_in(els, |r, c| {
+                let (q, w) = (at(r, c), half(r, c));
+                k[q] += w * kb[i];
+                m[q] += w * mb[i];
+                i += 1;
+            });
         });
+        for (r, c, kv) in lin.tail() {
+            let (q, w) = (at(r, c), half(r, c));
+            k[q] += w * kv;
+        }
         for &(r, c, kv, mv) in &extra {
             let (q, w) = (at(r, c), half(r, c));
             k[q] += w * kv;
             m[q] += w * mv;
         }
-        // the saddle-point matrix holds the stage's element values now: released before the
-        // rest is built (the peak memory of a large model's modal analysis was here)
-        drop(m_el);
-        lin.vals = Vec::new();
+        // the saddle-point matrix holds the stage's values now
+        let mut lin = tangent.lin;
+        lin.tail_vals = Vec::new();
         lin.release_assembly();
         // the coordinate block of M (non-zero entries) in both triangles, for products by
         // columns (gather, parallel): each column's rows above the diagonal (the mirrors of
