@@ -127,6 +127,8 @@ impl KktSolver {
         let symmetric = symmetric && diag.is_some();
         let (mut lower_ptr, mut lower_src) = (vec![0], Vec::new());
         if let (true, Some(d)) = (symmetric, &mut diag) {
+            // (a symmetric matrix: `diag` only makes L D Lᵀ, which reads no structure of U)
+            d.release_upper_structure();
             for p in d.lower_layout(&col_ptr, &row_idx) {
                 let p = p as usize;
                 lower_src.extend_from_slice(&src[src_ptr[p] as usize..src_ptr[p + 1] as usize]);

@@ -62,6 +62,8 @@ impl<'a> Shifted<'a> {
             if !lu.set_diagonal_pivots(&ptr, &rows) {
                 return None;
             }
+            // (only L D Lᵀ refactorisations: the LU fall-back is a factorisation of its own)
+            lu.release_upper_structure();
             lu.set_pivot_tolerance(0.0);
             Some(lu)
         });

@@ -24,6 +24,7 @@ impl SparseLu {
         self.u_idx.clear();
         self.u_val.clear();
         self.l_ptr[0] = 0;
+        self.u_ptr.resize(self.n + 1, 0);
         self.u_ptr[0] = 0;
         let x = &mut self.work;
         for k in 0..n {
@@ -126,7 +127,8 @@ impl SparseLu {
         row_idx: &[R],
         val: &[f64],
     ) -> Result<f64, LuFailure> {
-        if !(self.factored || self.symmetric_factors) {
+        // (no structure of U after `release_upper_structure`)
+        if !(self.factored || self.symmetric_factors) || self.u_ptr.len() != self.n + 1 {
             return Err(LuFailure::PivotTooSmall);
         }
         self.factored = false;

@@ -47,6 +47,21 @@ impl SparseLu {
         true
     }
 
+    /// Releases the structure of U (the row structure of L, 4 bytes per entry of L, and its
+    /// pointers) after [`set_diagonal_pivots`], for a factorisation that only ever refactors a
+    /// symmetric matrix: [`refactor_symmetric`] does not read it, [`refactor`] fails
+    /// afterwards.
+    ///
+    /// [`set_diagonal_pivots`]: SparseLu::set_diagonal_pivots
+    /// [`refactor_symmetric`]: SparseLu::refactor_symmetric
+    /// [`refactor`]: SparseLu::refactor
+    pub fn release_upper_structure(&mut self) {
+        self.u_idx = Vec::new();
+        self.u_val = Vec::new();
+        self.u_ptr = Vec::new();
+        self.a_step = Vec::new();
+    }
+
     /// The structure of L and U for diagonal pivots of a structurally symmetric matrix: that
     /// of its Cholesky factor, from the elimination tree (row subtrees, as CSparse's
     /// `cs_schol`/`cs_ereach`), in time proportional to the nonzeros of L.
@@ -81,6 +96,7 @@ impl SparseLu {
         // the lower triangle up the tree to k
         let mut mark = vec![NONE; n];
         self.u_idx.clear();
+        self.u_ptr.resize(self.n + 1, 0);
         self.u_ptr[0] = 0;
         let mut l_count = vec![0usize; n];
         for k in 0..n {
@@ -220,22 +236,45 @@ impl SparseLu {
         }
         self.factored = false;
         self.symmetric_factors = false;
+        const NONE: u32 = u32::MAX;
         let n = self.n;
         let x = &mut self.work;
-        // next entry of each column of L (made for each refactorisation: not kept beside the
-        // factors)
+        // left-looking, the columns s that update column k (the structure of row k of L) found
+        // from linked lists instead of a stored row structure (4 bytes per entry of L): every
+        // finished column waits in the list of the row of its next entry (`head`, `link`);
+        // `next` is that entry (George & Liu, "Computer solution of large sparse positive
+        // definite systems", 1981, §5.4). Made for each refactorisation, not kept beside the
+        // factors.
         let mut next = self.l_ptr[..n].to_vec();
+        let mut head = vec![NONE; n];
+        let mut link = vec![NONE; n];
+        let mut cols: Vec<usize> = Vec::new();
         let mut min_ratio: f64 = 1.0;
         let mut all_positive = true;
         let pivot_tol = self.pivot_tol;
         self.n_negative = 0;
+        let wait = |s: usize, head: &mut [u32], link: &mut [u32], at: usize, end: usize| {
+            if at < end {
+                let r = self.l_idx[at] as usize;
+                link[s] = head[r];
+                head[r] = s as u32;
+            }
+        };
         for k in 0..n {
             let (alo, ahi) = (ptr[k], ptr[k + 1]);
             for (q, &s) in (alo..ahi).zip(&row[alo..ahi]) {
                 x[s as usize] += lower(q);
             }
-            for p in self.u_ptr[k]..self.u_ptr[k + 1] {
-                let s = self.u_idx[p] as usize;
+            // the columns with an entry in row k, in ascending order (the order of the sums
+            // does not depend on the lists)
+            cols.clear();
+            let mut s = head[k];
+            while s != NONE {
+                cols.push(s as usize);
+                s = link[s as usize];
+            }
+            sort_small(&mut cols);
+            for &s in &cols {
                 // L(:, s) from row k on (its columns are sorted by row)
                 let start = next[s];
                 let end = self.l_ptr[s + 1];
@@ -249,6 +288,7 @@ impl SparseLu {
                     x[i as usize] -= l * u;
                 }
                 next[s] = start + 1;
+                wait(s, &mut head, &mut link, start + 1, end);
             }
             let (llo, lhi) = (self.l_ptr[k], self.l_ptr[k + 1]);
             let (d, ok) = pivot_step(
@@ -265,6 +305,7 @@ impl SparseLu {
             if !ok {
                 return Err(LuFailure::PivotTooSmall);
             }
+            wait(k, &mut head, &mut link, llo, lhi);
         }
         self.symmetric_factors = true;
         Ok(if all_positive { 1.0 } else { min_ratio })
