@@ -37,18 +37,63 @@ pub(crate) fn slots(v: &[Option<usize>]) -> Vec<Slot> {
 }
 
 /// The flexible part of each element's stiffness (other rows and columns zeroed), all in one
-/// array: element `el`'s ne × ne block, column-major, from `start[el]` (a matrix of its own per
-/// element took 424 bytes for a beam's 288 of values).
+/// array, each distinct block once: element `el`'s ne × ne block, column-major, is block
+/// `block[el]`, from `start[block[el]]` (a matrix of its own per element took 424 bytes for a
+/// beam's 288 of values; the elements of a uniform leaf or wire share one block, 4 bytes each).
 pub(crate) struct ElementStiffness {
+    block: Vec<u32>,
     start: Vec<usize>,
     vals: Vec<f64>,
 }
 
 impl ElementStiffness {
+    /// The blocks `blocks` (ne × ne each, column-major) of the elements in order, each distinct
+    /// one (bit for bit) stored once.
+    fn new(n_elements: usize, mut blocks: impl FnMut(usize, &mut Vec<f64>)) -> Self {
+        use std::collections::HashMap;
+        use std::hash::{DefaultHasher, Hash, Hasher};
+        let mut out = Self {
+            block: Vec::with_capacity(n_elements),
+            start: vec![0],
+            vals: Vec::new(),
+        };
+        // distinct blocks by the hash of their bits (a list of candidates per hash)
+        let mut seen: HashMap<u64, Vec<u32>> = HashMap::new();
+        let mut b = Vec::new();
+        for el in 0..n_elements {
+            b.clear();
+            blocks(el, &mut b);
+            let mut h = DefaultHasher::new();
+            b.iter().for_each(|v| v.to_bits().hash(&mut h));
+            let candidates = seen.entry(h.finish()).or_default();
+            let same = candidates.iter().copied().find(|&c| {
+                let (lo, hi) = (out.start[c as usize], out.start[c as usize + 1]);
+                let stored = &out.vals[lo..hi];
+                stored.len() == b.len()
+                    && stored
+                        .iter()
+                        .zip(&b)
+                        .all(|(x, y)| x.to_bits() == y.to_bits())
+            });
+            let id = same.unwrap_or_else(|| {
+                let id = u32::try_from(out.start.len() - 1).expect("fewer than 2³² elements");
+                out.vals.extend_from_slice(&b);
+                out.start.push(out.vals.len());
+                candidates.push(id);
+                id
+            });
+            out.block.push(id);
+        }
+        out.vals.shrink_to_fit();
+        out.start.shrink_to_fit();
+        out
+    }
+
     /// The block of element `el`.
     #[inline]
     pub(crate) fn get(&self, el: usize) -> faer::MatRef<'_, f64> {
-        let (lo, hi) = (self.start[el], self.start[el + 1]);
+        let b = self.block[el] as usize;
+        let (lo, hi) = (self.start[b], self.start[b + 1]);
         let ne = (hi - lo).isqrt();
         faer::MatRef::from_column_major_slice(&self.vals[lo..hi], ne, ne)
     }
@@ -120,12 +165,8 @@ pub(crate) fn setup(model: &Model) -> Setup {
         }
     }
     let pattern = Pattern::new(model, &unknown, &constraint, nf);
-    let mut s_eff = ElementStiffness {
-        start: Vec::with_capacity(model.elements.len() + 1),
-        vals: Vec::new(),
-    };
-    s_eff.start.push(0);
-    for entry in &model.elements {
+    let s_eff = ElementStiffness::new(model.elements.len(), |el, out| {
+        let entry = &model.elements[el];
         let s = entry.element.stiffness();
         let flex = |m: usize| roles[entry.ie + m] == Role::Flexible;
         let ne = s.nrows();
@@ -133,12 +174,10 @@ pub(crate) fn setup(model: &Model) -> Setup {
         for b in 0..ne {
             for a in 0..ne {
                 let v = if flex(a) && flex(b) { s[(a, b)] } else { 0.0 };
-                s_eff.vals.push(v);
+                out.push(v);
             }
         }
-        s_eff.start.push(s_eff.vals.len());
-    }
-    s_eff.vals.shrink_to_fit();
+    });
     // dead loads and gravity
     let mut f_dead = vec![0.0; model.nx];
     let mut moments = Vec::new();
