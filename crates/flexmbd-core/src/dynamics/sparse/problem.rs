@@ -35,18 +35,13 @@ pub(super) struct Problem {
     pub(super) row_idx: Vec<u32>,
     /// K values on that structure (the symmetric part of K).
     pub(super) k: Vec<f64>,
-    /// For every entry of that structure, its index in `m_val`, or [`NO_M`] where M is zero
-    /// (the constraint rows and columns, and most of the coordinate block: 4 bytes per entry
-    /// instead of a value).
-    m_at: Vec<u32>,
-    /// The coordinate block of M (CSC, both triangles, non-zero entries only), for M v.
+    /// The coordinate block of M (CSC, both triangles, non-zero entries only, rows sorted), for
+    /// M v; an entry of the structure above finds its M value here by bisection
+    /// ([`Problem::shifted_entries`]), without a map of 4 bytes per entry.
     pub(super) m_ptr: Vec<usize>,
     pub(super) m_idx: Vec<u32>,
     pub(super) m_val: Vec<f64>,
 }
-
-/// No mass entry at a position of the saddle-point structure.
-const NO_M: u32 = u32::MAX;
 
 /// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
 /// j (gather form, parallel over columns).
@@ -120,15 +115,14 @@ fn full_of_triangle(
 }
 
 /// The lower triangle of P A Pᵀ (step k = unknown `perm[k]`) from that of A, with the values
-/// and mass places of its entries: each entry (r, c) goes to column min(inv r, inv c), row
-/// max(inv r, inv c), the rows of each column sorted.
+/// of its entries: each entry (r, c) goes to column min(inv r, inv c), row max(inv r, inv c),
+/// the rows of each column sorted.
 fn permuted_lower(
     perm: &[u32],
     col_ptr: &[usize],
     row_idx: &[u32],
     k: &[f64],
-    m_at: &[u32],
-) -> (Vec<usize>, Vec<u32>, Vec<f64>, Vec<u32>) {
+) -> (Vec<usize>, Vec<u32>, Vec<f64>) {
     let n = perm.len();
     let mut inv = vec![0u32; n];
     for (s, &c) in perm.iter().enumerate() {
@@ -163,8 +157,7 @@ fn permuted_lower(
     }
     let rows = at.iter().map(|&(s, _)| s).collect();
     let kp = at.iter().map(|&(_, q)| k[q as usize]).collect();
-    let mp = at.iter().map(|&(_, q)| m_at[q as usize]).collect();
-    (ptr, rows, kp, mp)
+    (ptr, rows, kp)
 }
 
 impl Problem {
@@ -330,7 +323,6 @@ impl Problem {
         let nnz_m = m_ptr[nc];
         // (32-bit like the rows above: below 4·10⁹ entries, some 3·10⁷ beams, far beyond the
         // memory of the machines this runs on)
-        let mut m_at = vec![NO_M; row_idx.len()];
         let (mut m_idx, mut m_val) = (vec![0u32; nnz_m], vec![0.0; nnz_m]);
         {
             let mut fill_up: Vec<usize> = m_ptr[..nc].to_vec();
@@ -341,7 +333,6 @@ impl Problem {
                         let r = row_idx[p] as usize;
                         let q = fill_low[c];
                         fill_low[c] += 1;
-                        m_at[p] = q as u32;
                         m_idx[q] = r as u32;
                         m_val[q] = m[p];
                         if r != c {
@@ -374,7 +365,7 @@ impl Problem {
             Some(o) => o.into_iter().map(|c| c as u32).collect(),
             None => (0..n as u32).collect(),
         };
-        let (col_ptr, row_idx, k, m_at) = permuted_lower(&perm, &col_ptr, &row_idx, &k, &m_at);
+        let (col_ptr, row_idx, k) = permuted_lower(&perm, &col_ptr, &row_idx, &k);
         Self {
             lin,
             extra_k,
@@ -386,26 +377,49 @@ impl Problem {
             col_ptr,
             row_idx,
             k,
-            m_at,
             m_ptr,
             m_idx,
             m_val,
         }
     }
 
-    /// Entry q (CSC position) of M, `None` where M has none.
-    fn m_entry(&self, q: usize) -> Option<f64> {
-        match self.m_at[q] {
-            NO_M => None,
-            i => Some(self.m_val[i as usize]),
+    /// The entry of M at row `s`, column `t` of the stored lower triangle (pivot steps),
+    /// `None` where M has none.
+    fn m_entry(&self, s: usize, t: usize) -> Option<f64> {
+        let (r, c) = (self.perm[s] as usize, self.perm[t] as usize);
+        if r >= self.nc || c >= self.nc {
+            return None;
         }
+        let (lo, hi) = (self.m_ptr[c], self.m_ptr[c + 1]);
+        let i = lo + self.m_idx[lo..hi].partition_point(|&x| (x as usize) < r);
+        (i < hi && self.m_idx[i] as usize == r).then(|| self.m_val[i])
     }
 
-    /// Entry q (CSC position) of the shifted matrix A(s) = [K − sM, Gᵀ; G, 0].
-    pub(super) fn shifted(&self, q: usize, s: f64) -> f64 {
-        match self.m_entry(q) {
-            None => self.k[q],
-            Some(m) => self.k[q] - s * m,
+    /// The entries of the shifted matrix A(s) = [K − sM, Gᵀ; G, 0] by their position q in the
+    /// stored lower triangle. The column of q is followed from one call to the next (a
+    /// factorisation asks in ascending order), and searched when q jumps.
+    pub(super) fn shifted_entries(&self, s: f64) -> impl Fn(usize) -> f64 + '_ {
+        let column = std::cell::Cell::new(0usize);
+        move |q| {
+            let k = self.k[q];
+            if s == 0.0 {
+                return k;
+            }
+            let cp = &self.col_ptr;
+            let mut t = column.get();
+            if q < cp[t] || q >= cp[t + 1] {
+                // (every column holds its diagonal: the next column when q is just past)
+                t = if q >= cp[t + 1] && t + 2 < cp.len() && q < cp[t + 2] {
+                    t + 1
+                } else {
+                    cp.partition_point(|&x| x <= q) - 1
+                };
+                column.set(t);
+            }
+            match self.m_entry(self.row_idx[q] as usize, t) {
+                None => k,
+                Some(m) => k - s * m,
+            }
         }
     }
 
@@ -474,7 +488,7 @@ impl Problem {
                 let p = self.col_ptr[t];
                 debug_assert_eq!(self.row_idx[p] as usize, t);
                 kd[c] = self.k[p];
-                md[c] = self.m_entry(p).unwrap_or(0.0);
+                md[c] = self.m_entry(t, t).unwrap_or(0.0);
             }
         }
         (kd, md)

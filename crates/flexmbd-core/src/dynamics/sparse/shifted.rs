@@ -118,11 +118,8 @@ impl<'a> Shifted<'a> {
         let Some((lu, full)) = &mut self.lu else {
             return false;
         };
-        let vals: Vec<f64> = full
-            .at
-            .iter()
-            .map(|&q| p.shifted(q as usize, sigma))
-            .collect();
+        let value = p.shifted_entries(sigma);
+        let vals: Vec<f64> = full.at.iter().map(|&q| value(q as usize)).collect();
         if lu.factor(&full.ptr, &full.rows, &vals).is_err() {
             return false;
         }
@@ -141,7 +138,7 @@ impl<'a> Shifted<'a> {
         let bp: Vec<f64> = p.perm.iter().map(|&c| b[c as usize]).collect();
         let sigma = self.sigma;
         z.iter().all(|v| v.is_finite())
-            && csc_sym_residual_with(&p.col_ptr, &p.row_idx, |q| p.shifted(q, sigma), &zp, &bp).1
+            && csc_sym_residual_with(&p.col_ptr, &p.row_idx, p.shifted_entries(sigma), &zp, &bp).1
                 <= MAX_BACKWARD_ERROR
     }
 
@@ -244,5 +241,5 @@ fn inertia_count(lu: &mut SparseLu, p: &Problem, s: f64) -> Option<usize> {
 /// L D Lᵀ of A(s) in `lu`, from the lower triangle of the problem in its pivot order, the
 /// values formed as the factorisation reads them (no array of them beside the factor).
 fn refactor_at(lu: &mut SparseLu, p: &Problem, s: f64) -> Result<f64, LuFailure> {
-    lu.refactor_symmetric_on(&p.col_ptr, &p.row_idx, |q| p.shifted(q, s))
+    lu.refactor_symmetric_on(&p.col_ptr, &p.row_idx, p.shifted_entries(s))
 }
