@@ -356,16 +356,19 @@ SLIDE = """<script>
     var st = document.getElementById('status');
     if (!st || st.getAttribute('data-state') === 'loading') { setTimeout(go, 50); return; }
     var body = document.body;
-    var waited = 0;
-    // playing: wait until the shown output advances (at most 10 s: a loaded machine renders
-    // few frames per second), then record where it got to
+    var frames = 0;
+    // playing: wait until the shown output advances, counting animation frames (the viewer
+    // advances its clock in them), at most 600: not timers, whose (virtual) time runs on
+    // while a loaded machine renders no frame at all, so that a wait of 10 s of it ended once
+    // before the first frame was drawn; then record where it got to and after how many frames
     function played(next) {
-      if (Number(st.getAttribute('data-frame')) > 0 || waited >= 10000) { next(); return; }
-      waited += 100;
-      setTimeout(function () { played(next); }, 100);
+      if (Number(st.getAttribute('data-frame')) > 0 || frames >= 600) { next(); return; }
+      frames += 1;
+      requestAnimationFrame(function () { played(next); });
     }
     setTimeout(function () { played(function () {
       body.setAttribute('data-played-to', st.getAttribute('data-frame'));
+      body.setAttribute('data-played-frames', String(frames));
       var r = document.getElementById('rng-time');
       function slide(v, tag, next) {
         r.value = v;
@@ -463,7 +466,7 @@ def simulation_checks(page, out, profile):
         return
     played = int(body.get("data-played-to", "0"))
     if played > 0:
-        ok(f"pendulum: playing reached output {played}")
+        ok(f"pendulum: playing reached output {played} in {body.get('data-played-frames')} frames")
     else:
         fail(f"pendulum: playing did not advance ({body})")
     near("pendulum slider at the first output: tip", body.get("data-tip-first"), tip0, 1e-6)
