@@ -183,6 +183,30 @@ pub struct BeamProps {
 }
 
 impl BeamProps {
+    /// The bits of every constant: equal keys, equal constants (to share them between the
+    /// beams of one section).
+    pub(crate) fn key(&self) -> [u64; 16] {
+        // (destructured: a constant added to the struct must be added here)
+        let BeamProps {
+            ea,
+            gj,
+            eiy,
+            eiz,
+            shear,
+            ct,
+            rho_a,
+            rho_i,
+            area,
+            i,
+            fibre,
+        } = *self;
+        [
+            ea, gj, eiy, eiz, shear[0], shear[1], ct, rho_a, rho_i[0], rho_i[1], rho_i[2], area,
+            i[0], i[1], fibre[0], fibre[1],
+        ]
+        .map(f64::to_bits)
+    }
+
     /// Constants of a beam of `material` and `shape`. `shear_rigid` drops the shear flexibility
     /// (Euler–Bernoulli). c_t = (Iy + Iz)/A, the polar radius of gyration squared (theory.md
     /// §3.3: the helix derivation gives exactly this for a section without warping).

@@ -154,7 +154,7 @@ impl Grid {
             .elements
             .iter()
             .flat_map(|e| match &e.element {
-                Element::Beam(b) => match b.props {
+                Element::Beam(b) => match b.props.as_deref() {
                     // fibre = outermost distances along local z (thickness/2), local y (width/2)
                     Some(p) if p.area > 0.0 => [2.0 * p.fibre[1], 2.0 * p.fibre[0]],
                     _ => [0.0; 2],

@@ -571,7 +571,7 @@ fn static_mapping_of_the_fixtures() {
     assert_eq!(m.loads.nodal[0].moment, [0.0, 0.0, 1.0]);
     match &m.elements[0].element {
         flexmbd_core::elements::Element::Beam(b) => {
-            let p = b.props.unwrap();
+            let p = *b.props.clone().unwrap();
             assert_eq!((p.eiy, p.shear), (0.0168, [3.1e-7, 1.2e-4]));
             assert_eq!(p.rho_a, 0.0468);
         }

@@ -124,7 +124,7 @@ fn driven_beam_histories_masses_and_warnings() {
     );
     match &m.elements[0].element {
         flexmbd_core::elements::Element::Beam(b) => {
-            let p = b.props.unwrap();
+            let p = *b.props.clone().unwrap();
             assert_eq!((p.rho_a, p.rho_i), (0.5, [1e-6, 5e-7, 5e-7]));
         }
         other => panic!("{other:?}"),

@@ -598,6 +598,8 @@ impl ModelBuilder {
         let mut elements = Vec::with_capacity(pending.len());
         let mut e_kind = Vec::with_capacity(6 * pending.len());
         let mut ne = 0;
+        let mut sections: HashMap<[u64; 16], std::sync::Arc<crate::section::BeamProps>> =
+            HashMap::default();
         for p in pending {
             let pos = |k: usize| nodes[p.nodes[k]].x0;
             let two = [p.nodes[0], *p.nodes.get(1).unwrap_or(&p.nodes[0])];
@@ -616,7 +618,11 @@ impl ModelBuilder {
                     })?;
                     b.ct = *ct;
                     if let Some(props) = p.props {
-                        b.set_props(props);
+                        // one shared copy per distinct section
+                        let shared = sections
+                            .entry(props.key())
+                            .or_insert_with(|| std::sync::Arc::new(props));
+                        b.set_shared_props(shared.clone());
                     }
                     Element::Beam(b)
                 }

@@ -124,6 +124,7 @@ pub fn beam_section(b: &flexmbd_core::elements::Beam, partition: &str, size: f64
     };
     if let Some(p) = b
         .props
+        .as_deref()
         .filter(|p| p.area > 0.0 && p.fibre.iter().all(|f| *f > 0.0))
     {
         let (cz, cy) = (p.fibre[0], p.fibre[1]);

@@ -16,7 +16,7 @@ fn example(name: &str) -> ModelSpec {
 fn beam_props(m: &Model, name: &str) -> flexmbd_core::section::BeamProps {
     let i = m.elements.iter().position(|e| e.name == name).unwrap();
     match &m.elements[i].element {
-        Element::Beam(b) => b.props.unwrap(),
+        Element::Beam(b) => *b.props.clone().unwrap(),
         other => panic!("{other:?}"),
     }
 }

@@ -63,7 +63,7 @@ pub(crate) fn local_mass(
     weight: Option<&[[f64; 3]; 3]>,
     rotary: bool,
 ) -> Option<[[f64; 14]; 14]> {
-    let p = b.props.as_ref()?;
+    let p = b.props.as_deref()?;
     let (lp, lq) = (&xk[3..7], &xk[10..14]);
     let ex = b.frame[0];
     // ∂r(ξ)/∂x_k for the four Hermite terms: 3 × (3 or 4) blocks
@@ -125,7 +125,7 @@ pub(crate) fn velocity_forces(b: &Beam, xk: &[f64], vk: &[f64]) -> Option<[f64; 
 /// ([`velocity_forces`]; equal to [`local_mass`] times ẍ for unit Euler parameters, where
 /// Rᵀ Λ̄ = Λ). `None` for a beam without mass data.
 pub(crate) fn inertia_forces(b: &Beam, xk: &[f64], vk: &[f64], ak: &[f64]) -> Option<[f64; 14]> {
-    let p = b.props.as_ref()?;
+    let p = b.props.as_deref()?;
     let ex = b.frame[0];
     let ml = p.rho_a * b.l0;
     let mut f = [0.0; 14];
@@ -178,7 +178,7 @@ pub(crate) fn field_loads(
     xk: &[f64],
     field: &AccelerationField,
 ) -> Option<[([f64; 3], [f64; 3]); 2]> {
-    let p = b.props.as_ref()?;
+    let p = b.props.as_deref()?;
     let (lp, lq) = (
         [xk[3], xk[4], xk[5], xk[6]],
         [xk[10], xk[11], xk[12], xk[13]],

@@ -57,8 +57,9 @@ pub struct Beam {
     pub stiffness: [f64; 4],
     /// Shear flexibility EIy/(kGA), EIz/(kGA) [m²]; zero for Euler–Bernoulli.
     pub shear: [f64; 2],
-    /// Section and mass data, when the model gives a section.
-    pub props: Option<BeamProps>,
+    /// Section and mass data, when the model gives a section: shared by the beams of one
+    /// section ([`Beam::set_shared_props`]; 136 bytes each otherwise).
+    pub props: Option<std::sync::Arc<BeamProps>>,
 }
 
 impl Beam {
@@ -85,6 +86,11 @@ impl Beam {
 
     /// Take stiffness, c_t and mass data from section constants.
     pub fn set_props(&mut self, p: BeamProps) {
+        self.set_shared_props(std::sync::Arc::new(p));
+    }
+
+    /// [`Beam::set_props`] with constants shared with other beams.
+    pub fn set_shared_props(&mut self, p: std::sync::Arc<BeamProps>) {
         self.stiffness = [p.ea, p.gj, p.eiy, p.eiz];
         self.shear = p.shear;
         self.ct = p.ct;
@@ -306,7 +312,7 @@ impl ElementKind for Beam {
     }
     /// |N|/A + |M_y| c_z/Iy + |M_z| c_y/Iz with the end moments M ≈ σ l0, the larger end.
     fn max_stress(&self, sigma: &[f64]) -> Option<f64> {
-        let p = self.props.filter(|p| p.area > 0.0)?;
+        let p = self.props.as_deref().filter(|p| p.area > 0.0)?;
         let my = sigma[2].abs().max(sigma[3].abs()) * self.l0;
         let mz = sigma[4].abs().max(sigma[5].abs()) * self.l0;
         Some(sigma[0].abs() / p.area + my * p.fibre[0] / p.i[0] + mz * p.fibre[1] / p.i[1])
