@@ -411,8 +411,11 @@ impl MaterialOperator {
 
     /// K_m u on the reduced coordinates (the first `su.red.nfr` unknowns of the reduced Newton
     /// system) at the state the operator was made at.
-    pub(crate) fn reduced_forces(&self, model: &Model, su: &Setup, u: &[f64]) -> Vec<f64> {
-        let mut f = vec![0.0; su.red.nfr];
+    /// Written into `f` (length `su.red.nfr`), without a vector of its own (a product of every
+    /// iteration of a refined solve).
+    pub(crate) fn reduced_forces(&self, model: &Model, su: &Setup, u: &[f64], f: &mut [f64]) {
+        debug_assert_eq!(f.len(), su.red.nfr);
+        f.iter_mut().for_each(|v| *v = 0.0);
         let mut de = Vec::new();
         let mut sig = Vec::new();
         for &(el, off) in &self.elements {
@@ -434,7 +437,6 @@ impl MaterialOperator {
                 f[m] += (0..ne).map(|r| dt[r * nc + c] * sig[r]).sum::<f64>();
             }
         }
-        f
     }
 }
 

@@ -51,7 +51,7 @@ pub(super) fn refine_direction(
     debug_assert_eq!(entries.len(), a.vals.len());
     debug_assert_eq!(geo.vals.len(), a.vals.len());
     let product = |v: &[f64], out: &mut [f64]| {
-        out[..nfr].copy_from_slice(&km.reduced_forces(model, su, &v[..nfr]));
+        km.reduced_forces(model, su, &v[..nfr], &mut out[..nfr]);
         out[nfr..].iter_mut().for_each(|o| *o = 0.0);
         for (e, &(r, c)) in entries.iter().enumerate() {
             let value = if r >= nfr || c >= nfr {

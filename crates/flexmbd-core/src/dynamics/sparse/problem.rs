@@ -44,17 +44,25 @@ pub(super) struct Problem {
 }
 
 /// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
-/// j (gather form, parallel over columns).
-pub(super) fn csc_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: &mut [f64]) {
+/// j (gather form, parallel over columns), handed to `put(&mut out[j], (A v)_j)`.
+fn csc_sym_times_with(
+    ptr: &[usize],
+    idx: &[u32],
+    val: &[f64],
+    v: &[f64],
+    out: &mut [f64],
+    put: impl Fn(&mut f64, f64) + Sync,
+) {
     const CHUNK: usize = 4096;
     if out.len() < PAR_MIN {
         for (j, y) in out.iter_mut().enumerate() {
             let (lo, hi) = (ptr[j], ptr[j + 1]);
-            *y = idx[lo..hi]
+            let s = idx[lo..hi]
                 .iter()
                 .zip(&val[lo..hi])
                 .map(|(&i, &a)| a * v[i as usize])
                 .sum();
+            put(y, s);
         }
         return;
     }
@@ -63,9 +71,10 @@ pub(super) fn csc_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], 
         .for_each(|(c, chunk)| {
             for (o, y) in chunk.iter_mut().enumerate() {
                 let j = c * CHUNK + o;
-                *y = (ptr[j]..ptr[j + 1])
+                let s = (ptr[j]..ptr[j + 1])
                     .map(|p| val[p] * v[idx[p] as usize])
                     .sum();
+                put(y, s);
             }
         });
 }
@@ -424,7 +433,14 @@ impl Problem {
     }
 
     pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
-        csc_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
+        csc_sym_times_with(&self.m_ptr, &self.m_idx, &self.m_val, v, out, |y, s| *y = s);
+    }
+
+    /// out −= s M v (no vector for M v).
+    pub(super) fn sub_m_times(&self, s: f64, v: &[f64], out: &mut [f64]) {
+        csc_sym_times_with(&self.m_ptr, &self.m_idx, &self.m_val, v, out, |y, m| {
+            *y -= s * m
+        });
     }
 
     /// The entries (row, column, value) of the saddle-point matrix in the constraint rows or

@@ -42,8 +42,8 @@ pub(super) struct Exact<'a> {
 pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], out: &mut [f64]) {
     let nc = p.nc;
     let model = ex.model;
-    let f = ex.km.reduced_forces(model, p.lin.setup(), &z[..nc]);
-    out[..nc].copy_from_slice(&f);
+    ex.km
+        .reduced_forces(model, p.lin.setup(), &z[..nc], &mut out[..nc]);
     out[nc..].iter_mut().for_each(|v| *v = 0.0);
     if !p.lin.geo.is_empty() {
         let mut e = 0;
@@ -63,12 +63,7 @@ pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], ou
         out[r] += v * z[c];
     }
     if sigma != 0.0 {
-        let mut mz = vec![0.0; nc];
-        p.m_times(&z[..nc], &mut mz);
-        out[..nc]
-            .iter_mut()
-            .zip(&mz)
-            .for_each(|(o, m)| *o -= sigma * m);
+        p.sub_m_times(sigma, &z[..nc], &mut out[..nc]);
     }
 }
 
