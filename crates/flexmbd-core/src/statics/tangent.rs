@@ -300,22 +300,24 @@ pub(crate) fn assemble_values(
         .map(|en| en.ie)
         .chain(std::iter::once(model.ne))
         .collect();
-    let energy: f64 = {
-        // each element's slices of the KKT values, deformations, stress resultants and
-        // internal forces; the elastic energies added up in element order (the same sum on
-        // any number of threads)
-        let pieces: Vec<_> = split_at_starts(&mut vals, elem_start)
-            .into_iter()
-            .zip(split_at_starts(&mut e, &e_starts))
-            .zip(split_at_starts(&mut sigma, &e_starts))
-            .zip(split_at_starts(&mut fbuf, &pat.f_start))
-            .collect();
-        map_elements(&model.elements, pieces, |el, entry, (((v, ek), sk), fk)| {
-            element_local(su, el, entry, x, mu, part, reduced, ek, sk, fk, v)
-        })
-        .into_iter()
-        .sum()
+    // the elastic energies added up in element order (the same sum on any number of threads)
+    let outs = ElementOuts {
+        vals: (&mut vals, elem_start),
+        e: (&mut e, &e_starts),
+        sigma: &mut sigma,
+        f: (&mut fbuf, &pat.f_start),
     };
+    let energy: f64 = map_local(
+        model,
+        su,
+        (x, mu),
+        part,
+        reduced,
+        0..model.elements.len(),
+        outs,
+    )
+    .into_iter()
+    .sum();
 
     let mut int_force = vec![0.0; model.nx];
     let mut int_abs = vec![0.0; model.nx];
@@ -327,25 +329,40 @@ pub(crate) fn assemble_values(
             int_abs[xi] += fi.abs();
         }
     }
-    let n_el = vals.len();
-    let mut a = Assembled {
-        r: Vec::new(),
-        g: Vec::new(),
-        vals,
-        n_el,
-        tail: Vec::new(),
-        triplets: Vec::new(),
-        f_scale: 0.0,
-        balance: Vec::new(),
-        int_force,
-        int_abs,
-        e,
-        sigma,
-        energy,
-        reduced,
-    };
+    let mut a = Assembled::of_elements(vals, int_force, int_abs, e, sigma, energy, reduced);
     apply_loads(model, su, x, mu, t, part, &mut a);
     a
+}
+
+impl Assembled {
+    /// The element part of an assembly (its entries `vals`, internal forces, deformations,
+    /// stress resultants and energy), for [`apply_loads`] to complete.
+    fn of_elements(
+        vals: Vec<f64>,
+        int_force: Vec<f64>,
+        int_abs: Vec<f64>,
+        e: Vec<f64>,
+        sigma: Vec<f64>,
+        energy: f64,
+        reduced: bool,
+    ) -> Self {
+        Self {
+            r: Vec::new(),
+            g: Vec::new(),
+            n_el: vals.len(),
+            vals,
+            tail: Vec::new(),
+            triplets: Vec::new(),
+            f_scale: 0.0,
+            balance: Vec::new(),
+            int_force,
+            int_abs,
+            e,
+            sigma,
+            energy,
+            reduced,
+        }
+    }
 }
 
 /// The KKT entries of the elements `els` alone, as [`assemble_values`] writes them (the full
@@ -380,27 +397,50 @@ pub(crate) fn element_values(
     let mut e = vec![0.0; e_starts[entries.len()]];
     let mut sigma = e.clone();
     let mut f = vec![0.0; f_starts[entries.len()]];
-    let pieces: Vec<_> = split_at_starts(vals, starts)
+    let outs = ElementOuts {
+        vals: (vals, starts),
+        e: (&mut e, &e_starts),
+        sigma: &mut sigma,
+        f: (&mut f, &f_starts),
+    };
+    map_local(model, su, (x, mu), part, reduced, els, outs);
+}
+
+/// What [`element_local`] writes for a range of elements, each buffer with the starts of the
+/// elements' pieces in it (`sigma` split as `e`).
+struct ElementOuts<'a> {
+    vals: (&'a mut [f64], &'a [usize]),
+    e: (&'a mut [f64], &'a [usize]),
+    sigma: &'a mut [f64],
+    f: (&'a mut [f64], &'a [usize]),
+}
+
+/// [`element_local`] for the elements `els`, each on its own pieces of `outs` (in parallel for
+/// many elements); their energies in element order.
+fn map_local(
+    model: &Model,
+    su: &Setup,
+    (x, mu): (&[f64], &[f64]),
+    part: Part,
+    reduced: bool,
+    els: std::ops::Range<usize>,
+    outs: ElementOuts<'_>,
+) -> Vec<f64> {
+    let ElementOuts { vals, e, sigma, f } = outs;
+    let pieces: Vec<_> = split_at_starts(vals.0, vals.1)
         .into_iter()
-        .zip(split_at_starts(&mut e, &e_starts))
-        .zip(split_at_starts(&mut sigma, &e_starts))
-        .zip(split_at_starts(&mut f, &f_starts))
+        .zip(split_at_starts(e.0, e.1))
+        .zip(split_at_starts(sigma, e.1))
+        .zip(split_at_starts(f.0, f.1))
         .collect();
-    map_elements(entries, pieces, |i, entry, (((v, ek), sk), fk)| {
-        element_local(
-            su,
-            els.start + i,
-            entry,
-            x,
-            mu,
-            part,
-            reduced,
-            ek,
-            sk,
-            fk,
-            v,
-        );
-    });
+    let first = els.start;
+    map_elements(
+        &model.elements[els],
+        pieces,
+        |i, entry, (((v, ek), sk), fk)| {
+            element_local(su, first + i, entry, x, mu, part, reduced, ek, sk, fk, v)
+        },
+    )
 }
 
 /// The matrix entries an assembly appends after the element entries ([`apply_loads`]: load
@@ -417,22 +457,15 @@ pub(crate) fn tail_entries(
 ) -> (Vec<(usize, usize)>, Vec<f64>) {
     debug_assert!(part != Part::Residual);
     // (the element values, forces and deformations are not needed for the entries: zeros)
-    let mut a = Assembled {
-        r: Vec::new(),
-        g: Vec::new(),
-        vals: Vec::with_capacity(tail_capacity(su)),
-        n_el: 0,
-        tail: Vec::new(),
-        triplets: Vec::new(),
-        f_scale: 0.0,
-        balance: Vec::new(),
-        int_force: vec![0.0; model.nx],
-        int_abs: vec![0.0; model.nx],
-        e: vec![0.0; model.ne],
-        sigma: Vec::new(),
-        energy: 0.0,
+    let mut a = Assembled::of_elements(
+        Vec::with_capacity(tail_capacity(su)),
+        vec![0.0; model.nx],
+        vec![0.0; model.nx],
+        vec![0.0; model.ne],
+        Vec::new(),
+        0.0,
         reduced,
-    };
+    );
     apply_loads(model, su, x, mu, t, part, &mut a);
     a.vals.shrink_to_fit();
     (a.tail, a.vals)
