@@ -87,51 +87,65 @@ impl SparseTangent {
         &self,
         model: &Model,
         step: &StepResult,
-        mut f: impl FnMut(std::ops::Range<usize>, &[f64], &[f64]),
+        f: impl FnMut(std::ops::Range<usize>, &[f64], &[f64]),
     ) {
-        let lin = &self.lin;
-        let x = &step.x;
-        let w = model.loads.spin.map(|sp| sp.projector());
-        let n_el = model.elements.len();
-        let (mut k, mut m) = (Vec::new(), Vec::new());
-        for a in (0..n_el).step_by(BLOCK) {
-            let els = a..(a + BLOCK).min(n_el);
-            let lo = lin.element_entries(els.start).start;
-            let hi = lin.element_entries(els.end - 1).end;
-            k.clear();
-            k.resize(hi - lo, 0.0);
-            m.clear();
-            m.resize(hi - lo, 0.0);
-            lin.element_values(model, step, els.clone(), &mut k);
-            // element mass blocks (and the softening), each element into its own piece
-            let mut pieces: Vec<(usize, &mut [f64], &mut [f64])> = Vec::with_capacity(els.len());
-            let (mut rest_k, mut rest_m): (&mut [f64], &mut [f64]) = (&mut k, &mut m);
-            for el in els.clone() {
-                let len = lin.element_entries(el).len();
-                let (pk, tk) = rest_k.split_at_mut(len);
-                let (pm, tm) = rest_m.split_at_mut(len);
-                pieces.push((el, pk, pm));
-                (rest_k, rest_m) = (tk, tm);
-            }
-            let fill = |(el, pk, pm): (usize, &mut [f64], &mut [f64])| {
-                let entry = &model.elements[el];
-                let n = entry.xmap.len();
+        element_blocks(&self.lin, model, step, true, f);
+    }
+}
+
+/// [`SparseTangent::element_blocks`] of the stage `lin` (made at `step`), M only `with_mass`
+/// (else `m` is all zeros): K alone made again from the model, when a factorisation needs the
+/// values it released (`dynamics::sparse`).
+pub(crate) fn element_blocks(
+    lin: &ReducedLinear,
+    model: &Model,
+    step: &StepResult,
+    with_mass: bool,
+    mut f: impl FnMut(std::ops::Range<usize>, &[f64], &[f64]),
+) {
+    let x = &step.x;
+    let w = model.loads.spin.map(|sp| sp.projector());
+    let n_el = model.elements.len();
+    let (mut k, mut m) = (Vec::new(), Vec::new());
+    for a in (0..n_el).step_by(BLOCK) {
+        let els = a..(a + BLOCK).min(n_el);
+        let lo = lin.element_entries(els.start).start;
+        let hi = lin.element_entries(els.end - 1).end;
+        k.clear();
+        k.resize(hi - lo, 0.0);
+        m.clear();
+        m.resize(hi - lo, 0.0);
+        lin.element_values(model, step, els.clone(), &mut k);
+        // element mass blocks (and the softening), each element into its own piece
+        let mut pieces: Vec<(usize, &mut [f64], &mut [f64])> = Vec::with_capacity(els.len());
+        let (mut rest_k, mut rest_m): (&mut [f64], &mut [f64]) = (&mut k, &mut m);
+        for el in els.clone() {
+            let len = lin.element_entries(el).len();
+            let (pk, tk) = rest_k.split_at_mut(len);
+            let (pm, tm) = rest_m.split_at_mut(len);
+            pieces.push((el, pk, pm));
+            (rest_k, rest_m) = (tk, tm);
+        }
+        let fill = |(el, pk, pm): (usize, &mut [f64], &mut [f64])| {
+            let entry = &model.elements[el];
+            let n = entry.xmap.len();
+            if with_mass {
                 element_mass(entry, x, None, true, |me| {
                     lin.element_block(model, el, x, &|a, c| me[a * n + c], pm)
                 });
-                if let Some(w) = &w {
-                    let mut soft = vec![0.0; pk.len()];
-                    softening(lin, model, el, x, w, &mut soft);
-                    pk.iter_mut().zip(soft).for_each(|(k, s)| *k += s);
-                }
-            };
-            if pieces.len() < 256 {
-                pieces.into_iter().for_each(fill);
-            } else {
-                pieces.into_par_iter().with_min_len(64).for_each(fill);
             }
-            f(els, &k, &m);
+            if let Some(w) = &w {
+                let mut soft = vec![0.0; pk.len()];
+                softening(lin, model, el, x, w, &mut soft);
+                pk.iter_mut().zip(soft).for_each(|(k, s)| *k += s);
+            }
+        };
+        if pieces.len() < 256 {
+            pieces.into_iter().for_each(fill);
+        } else {
+            pieces.into_par_iter().with_min_len(64).for_each(fill);
         }
+        f(els, &k, &m);
     }
 }
 

@@ -96,7 +96,9 @@ pub(super) fn element_local(
 ) -> f64 {
     let s = su.s_eff.get(el);
     let ne = e_out.len();
-    let free = &su.pattern.elem_free[el];
+    // (the unreduced system's columns: read only there, so that the reduced assembly also runs
+    // after `Setup::release_assembly`)
+    let free = || su.pattern.elem_free[el].as_slice();
     // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
     let constrained = &su.constraint[entry.ie..entry.ie + ne];
     if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
@@ -145,7 +147,7 @@ pub(super) fn element_local(
             );
         } else {
             // the closed form's arrays directly (inlined, no dynamic calls per entry)
-            write_entries(vals, free, constrained, |a, b| k[a][b], |m, b| d[m][b]);
+            write_entries(vals, free(), constrained, |a, b| k[a][b], |m, b| d[m][b]);
         }
         return energy;
     }
@@ -186,7 +188,13 @@ pub(super) fn element_local(
             &mut kt,
         );
     } else {
-        write_entries(vals, free, constrained, |a, b| k[(a, b)], |m, b| d[(m, b)]);
+        write_entries(
+            vals,
+            free(),
+            constrained,
+            |a, b| k[(a, b)],
+            |m, b| d[(m, b)],
+        );
     }
     energy
 }

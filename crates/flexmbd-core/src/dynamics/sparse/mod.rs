@@ -168,6 +168,8 @@ pub(crate) fn sparse_modes_held(
         let sm = modes_of(&p, t.model(), t.step(), count, refine)?;
         sm.check_accuracy().map(|()| sm)
     })?;
+    // (the static solves with the problem factor it again, with its K values)
+    p.restore_k(t.model(), t.step());
     Ok((sm, SparseProblem(p)))
 }
 
@@ -277,6 +279,8 @@ fn modes_of(
         return Err(ModalError::NoMass);
     }
     let ndof = nc - n_constraints;
+    // (released by an earlier run of the plain solves)
+    p.restore_k(model, step);
     let exact_parts = refine.then(|| {
         (
             MaterialOperator::new(model, p.lin.setup(), &step.x),
@@ -368,6 +372,9 @@ fn modes_of(
         });
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
+    // the Lanczos phase holds the basis (and GMRES's vectors): K is released from now on
+    // between the factorisations, which make it again from the model
+    op.release_k_between(p, model, step);
     let (mut found, mut thetas, mut applications) =
         lanczos_runs(p, &mut op, want, max_applications, massless > 0)?;
     // A shift that makes the operator amplify some directions far more than the wanted modes

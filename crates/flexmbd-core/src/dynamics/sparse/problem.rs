@@ -4,9 +4,12 @@
 //! saddle-point order of its factorisation.
 
 use super::basis::PAR_MIN;
+use crate::linearized::sparse::element_blocks;
 use crate::linearized::Tangent;
 use crate::math::sparse_lu::{amd_order, sort_small};
+use crate::model::Model;
 use crate::statics::ReducedLinear;
+use crate::statics::StepResult;
 use rayon::prelude::*;
 
 /// The sparse problem: K and M in the reduced coordinates, with the constraint rows.
@@ -33,8 +36,12 @@ pub(super) struct Problem {
     /// beside it).
     pub(super) col_ptr: Vec<usize>,
     pub(super) row_idx: Vec<u32>,
-    /// K values on that structure (the symmetric part of K).
-    pub(super) k: Vec<f64>,
+    /// K values on that structure (the symmetric part of K): released while the Lanczos basis
+    /// is held and made again from the model when a factorisation needs them
+    /// ([`Problem::release_k`], [`Problem::restore_k`]; 8 bytes per entry).
+    k: std::sync::RwLock<Vec<f64>>,
+    /// The entries (row, column, value) of the added constraint rows, for making K again.
+    added: Vec<(usize, usize, f64)>,
     /// The coordinate block of M (CSC, both triangles, non-zero entries only, rows sorted), for
     /// M v; an entry of the structure above finds its M value here by bisection
     /// ([`Problem::shifted_entries`]), without a map of 4 bytes per entry.
@@ -302,9 +309,9 @@ impl Problem {
             k[q] += w * kv;
             m[q] += w * mv;
         }
-        // the saddle-point matrix holds the stage's values now
+        // the saddle-point matrix holds the stage's values now (the tail's are kept to make K
+        // again: a few per rotational node)
         let mut lin = tangent.lin;
-        lin.tail_vals = Vec::new();
         lin.release_assembly();
         // the coordinate block of M (non-zero entries) in both triangles, for products by
         // columns (gather, parallel): each column's rows above the diagonal (the mirrors of
@@ -378,6 +385,7 @@ impl Problem {
         Self {
             lin,
             extra_k,
+            added,
             group,
             n,
             nc,
@@ -385,7 +393,7 @@ impl Problem {
             ordered,
             col_ptr,
             row_idx,
-            k,
+            k: std::sync::RwLock::new(k),
             m_ptr,
             m_idx,
             m_val,
@@ -409,8 +417,10 @@ impl Problem {
     /// factorisation asks in ascending order), and searched when q jumps.
     pub(super) fn shifted_entries(&self, s: f64) -> impl Fn(usize) -> f64 + '_ {
         let column = std::cell::Cell::new(0usize);
+        let kv = self.k_values();
+        debug_assert!(kv.len() == self.row_idx.len(), "K was released");
         move |q| {
-            let k = self.k[q];
+            let k = kv[q];
             if s == 0.0 {
                 return k;
             }
@@ -432,6 +442,57 @@ impl Problem {
         }
     }
 
+    /// The K values (read access; empty while released).
+    fn k_values(&self) -> std::sync::RwLockReadGuard<'_, Vec<f64>> {
+        self.k.read().expect("K is never left half written")
+    }
+
+    /// Releases the K values (a factorisation holds what the solves need); a factorisation
+    /// makes them again first ([`Problem::restore_k`]).
+    pub(super) fn release_k(&self) {
+        *self.k.write().expect("K is never left half written") = Vec::new();
+    }
+
+    /// The K values made again when they were released: the element part from the model at
+    /// `step` (the stage this problem was made of), the tail, the node masses' softening and
+    /// the added rows, summed into the stored structure in the order of [`Problem::with_rows`]
+    /// (the same values, bit for bit).
+    pub(super) fn restore_k(&self, model: &Model, step: &StepResult) {
+        if self.k_values().len() == self.row_idx.len() {
+            return;
+        }
+        let mut inv = vec![0u32; self.n];
+        for (t, &c) in self.perm.iter().enumerate() {
+            inv[c as usize] = t as u32;
+        }
+        let (cp, ri) = (&self.col_ptr, &self.row_idx);
+        let at = |r: usize, c: usize| {
+            let (a, b) = (inv[r] as usize, inv[c] as usize);
+            let (s, t) = (a.max(b), a.min(b));
+            cp[t] + ri[cp[t]..cp[t + 1]].partition_point(|&x| (x as usize) < s)
+        };
+        let half = |r: usize, c: usize| if r == c { 1.0 } else { 0.5 };
+        let mut k = vec![0.0; ri.len()];
+        element_blocks(&self.lin, model, step, false, |els, kb, _| {
+            let mut i = 0;
+            self.lin.for_each_entry_in(els, |r, c| {
+                k[at(r, c)] += half(r, c) * kb[i];
+                i += 1;
+            });
+        });
+        for (r, c, kv) in self.lin.tail() {
+            k[at(r, c)] += half(r, c) * kv;
+        }
+        for &(r, c, kv) in &self.extra_k {
+            k[at(r, c)] += half(r, c) * kv;
+        }
+        for &(r, c, v) in &self.added {
+            k[at(r, c)] += half(r, c) * v;
+            k[at(c, r)] += half(c, r) * v;
+        }
+        *self.k.write().expect("K is never left half written") = k;
+    }
+
     pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
         csc_sym_times_with(&self.m_ptr, &self.m_idx, &self.m_val, v, out, |y, s| *y = s);
     }
@@ -447,11 +508,12 @@ impl Problem {
     /// columns: G, Gᵀ (with the added rows) and the constraint diagonal.
     pub(super) fn constraint_entries(&self) -> Vec<(usize, usize, f64)> {
         let nc = self.nc;
+        let k = self.k_values();
         let mut out = Vec::new();
         for t in 0..self.n {
             let c = self.perm[t] as usize;
             for q in self.col_ptr[t]..self.col_ptr[t + 1] {
-                let (r, v) = (self.perm[self.row_idx[q] as usize] as usize, self.k[q]);
+                let (r, v) = (self.perm[self.row_idx[q] as usize] as usize, k[q]);
                 if (r >= nc || c >= nc) && v != 0.0 {
                     out.push((r, c, v));
                     if r != c {
@@ -497,13 +559,14 @@ impl Problem {
     pub(super) fn diagonals(&self) -> (Vec<f64>, Vec<f64>) {
         let mut kd = vec![0.0; self.nc];
         let mut md = vec![0.0; self.nc];
+        let k = self.k_values();
         for (t, &c) in self.perm.iter().enumerate() {
             let c = c as usize;
             if c < self.nc {
                 // (each column of the lower triangle starts with its diagonal entry)
                 let p = self.col_ptr[t];
                 debug_assert_eq!(self.row_idx[p] as usize, t);
-                kd[c] = self.k[p];
+                kd[c] = k[p];
                 md[c] = self.m_entry(t, t).unwrap_or(0.0);
             }
         }

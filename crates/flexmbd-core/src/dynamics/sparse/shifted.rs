@@ -5,6 +5,8 @@
 use super::problem::Problem;
 use super::refined::{refined_solve, Exact};
 use crate::math::sparse_lu::{csc_sym_residual_with, LuFailure, SparseLu};
+use crate::model::Model;
+use crate::statics::StepResult;
 
 /// Accepted componentwise backward error of a solve with a new factorisation.
 pub(super) const MAX_BACKWARD_ERROR: f64 = 1e-9;
@@ -49,6 +51,9 @@ pub(super) struct Shifted<'a> {
     /// The shift at which the factorisation is made again before the next solve, after
     /// [`Shifted::count_below`] took it for an inertia count.
     restore: Option<f64>,
+    /// When set ([`Shifted::release_k_between`]): the problem's K values are released after
+    /// every factorisation and made again from this model and state before the next one.
+    source: Option<(&'a Model, &'a StepResult)>,
 }
 
 impl<'a> Shifted<'a> {
@@ -77,6 +82,7 @@ impl<'a> Shifted<'a> {
             rhs: vec![0.0; p.n],
             exact: None,
             restore: None,
+            source: None,
         }
     }
 
@@ -88,9 +94,41 @@ impl<'a> Shifted<'a> {
         }
     }
 
+    /// From now on, the problem's K values are held only while a factorisation is made: they
+    /// are released now and after every factorisation, and made again from `model` at `step`
+    /// (the stage of the problem) before the next (the Lanczos phase of a large model, whose
+    /// peak memory they would add to: 8 bytes per entry, 0.46 KB per beam of a strip).
+    pub(super) fn release_k_between(
+        &mut self,
+        p: &Problem,
+        model: &'a Model,
+        step: &'a StepResult,
+    ) {
+        self.source = Some((model, step));
+        p.release_k();
+    }
+
+    /// The problem's K values for a factorisation, and released after it (`f`), when
+    /// [`Shifted::release_k_between`] asked for it.
+    fn with_k<T>(&mut self, p: &Problem, f: impl FnOnce(&mut Self) -> T) -> T {
+        if let Some((model, step)) = self.source {
+            p.restore_k(model, step);
+        }
+        let r = f(self);
+        if self.source.is_some() {
+            p.release_k();
+        }
+        r
+    }
+
     /// Factor A(σ); `allow_lu`: fall back to LU when L D Lᵀ fails. Checks the accuracy of a
     /// trial solve. Returns false when A(σ) could not be factored accurately.
     pub(super) fn factor(&mut self, p: &Problem, sigma: f64, allow_lu: bool) -> bool {
+        self.with_k(p, |op| op.factor_with_k(p, sigma, allow_lu))
+    }
+
+    /// [`Shifted::factor`] with the K values present.
+    fn factor_with_k(&mut self, p: &Problem, sigma: f64, allow_lu: bool) -> bool {
         self.restore = None;
         self.sigma = sigma;
         self.below = None;
@@ -226,8 +264,8 @@ impl<'a> Shifted<'a> {
         self.sigma = f64::NAN;
         self.below = None;
         self.use_sym = false;
-        let lu = self.sym.as_mut()?;
-        inertia_count(lu, p, s)
+        self.sym.as_ref()?;
+        self.with_k(p, |op| inertia_count(op.sym.as_mut()?, p, s))
     }
 }
 
