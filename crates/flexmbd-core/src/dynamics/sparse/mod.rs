@@ -351,6 +351,8 @@ fn modes_of(
     // strip: σ = −1.7e10 and 111 operator applications)
     let unstressed = p.lin.geo.iter().all(|&v| v == 0.0) && p.extra_k.is_empty();
     if !refine && unstressed && sigma < -1e2 * f64::EPSILON * lambda_ref {
+        // (this run's factorisation released first: the refined run makes its own)
+        drop(op);
         return modes_of(p, model, step, count, true);
     }
     let n_finite = ndof - massless;
