@@ -443,7 +443,7 @@ impl Problem {
     }
 
     /// The K values (read access; empty while released).
-    fn k_values(&self) -> std::sync::RwLockReadGuard<'_, Vec<f64>> {
+    pub(super) fn k_values(&self) -> std::sync::RwLockReadGuard<'_, Vec<f64>> {
         self.k.read().expect("K is never left half written")
     }
 
