@@ -34,15 +34,7 @@ impl ReducedLinear {
     /// The reduced tangent at a converged step.
     pub(crate) fn new(model: &Model, step: &StepResult) -> Self {
         let su = setup(model);
-        let (tail, tail_vals) = tail_entries(
-            model,
-            &su,
-            &step.x,
-            &step.multipliers,
-            step.load_factor,
-            Part::Full,
-            true,
-        );
+        let (tail, tail_vals) = tail_entries(model, &su, step, (Part::Full, true));
         // the geometric part vanishes in a state without stress resultants, multipliers and
         // moment loads (the unloaded reference state)
         let unstressed = step.sigma.iter().all(|&v| v == 0.0)

@@ -451,18 +451,16 @@ fn map_local(
     )
 }
 
-/// The matrix entries an assembly appends after the element entries ([`apply_loads`]: load
-/// stiffness of moments, normalisation terms), as (row, column) and value, without the
-/// element part.
+/// The matrix entries an assembly at a converged `step` appends after the element entries
+/// ([`apply_loads`]: load stiffness of moments, normalisation terms), as (row, column) and
+/// value, without the element part.
 pub(crate) fn tail_entries(
     model: &Model,
     su: &Setup,
-    x: &[f64],
-    mu: &[f64],
-    t: f64,
-    part: Part,
-    reduced: bool,
+    step: &StepResult,
+    (part, reduced): (Part, bool),
 ) -> (Vec<(usize, usize)>, Vec<f64>) {
+    let (x, mu, t) = (&step.x, &step.multipliers, step.load_factor);
     debug_assert!(part != Part::Residual);
     // (the element values, forces and deformations are not needed for the entries: zeros)
     let mut a = Assembled::of_elements(
