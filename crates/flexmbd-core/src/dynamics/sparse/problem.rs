@@ -130,6 +130,41 @@ fn full_of_triangle(
     (ptr, rows)
 }
 
+/// The step of every unknown in the pivot order `perm` (step k eliminates unknown `perm[k]`).
+fn inverse(perm: &[u32]) -> Vec<u32> {
+    let mut inv = vec![0u32; perm.len()];
+    for (s, &c) in perm.iter().enumerate() {
+        inv[c as usize] = s as u32;
+    }
+    inv
+}
+
+/// The position of entry (r, c) of a symmetric matrix, either triangle, in its stored lower
+/// triangle (CSC, rows sorted) whose unknown i is `step(i)`: column min, row max.
+fn lower_position(
+    col_ptr: &[usize],
+    row_idx: &[u32],
+    step: impl Fn(usize) -> usize,
+    r: usize,
+    c: usize,
+) -> usize {
+    let (a, b) = (step(r), step(c));
+    let (s, t) = (a.max(b), a.min(b));
+    let q = col_ptr[t] + row_idx[col_ptr[t]..col_ptr[t + 1]].partition_point(|&x| (x as usize) < s);
+    debug_assert_eq!(row_idx[q] as usize, s);
+    q
+}
+
+/// The weight of an entry in the stored lower triangle: an entry off the diagonal adds half its
+/// value to its place, and so does its mirror (the symmetric part (K + Kᵀ)/2).
+fn half(r: usize, c: usize) -> f64 {
+    if r == c {
+        1.0
+    } else {
+        0.5
+    }
+}
+
 /// The lower triangle of P A Pᵀ (step k = unknown `perm[k]`) from that of A, with the values
 /// of its entries: each entry (r, c) goes to column min(inv r, inv c), row max(inv r, inv c),
 /// the rows of each column sorted.
@@ -140,10 +175,7 @@ fn permuted_lower(
     k: &[f64],
 ) -> (Vec<usize>, Vec<u32>, Vec<f64>) {
     let n = perm.len();
-    let mut inv = vec![0u32; n];
-    for (s, &c) in perm.iter().enumerate() {
-        inv[c as usize] = s as u32;
-    }
+    let inv = inverse(perm);
     let place = |q: usize, c: usize| {
         let (a, b) = (inv[row_idx[q] as usize], inv[c]);
         (a.max(b), a.min(b) as usize)
@@ -227,7 +259,6 @@ impl Problem {
         // factorisation and the products read one triangle): the rows of every column
         // (element entries, node masses and added rows, each pair on its lower side, and the
         // diagonal) bucketed, each column sorted with its duplicates removed in place
-        let low = |r: usize, c: usize| if r >= c { (r, c) } else { (c, r) };
         let mut count = vec![0usize; n + 1];
         let mut count_entry = |r: usize, c: usize| {
             if r >= c {
@@ -280,16 +311,12 @@ impl Problem {
         rows.shrink_to_fit();
         let row_idx = rows;
         // the values, summed into their places in the order of the entries (element entries,
-        // node masses and added rows), each found by bisection in its column; an entry off the
-        // diagonal adds half its value to its place, and so does its mirror: the lower
-        // triangle holds the symmetric part (K + Kᵀ)/2, as the factorisation needs (the load
-        // stiffness of moments is not symmetric; the dense path takes the same part)
-        let at = |r: usize, c: usize| {
-            let (r, c) = low(r, c);
-            let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
-            lo + row_idx[lo..hi].partition_point(|&x| (x as usize) < r)
-        };
-        let half = |r: usize, c: usize| if r == c { 1.0 } else { 0.5 };
+        // then node masses and added rows), each found by bisection in its column, with the
+        // weights of the symmetric part (`half`): the lower triangle holds (K + Kᵀ)/2, as the
+        // factorisation needs (the load stiffness of moments is not symmetric; the dense path
+        // takes the same part). K's entries after the element blocks are added once the
+        // structure is in pivot order (`Problem::add_k_rest`, which also serves `restore_k`).
+        let at = |r: usize, c: usize| lower_position(&col_ptr, &row_idx, |i| i, r, c);
         let (mut k, mut m) = (vec![0.0; nnz], vec![0.0; nnz]);
         tangent.element_blocks(model, step, |els, kb, mb| {
             let mut i = 0;
@@ -300,14 +327,8 @@ impl Problem {
                 i += 1;
             });
         });
-        for (r, c, kv) in lin.tail() {
-            let (q, w) = (at(r, c), half(r, c));
-            k[q] += w * kv;
-        }
-        for &(r, c, kv, mv) in &extra {
-            let (q, w) = (at(r, c), half(r, c));
-            k[q] += w * kv;
-            m[q] += w * mv;
+        for &(r, c, _, mv) in &extra {
+            m[at(r, c)] += half(r, c) * mv;
         }
         // the saddle-point matrix holds the stage's values now (the tail's are kept to make K
         // again: a few per rotational node)
@@ -381,8 +402,8 @@ impl Problem {
             Some(o) => o.into_iter().map(|c| c as u32).collect(),
             None => (0..n as u32).collect(),
         };
-        let (col_ptr, row_idx, k) = permuted_lower(&perm, &col_ptr, &row_idx, &k);
-        Self {
+        let (col_ptr, row_idx, mut k) = permuted_lower(&perm, &col_ptr, &row_idx, &k);
+        let mut p = Self {
             lin,
             extra_k,
             added,
@@ -393,10 +414,32 @@ impl Problem {
             ordered,
             col_ptr,
             row_idx,
-            k: std::sync::RwLock::new(k),
+            k: std::sync::RwLock::new(Vec::new()),
             m_ptr,
             m_idx,
             m_val,
+        };
+        p.add_k_rest(&inverse(&p.perm), &mut k);
+        p.k = std::sync::RwLock::new(k);
+        p
+    }
+
+    /// K's entries after the element blocks, added into `k` (the stored lower triangle, whose
+    /// unknown i is step `inv[i]`) after its element part, in this order: the tail (load
+    /// stiffness of moments, normalisations), the softening of point masses, the added rows.
+    fn add_k_rest(&self, inv: &[u32], k: &mut [f64]) {
+        let at = |r: usize, c: usize| {
+            lower_position(&self.col_ptr, &self.row_idx, |i| inv[i] as usize, r, c)
+        };
+        for (r, c, kv) in self.lin.tail() {
+            k[at(r, c)] += half(r, c) * kv;
+        }
+        for &(r, c, kv) in &self.extra_k {
+            k[at(r, c)] += half(r, c) * kv;
+        }
+        for &(r, c, v) in &self.added {
+            k[at(r, c)] += half(r, c) * v;
+            k[at(c, r)] += half(c, r) * v;
         }
     }
 
@@ -461,18 +504,11 @@ impl Problem {
         if self.k_values().len() == self.row_idx.len() {
             return;
         }
-        let mut inv = vec![0u32; self.n];
-        for (t, &c) in self.perm.iter().enumerate() {
-            inv[c as usize] = t as u32;
-        }
-        let (cp, ri) = (&self.col_ptr, &self.row_idx);
+        let inv = inverse(&self.perm);
         let at = |r: usize, c: usize| {
-            let (a, b) = (inv[r] as usize, inv[c] as usize);
-            let (s, t) = (a.max(b), a.min(b));
-            cp[t] + ri[cp[t]..cp[t + 1]].partition_point(|&x| (x as usize) < s)
+            lower_position(&self.col_ptr, &self.row_idx, |i| inv[i] as usize, r, c)
         };
-        let half = |r: usize, c: usize| if r == c { 1.0 } else { 0.5 };
-        let mut k = vec![0.0; ri.len()];
+        let mut k = vec![0.0; self.row_idx.len()];
         element_blocks(&self.lin, model, step, false, |els, kb, _| {
             let mut i = 0;
             self.lin.for_each_entry_in(els, |r, c| {
@@ -480,16 +516,7 @@ impl Problem {
                 i += 1;
             });
         });
-        for (r, c, kv) in self.lin.tail() {
-            k[at(r, c)] += half(r, c) * kv;
-        }
-        for &(r, c, kv) in &self.extra_k {
-            k[at(r, c)] += half(r, c) * kv;
-        }
-        for &(r, c, v) in &self.added {
-            k[at(r, c)] += half(r, c) * v;
-            k[at(c, r)] += half(c, r) * v;
-        }
+        self.add_k_rest(&inv, &mut k);
         *self.k.write().expect("K is never left half written") = k;
     }
 
@@ -537,18 +564,12 @@ impl Problem {
     /// For every entry of the structure of both triangles ([`Problem::full_pattern`]), the
     /// position of its value in the stored lower triangle.
     pub(super) fn full_positions(&self, ptr: &[usize], rows: &[u32]) -> Vec<u32> {
-        let mut inv = vec![0u32; self.n];
-        for (k, &c) in self.perm.iter().enumerate() {
-            inv[c as usize] = k as u32;
-        }
+        let inv = inverse(&self.perm);
         let mut at = Vec::with_capacity(rows.len());
         for c in 0..self.n {
             for &r in &rows[ptr[c]..ptr[c + 1]] {
-                let (a, b) = (inv[r as usize] as usize, inv[c] as usize);
-                let (s, t) = (a.max(b), a.min(b));
-                let (lo, hi) = (self.col_ptr[t], self.col_ptr[t + 1]);
-                let q = lo + self.row_idx[lo..hi].partition_point(|&x| (x as usize) < s);
-                debug_assert_eq!(self.row_idx[q] as usize, s);
+                let step = |i: usize| inv[i] as usize;
+                let q = lower_position(&self.col_ptr, &self.row_idx, step, r as usize, c);
                 at.push(q as u32);
             }
         }
