@@ -334,7 +334,12 @@ fn emit(text: &str) -> anyhow::Result<()> {
     use std::io::Write;
     let text = params::mark(text);
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+    written(out.write_all(text.as_bytes()).and_then(|()| out.flush()))
+}
+
+/// The outcome of writing to stdout: a closed pipe is not an error.
+fn written(r: std::io::Result<()>) -> anyhow::Result<()> {
+    match r {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             Err(anyhow::Error::new(e).context("cannot write to standard output"))
         }
@@ -348,16 +353,12 @@ fn emit_json<T: serde::Serialize>(doc: &T) -> anyhow::Result<()> {
     use std::io::Write;
     let out = std::io::stdout().lock();
     let mut w = params::Marked::new(std::io::BufWriter::with_capacity(1 << 16, out));
-    let written = serde_json::to_writer_pretty(&mut w, doc)
-        .map_err(std::io::Error::from)
-        .and_then(|()| w.write_all(b"\n"))
-        .and_then(|()| w.flush());
-    match written {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            Err(anyhow::Error::new(e).context("cannot write to standard output"))
-        }
-        _ => Ok(()),
-    }
+    written(
+        serde_json::to_writer_pretty(&mut w, doc)
+            .map_err(std::io::Error::from)
+            .and_then(|()| w.write_all(b"\n"))
+            .and_then(|()| w.flush()),
+    )
 }
 
 /// `flexmbd convert IN.dat OUT.toml`.
