@@ -772,7 +772,9 @@ fn hosted_rotation_nodes_keep_the_fine_strip_accurate() {
 /// bit (`Problem::restore_k`): element blocks (with the softening of a spin), the tail of
 /// moment loads and normalisations, point masses and added constraint rows, on the guide with
 /// a hinge, trusses and a rigid platform, and on a pre-stressed spinning strip with a tip mass,
-/// a tip moment and a partly held rotation. (Each of these parts left out fails it.)
+/// a tip moment and a partly held rotation. (The entries after the element blocks are added by
+/// one function for both, `Problem::add_k_rest`; the element part is made on each path, and
+/// the softening, the tail, the point masses and the added rows each change K here.)
 #[test]
 fn k_made_again_is_the_same_bit_for_bit() {
     use super::problem::Problem;
