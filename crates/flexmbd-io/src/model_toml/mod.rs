@@ -38,6 +38,7 @@
 
 pub mod expr;
 mod params;
+mod pieces;
 mod read;
 mod schema;
 mod spans;

@@ -4,7 +4,7 @@
 
 use super::params::Params;
 use super::schema::{self, FileSpec};
-use super::spans::{key_span, name_item, Lines};
+use super::spans::{key_span, Lines};
 use crate::error::{at, InputError};
 use crate::spec::*;
 use flexmbd_core::model::Dof;
@@ -18,21 +18,7 @@ pub(super) fn parse_spec(
     file: &str,
     set: &[(String, f64)],
 ) -> Result<ModelSpec, InputError> {
-    let mut f: FileSpec = toml::from_str(text).map_err(|e| {
-        let mut msg = e.message().trim().to_string();
-        if msg.starts_with("invalid type: string") && msg.contains("expected usize") {
-            msg.push_str(
-                " (this key takes a whole number; expressions of parameters are for real values)",
-            );
-        }
-        match e.span() {
-            Some(span) => at(file, text, span.start, name_item(text, span.start, msg)),
-            None => InputError::File {
-                file: file.into(),
-                message: msg,
-            },
-        }
-    })?;
+    let mut f: FileSpec = super::pieces::parse_file(text, file)?;
     // the toml crate hands tables over in key order; file order is what the user wrote (and
     // what "defined before it" and the first error reported refer to)
     for map in [&mut f.nodes, &mut f.fix, &mut f.inputs]
