@@ -4,6 +4,7 @@
 //! 3 `check --require-exact` on a model that is not exactly constrained; 4 a file or stream
 //! could not be read or written (docs/reliability.md).
 
+mod alloc;
 mod dynamics_cmd;
 mod hints;
 mod output_cmd;
@@ -15,10 +16,9 @@ mod simulate_cmd;
 mod study_cmd;
 mod view_cmd;
 
-/// mimalloc instead of the system allocator: reading a model of 10^5 beams allocates and frees
-/// millions of small strings and vectors (bench/README.md §3b).
+/// mimalloc for small blocks, the operating system's pages for large ones ([`alloc`]).
 #[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static GLOBAL: alloc::Allocator = alloc::Allocator;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};

@@ -25,12 +25,58 @@ pub struct Refined {
     pub correction: f64,
 }
 
+/// The vectors of a refinement, kept between refinements of the same size (each solve of a
+/// shift-invert Lanczos run is one: vectors of the model's size, mapped afresh by the
+/// allocator each time if they were made per solve).
+#[derive(Default)]
+pub struct Workspace {
+    r: Vec<f64>,
+    w: Vec<f64>,
+    /// The Krylov vectors of a cycle; the first `used` of them hold this cycle's.
+    basis: Vec<Vec<f64>>,
+}
+
+impl Workspace {
+    /// Sets the `j`-th Krylov vector to v / s (a vector of the workspace, or a new one).
+    fn set_basis(&mut self, j: usize, from_r: bool, s: f64) {
+        let src = if from_r { &self.r } else { &self.w };
+        if j < self.basis.len() {
+            let v = &mut self.basis[j];
+            v.clear();
+            v.extend(src.iter().map(|a| a / s));
+        } else {
+            self.basis.push(src.iter().map(|a| a / s).collect());
+        }
+    }
+}
+
 /// Refines z (on entry the factorisation's solution Â⁻¹ b) towards the solution of A z = b by
 /// GMRES on Â⁻¹ A z = Â⁻¹ b: `precondition` applies Â⁻¹ in place, `product` writes A v. The
 /// correction is measured over the first `lead` entries (the coordinates of a saddle-point
 /// system, without its multipliers, which are in other units). Stops when the correction is at
 /// most `tol` of z, or when a cycle no longer halves it (the round-off of the products).
 pub fn refine(
+    b: &[f64],
+    z: &mut [f64],
+    lead: usize,
+    tol: f64,
+    precondition: impl FnMut(&mut [f64]),
+    product: impl FnMut(&[f64], &mut [f64]),
+) -> Refined {
+    refine_in(
+        &mut Workspace::default(),
+        b,
+        z,
+        lead,
+        tol,
+        precondition,
+        product,
+    )
+}
+
+/// [`refine`] with its vectors in `ws`.
+pub fn refine_in(
+    ws: &mut Workspace,
     b: &[f64],
     z: &mut [f64],
     lead: usize,
@@ -43,42 +89,43 @@ pub fn refine(
     if z.iter().any(|v| !v.is_finite()) {
         return stats;
     }
-    let mut r = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(CYCLE + 1);
+    ws.r.resize(n, 0.0);
+    ws.w.resize(n, 0.0);
     let mut last = f64::INFINITY;
     for _cycle in 0..MAX_CYCLES {
-        product(z, &mut r);
+        let r = &mut ws.r;
+        product(z, r);
         r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
-        precondition(&mut r);
+        precondition(r);
         let (rc, zc) = (norm(&r[..lead]), norm(&z[..lead]));
         stats.correction = if zc > 0.0 { rc / zc } else { rc };
         if stats.correction <= tol || rc >= 0.5 * last || !rc.is_finite() {
             break;
         }
         last = rc;
-        let beta = norm(&r);
+        let beta = norm(r);
         let z_norm = norm(z);
-        basis.clear();
-        basis.push(r.iter().map(|v| v / beta).collect());
+        ws.set_basis(0, true, beta);
+        let mut used = 1;
         // Hessenberg columns (rotated), the Givens rotations, and the rotated right-hand side
         let mut h: Vec<Vec<f64>> = Vec::with_capacity(CYCLE);
         let mut rot: Vec<(f64, f64)> = Vec::with_capacity(CYCLE);
         let mut g = vec![beta];
         for j in 0..CYCLE {
-            product(&basis[j], &mut w);
-            precondition(&mut w);
+            let w = &mut ws.w;
+            product(&ws.basis[j], w);
+            precondition(w);
             stats.iterations += 1;
             // modified Gram–Schmidt, twice
             let mut col = vec![0.0; j + 2];
             for _pass in 0..2 {
-                for (i, v) in basis.iter().enumerate() {
-                    let d: f64 = v.iter().zip(&w).map(|(a, b)| a * b).sum();
+                for (i, v) in ws.basis[..used].iter().enumerate() {
+                    let d: f64 = v.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
                     w.iter_mut().zip(v).for_each(|(x, a)| *x -= d * a);
                     col[i] += d;
                 }
             }
-            let hn = norm(&w);
+            let hn = norm(w);
             col[j + 1] = hn;
             for (i, &(c, s)) in rot.iter().enumerate() {
                 let (a, b) = (col[i], col[i + 1]);
@@ -103,7 +150,8 @@ pub fn refine(
                 break;
             }
             if j + 1 < CYCLE {
-                basis.push(w.iter().map(|v| v / hn).collect());
+                ws.set_basis(j + 1, false, hn);
+                used += 1;
             }
         }
         // y from the triangular system, then z += V y
@@ -116,7 +164,7 @@ pub fn refine(
         if y.iter().any(|v| !v.is_finite()) {
             break;
         }
-        for (v, &yi) in basis.iter().zip(&y) {
+        for (v, &yi) in ws.basis[..used].iter().zip(&y) {
             z.iter_mut().zip(v).for_each(|(a, b)| *a += yi * b);
         }
     }

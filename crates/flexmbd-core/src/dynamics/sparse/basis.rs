@@ -224,9 +224,11 @@ fn row_blocks(cols: &mut [Vec<f64>]) -> Vec<Vec<&mut [f64]>> {
 pub(super) fn basis_combine_in_place(v: &mut [Vec<f64>], y: MatRef<'_, f64>) {
     let (m, k) = (y.nrows(), y.ncols());
     debug_assert_eq!(v.len(), m);
-    let block = |o: &mut [&mut [f64]]| {
+    // (`tmp`: the block's result, one buffer per task, not one per block)
+    let block = |tmp: &mut Vec<f64>, o: &mut [&mut [f64]]| {
         let rows = o.first().map_or(0, |c| c.len());
-        let mut tmp = vec![0.0; rows * k];
+        tmp.clear();
+        tmp.resize(rows * k, 0.0);
         for c in 0..k {
             let t = &mut tmp[c * rows..(c + 1) * rows];
             for (j, vj) in o.iter().enumerate() {
@@ -244,10 +246,10 @@ pub(super) fn basis_combine_in_place(v: &mut [Vec<f64>], y: MatRef<'_, f64>) {
     };
     if v.first().map_or(0, Vec::len) < PAR_MIN {
         let mut o: Vec<&mut [f64]> = v.iter_mut().map(|c| c.as_mut_slice()).collect();
-        block(&mut o);
+        block(&mut Vec::new(), &mut o);
     } else {
         row_blocks(v)
             .into_par_iter()
-            .for_each(|mut o| block(&mut o));
+            .for_each_init(Vec::new, |tmp, mut o| block(tmp, &mut o));
     }
 }

@@ -68,8 +68,9 @@ pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], ou
 }
 
 /// Solves A(σ) z = b in place (b in, z out): the factorisation's solution in `op`, refined by
-/// [`crate::math::gmres::refine`] with the products of [`saddle_times`] to [`REFINED_TOL`] in
-/// the coordinates. Returns the last correction against z.
+/// [`crate::math::gmres::refine_in`] with the products of [`saddle_times`] to [`REFINED_TOL`]
+/// in the coordinates, its vectors in the operator's workspace ([`Shifted::refine_ws`]).
+/// Returns the last correction against z.
 pub(super) fn refined_solve(
     op: &mut Shifted<'_>,
     p: &Problem,
@@ -77,9 +78,12 @@ pub(super) fn refined_solve(
     b: &mut [f64],
 ) -> f64 {
     let sigma = op.sigma;
-    let rhs = b.to_vec();
+    let (mut ws, mut rhs) = std::mem::take(&mut op.refine_ws);
+    rhs.clear();
+    rhs.extend_from_slice(b);
     op.solve_factored(b);
-    gmres::refine(
+    let correction = gmres::refine_in(
+        &mut ws,
         &rhs,
         b,
         p.nc,
@@ -87,5 +91,7 @@ pub(super) fn refined_solve(
         |v| op.solve_factored(v),
         |v, out| saddle_times(p, ex, sigma, v, out),
     )
-    .correction
+    .correction;
+    op.refine_ws = (ws, rhs);
+    correction
 }

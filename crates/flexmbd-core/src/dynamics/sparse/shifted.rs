@@ -4,6 +4,7 @@
 
 use super::problem::Problem;
 use super::refined::{refined_solve, Exact};
+use crate::math::gmres;
 use crate::math::sparse_lu::{csc_sym_residual_with, LuFailure, SparseLu};
 use crate::model::Model;
 use crate::statics::StepResult;
@@ -48,6 +49,9 @@ pub(super) struct Shifted<'a> {
     /// When set, the operator's solves are refined (`refined` module) with products through
     /// the element deformations of this model and state.
     pub(super) exact: Option<Exact<'a>>,
+    /// The vectors of the refined solves and a copy of their right-hand side, kept from one
+    /// solve to the next (given back while K is made again: [`Shifted::with_k`]).
+    pub(super) refine_ws: (gmres::Workspace, Vec<f64>),
     /// The shift at which the factorisation is made again before the next solve, after
     /// [`Shifted::count_below`] took it for an inertia count.
     restore: Option<f64>,
@@ -81,6 +85,7 @@ impl<'a> Shifted<'a> {
             below: None,
             rhs: vec![0.0; p.n],
             exact: None,
+            refine_ws: Default::default(),
             restore: None,
             source: None,
         }
@@ -112,6 +117,8 @@ impl<'a> Shifted<'a> {
     /// [`Shifted::release_k_between`] asked for it.
     fn with_k<T>(&mut self, p: &Problem, f: impl FnOnce(&mut Self) -> T) -> T {
         if let Some((model, step)) = self.source {
+            // (the refined solves' vectors would add to the peak of the factorisation)
+            self.refine_ws = Default::default();
             p.restore_k(model, step);
         }
         let r = f(self);

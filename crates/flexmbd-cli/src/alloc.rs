@@ -1,0 +1,108 @@
+//! The binary's allocator: mimalloc for everything but large blocks, which are mapped from and
+//! given back to the operating system at once.
+//!
+//! Why both: reading a model of 10^5 beams allocates and frees millions of small strings and
+//! vectors, which mimalloc serves several times faster than the system allocator
+//! (bench/README.md §3b). But mimalloc keeps the pages of freed blocks for reuse and gives them
+//! back only after a delay, and the large vectors of one phase (the reader's, the static
+//! step's, a factorisation) are rarely the size the next phase asks for: on the 10^5-beam strip
+//! `modes` was resident at 1.25 times its heap. Blocks of [`LARGE`] bytes and more are few (a
+//! vector of the model's size is one), so a system call for each costs nothing measurable, and
+//! once freed they no longer count against the process.
+
+use mimalloc::MiMalloc;
+use std::alloc::{GlobalAlloc, Layout};
+
+/// Blocks of this many bytes or more are mapped directly (a quarter of a MiB: a vector of
+/// 32,768 reals).
+const LARGE: usize = 256 * 1024;
+
+/// Alignments up to the page size come with every mapping.
+const PAGE: usize = 4096;
+
+/// mimalloc for small blocks, anonymous mappings for large ones.
+pub struct Allocator;
+
+/// Whether a block of this layout is mapped (decided from the layout alone, so that `dealloc`
+/// and `realloc` find where a block came from).
+fn mapped(size: usize, align: usize) -> bool {
+    size >= LARGE && align <= PAGE
+}
+
+unsafe fn map(size: usize) -> *mut u8 {
+    // SAFETY: an anonymous private mapping has no preconditions; failure is MAP_FAILED.
+    let p = unsafe {
+        libc::mmap(
+            std::ptr::null_mut(),
+            size,
+            libc::PROT_READ | libc::PROT_WRITE,
+            libc::MAP_PRIVATE | libc::MAP_ANONYMOUS | libc::MAP_POPULATE,
+            -1,
+            0,
+        )
+    };
+    if p == libc::MAP_FAILED {
+        std::ptr::null_mut()
+    } else {
+        p.cast()
+    }
+}
+
+// SAFETY: every block is given back by the allocator that gave it: `mapped` of the block's
+// layout, which the caller passes unchanged to `dealloc` and `realloc`, says which.
+unsafe impl GlobalAlloc for Allocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if mapped(layout.size(), layout.align()) {
+            unsafe { map(layout.size()) }
+        } else {
+            unsafe { MiMalloc.alloc(layout) }
+        }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        if mapped(layout.size(), layout.align()) {
+            // anonymous mappings are zero-filled
+            unsafe { map(layout.size()) }
+        } else {
+            unsafe { MiMalloc.alloc_zeroed(layout) }
+        }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        if mapped(layout.size(), layout.align()) {
+            unsafe { libc::munmap(ptr.cast(), layout.size()) };
+        } else {
+            unsafe { MiMalloc.dealloc(ptr, layout) }
+        }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let align = layout.align();
+        match (mapped(layout.size(), align), mapped(new_size, align)) {
+            (false, false) => unsafe { MiMalloc.realloc(ptr, layout, new_size) },
+            (true, true) => {
+                // SAFETY: `ptr` is a mapping of `layout.size()` bytes made by `map`.
+                let p = unsafe {
+                    libc::mremap(ptr.cast(), layout.size(), new_size, libc::MREMAP_MAYMOVE)
+                };
+                if p == libc::MAP_FAILED {
+                    std::ptr::null_mut()
+                } else {
+                    p.cast()
+                }
+            }
+            _ => {
+                // SAFETY: the new layout is valid (same alignment, the caller's size).
+                let new_layout = unsafe { Layout::from_size_align_unchecked(new_size, align) };
+                let q = unsafe { self.alloc(new_layout) };
+                if !q.is_null() {
+                    unsafe {
+                        std::ptr::copy_nonoverlapping(ptr, q, layout.size().min(new_size));
+                        self.dealloc(ptr, layout);
+                    }
+                }
+                q
+            }
+        }
+    }
+}
