@@ -701,6 +701,7 @@ fn exit_code(e: &anyhow::Error) -> u8 {
 }
 
 fn main() -> ExitCode {
+    alloc::purge_at_once();
     let cli = Cli::parse();
     match run(cli) {
         Ok(code) => code,

@@ -27,26 +27,23 @@ pub struct Refined {
 
 /// The vectors of a refinement, kept between refinements of the same size (each solve of a
 /// shift-invert Lanczos run is one: vectors of the model's size, mapped afresh by the
-/// allocator each time if they were made per solve).
+/// allocator each time if they were made per solve). The residual and the next product are
+/// formed in the Krylov vector they become.
 #[derive(Default)]
 pub struct Workspace {
-    r: Vec<f64>,
-    w: Vec<f64>,
-    /// The Krylov vectors of a cycle; the first `used` of them hold this cycle's.
     basis: Vec<Vec<f64>>,
 }
 
 impl Workspace {
-    /// Sets the `j`-th Krylov vector to v / s (a vector of the workspace, or a new one).
-    fn set_basis(&mut self, j: usize, from_r: bool, s: f64) {
-        let src = if from_r { &self.r } else { &self.w };
-        if j < self.basis.len() {
-            let v = &mut self.basis[j];
-            v.clear();
-            v.extend(src.iter().map(|a| a / s));
-        } else {
-            self.basis.push(src.iter().map(|a| a / s).collect());
+    /// Krylov vectors `..j` and vector `j` (mutable), each of length n.
+    fn split(&mut self, j: usize, n: usize) -> (&[Vec<f64>], &mut Vec<f64>) {
+        while self.basis.len() <= j {
+            self.basis.push(Vec::new());
         }
+        let (done, rest) = self.basis.split_at_mut(j);
+        let v = &mut rest[0];
+        v.resize(n, 0.0);
+        (done, v)
     }
 }
 
@@ -89,11 +86,10 @@ pub fn refine_in(
     if z.iter().any(|v| !v.is_finite()) {
         return stats;
     }
-    ws.r.resize(n, 0.0);
-    ws.w.resize(n, 0.0);
     let mut last = f64::INFINITY;
     for _cycle in 0..MAX_CYCLES {
-        let r = &mut ws.r;
+        // the preconditioned residual, in the first Krylov vector
+        let (_, r) = ws.split(0, n);
         product(z, r);
         r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
         precondition(r);
@@ -105,21 +101,22 @@ pub fn refine_in(
         last = rc;
         let beta = norm(r);
         let z_norm = norm(z);
-        ws.set_basis(0, true, beta);
+        r.iter_mut().for_each(|v| *v /= beta);
         let mut used = 1;
         // Hessenberg columns (rotated), the Givens rotations, and the rotated right-hand side
         let mut h: Vec<Vec<f64>> = Vec::with_capacity(CYCLE);
         let mut rot: Vec<(f64, f64)> = Vec::with_capacity(CYCLE);
         let mut g = vec![beta];
         for j in 0..CYCLE {
-            let w = &mut ws.w;
-            product(&ws.basis[j], w);
+            // the next product, in Krylov vector j + 1
+            let (v, w) = ws.split(j + 1, n);
+            product(&v[j], w);
             precondition(w);
             stats.iterations += 1;
             // modified Gram–Schmidt, twice
             let mut col = vec![0.0; j + 2];
             for _pass in 0..2 {
-                for (i, v) in ws.basis[..used].iter().enumerate() {
+                for (i, v) in v[..used].iter().enumerate() {
                     let d: f64 = v.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
                     w.iter_mut().zip(v).for_each(|(x, a)| *x -= d * a);
                     col[i] += d;
@@ -150,7 +147,7 @@ pub fn refine_in(
                 break;
             }
             if j + 1 < CYCLE {
-                ws.set_basis(j + 1, false, hn);
+                w.iter_mut().for_each(|x| *x /= hn);
                 used += 1;
             }
         }
