@@ -233,18 +233,14 @@ fn join(mut a: FileSpec, b: FileSpec, text: &str, file: &str) -> Result<FileSpec
     ] {
         join_entries(into, from, text, file)?;
     }
-    a.truss.extend(truss);
-    a.beam.extend(beam);
-    a.hinge.extend(hinge);
-    a.rigid.extend(rigid);
-    a.material.extend(material);
-    a.section.extend(section);
-    a.load.extend(load);
-    a.mass.extend(mass);
-    a.inertia.extend(inertia);
-    a.prescribe.extend(prescribe);
-    a.velocity.extend(velocity);
-    a.freedom.extend(freedom);
+    // the arrays of tables, in file order
+    macro_rules! append {
+        ($($f:ident),*) => { $(a.$f.extend($f);)* };
+    }
+    append!(
+        truss, beam, hinge, rigid, material, section, load, mass, inertia, prescribe, velocity,
+        freedom
+    );
     once(&mut a.statics, statics, || twice("static"))?;
     once(&mut a.simulate, simulate, || twice("simulate"))?;
     Ok(a)
