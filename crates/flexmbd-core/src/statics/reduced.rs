@@ -343,47 +343,50 @@ fn has_stiffness(s: faer::MatRef<'_, f64>, ne: usize) -> bool {
 /// product through it went through vectors in x and back). For the refined solves of the sparse
 /// modes and of statics' Newton, which take hundreds of these products.
 pub(crate) struct MaterialOperator {
-    /// Per element with stiffness: its index, and the offset of its D T (row-major) in `dt`.
-    elements: Vec<(usize, usize)>,
-    /// Per element of `elements`: whether its D T is kept without the columns of its second
-    /// node's translations ([`Compact`]).
-    compact: Vec<bool>,
-    dt: Vec<f64>,
+    /// Per element with stiffness: its index, its [`Layout`] in `layouts`, and the offset of
+    /// its kept values in `vals`.
+    elements: Vec<(usize, u32, usize)>,
+    /// The distinct layouts of the elements' D T (the beams of a leaf share one or a few).
+    layouts: Vec<Layout>,
+    /// The entries kept ([`Code::Kept`]), element by element, row by row.
+    vals: Vec<f64>,
 }
 
-/// The D T of a beam whose reduced columns are its two nodes' translations and rotation
-/// increments ([`super::reduction::Reduction::beam_full`]) and whose deformations depend on
-/// the translations through their difference only, so that the columns of the second node's
-/// translations are exactly the negatives of the first's (bit for bit, checked): 9 values a
-/// row instead of 12 (54 a beam instead of 72), the omitted ones made again exactly when a
-/// product needs them.
-struct Compact;
+/// The non-zero entries of an element's D T (ne × nc): row by row, (column, index of its
+/// value among the element's kept values, negated: a [`Code::Mirror`]), columns ascending; and
+/// column by column, (row, value, negated), rows ascending. A product through them has the
+/// sums of one through the full D T less its zero terms, which change no sum that is not zero.
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct Layout {
+    rows: Vec<Vec<(u16, u16, bool)>>,
+    cols: Vec<Vec<(u16, u16, bool)>>,
+}
 
-impl Compact {
-    /// Reduced columns of such a beam, and values kept of each row.
-    const COLS: usize = 12;
-    const KEPT: usize = 9;
+/// How an entry of an element's D T is kept: exact zeros are not stored, nor, for a beam whose
+/// reduced columns are its two nodes' translations and rotation increments
+/// ([`super::reduction::Reduction::beam_full`]), the second node's translation columns where
+/// they are the negatives of the first's (bit for bit; the deformations depend on the
+/// translations through their difference). A straight beam along an axis keeps 16 of its 72
+/// values, a beam in a general direction 54.
+#[derive(Clone, Copy, PartialEq)]
+enum Code {
+    Zero,
+    Kept,
+    /// The negative of the first node's translation entry of the row (six columns to the left).
+    Mirror,
+}
 
-    /// Whether the row-major D T `dt` (6 rows of [`Compact::COLS`]) can be kept compact.
-    fn fits(dt: &[f64]) -> bool {
-        dt.chunks_exact(Self::COLS).all(|row| {
-            (0..3).all(|k| row[6 + k].to_bits() == (-row[k]).to_bits())
-        })
-    }
-
-    /// The kept values of a row: translations and rotations of the first node, rotations of
-    /// the second.
-    fn keep(row: &[f64]) -> impl Iterator<Item = f64> + '_ {
-        row[..6].iter().chain(&row[9..12]).copied()
-    }
-
-    /// A full row from its kept values.
-    fn row(kept: &[f64]) -> [f64; 12] {
-        std::array::from_fn(|c| match c {
-            0..=5 => kept[c],
-            6..=8 => -kept[c - 6],
-            _ => kept[c - 3],
-        })
+impl Code {
+    /// The code of entry `c` of `row` (`mirror`: the element's columns allow [`Code::Mirror`]).
+    fn of(row: &[f64], c: usize, mirror: bool) -> Self {
+        let v = row[c];
+        if v == 0.0 {
+            Code::Zero
+        } else if mirror && (6..9).contains(&c) && v.to_bits() == (-row[c - 6]).to_bits() {
+            Code::Mirror
+        } else {
+            Code::Kept
+        }
     }
 }
 
@@ -431,39 +434,53 @@ impl MaterialOperator {
         } else {
             stiff.par_iter().with_min_len(64).map(jac_t).collect()
         };
-        let compact: Vec<bool> = stiff
-            .iter()
-            .zip(&blocks)
-            .map(|(&el, b)| {
-                su.red.beam_full[el]
-                    && b.len() == 6 * Compact::COLS
-                    && model.elements[el].element.ne() == 6
-                    && Compact::fits(b)
-            })
-            .collect();
-        let size = |(b, &c): (&Vec<f64>, &bool)| {
-            if c {
-                6 * Compact::KEPT
-            } else {
-                b.len()
-            }
-        };
         let mut elements = Vec::with_capacity(stiff.len());
-        let mut dt = Vec::with_capacity(blocks.iter().zip(&compact).map(size).sum());
-        for ((&el, b), &c) in stiff.iter().zip(&blocks).zip(&compact) {
-            elements.push((el, dt.len()));
-            if c {
-                for row in b.chunks_exact(Compact::COLS) {
-                    dt.extend(Compact::keep(row));
+        let mut layouts: Vec<Layout> = Vec::new();
+        let mut index: rustc_hash::FxHashMap<Layout, u32> = Default::default();
+        let mut vals = Vec::new();
+        let small =
+            |i: usize| u16::try_from(i).expect("element D T of under 2^16 columns and values");
+        for (&el, dt) in stiff.iter().zip(&blocks) {
+            let nc = su.red.elem_cols[el].len();
+            let ne = dt.len().checked_div(nc).unwrap_or(0);
+            let mirror = su.red.beam_full[el];
+            let mut layout = Layout {
+                rows: vec![Vec::new(); ne],
+                cols: vec![Vec::new(); nc],
+            };
+            let val_at = vals.len();
+            for (r, row) in dt.chunks_exact(nc.max(1)).enumerate() {
+                // (the index among the element's kept values of the row's first three)
+                let mut kept_at = [usize::MAX; 3];
+                for c in 0..nc {
+                    let (v, neg) = match Code::of(row, c, mirror) {
+                        Code::Zero => continue,
+                        Code::Kept => {
+                            vals.push(row[c]);
+                            let v = vals.len() - 1 - val_at;
+                            if c < 3 {
+                                kept_at[c] = v;
+                            }
+                            (v, false)
+                        }
+                        // (a mirror's source is not zero: it is kept)
+                        Code::Mirror => (kept_at[c - 6], true),
+                    };
+                    layout.rows[r].push((small(c), small(v), neg));
+                    layout.cols[c].push((small(r), small(v), neg));
                 }
-            } else {
-                dt.extend_from_slice(b);
             }
+            let id = *index.entry(layout).or_insert_with_key(|l| {
+                layouts.push(l.clone());
+                (layouts.len() - 1) as u32
+            });
+            elements.push((el, id, val_at));
         }
+        vals.shrink_to_fit();
         MaterialOperator {
             elements,
-            compact,
-            dt,
+            layouts,
+            vals,
         }
     }
 
@@ -476,35 +493,35 @@ impl MaterialOperator {
         f.iter_mut().for_each(|v| *v = 0.0);
         let mut de = Vec::new();
         let mut sig = Vec::new();
-        let mut full = [0.0; 6 * Compact::COLS];
-        for (&(el, off), &compact) in self.elements.iter().zip(&self.compact) {
+        for &(el, layout, val_at) in &self.elements {
             let ne = model.elements[el].element.ne();
             let s = su.s_eff.get(el);
             let cols = &su.red.elem_cols[el];
-            let nc = cols.len();
-            let dt = if compact {
-                let kept = &self.dt[off..off + 6 * Compact::KEPT];
-                for (row, k) in full
-                    .chunks_exact_mut(Compact::COLS)
-                    .zip(kept.chunks_exact(Compact::KEPT))
-                {
-                    row.copy_from_slice(&Compact::row(k));
+            let layout = &self.layouts[layout as usize];
+            let vals = &self.vals[val_at..];
+            let value = |v: u16, neg: bool| {
+                let a = vals[v as usize];
+                if neg {
+                    -a
+                } else {
+                    a
                 }
-                &full[..]
-            } else {
-                &self.dt[off..off + ne * nc]
             };
             de.clear();
-            de.extend(dt.chunks_exact(nc).map(|row| {
+            de.extend(layout.rows.iter().map(|row| {
                 row.iter()
-                    .zip(cols)
-                    .map(|(a, &(_, m))| a * u[m])
+                    .map(|&(c, v, neg)| value(v, neg) * u[cols[c as usize].1])
                     .sum::<f64>()
             }));
             sig.clear();
             sig.extend((0..ne).map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
-            for (c, &(_, m)) in cols.iter().enumerate() {
-                f[m] += (0..ne).map(|r| dt[r * nc + c] * sig[r]).sum::<f64>();
+            for (col, &(_, m)) in layout.cols.iter().zip(cols) {
+                if !col.is_empty() {
+                    f[m] += col
+                        .iter()
+                        .map(|&(r, v, neg)| value(v, neg) * sig[r as usize])
+                        .sum::<f64>();
+                }
             }
         }
     }
