@@ -178,7 +178,7 @@ impl ReducedLinear {
     ) {
         let entry = &model.elements[el];
         let nxk = entry.xmap.len();
-        let mut kt = vec![0.0; nxk * self.su.red.elem_cols[el].len()];
+        let mut kt = vec![0.0; nxk * self.su.red.elem_cols(el).len()];
         write_reduced(
             &self.su,
             el,
@@ -415,9 +415,11 @@ impl MaterialOperator {
             };
             let xk = |a: usize| x[entry.xmap[a]];
             let mut tc = super::reduction::TColumns::new(&xk);
-            let cols: Vec<([(usize, f64); 4], usize)> = su.red.elem_cols[el]
+            let cols: Vec<([(usize, f64); 4], usize)> = su
+                .red
+                .elem_cols(el)
                 .iter()
-                .map(|(c, _)| tc.col(c))
+                .map(|c| tc.col(&c.rcol()))
                 .collect();
             let mut dt = Vec::with_capacity(ne * cols.len());
             for r in 0..ne {
@@ -441,7 +443,7 @@ impl MaterialOperator {
         let small =
             |i: usize| u16::try_from(i).expect("element D T of under 2^16 columns and values");
         for (&el, dt) in stiff.iter().zip(&blocks) {
-            let nc = su.red.elem_cols[el].len();
+            let nc = su.red.elem_cols(el).len();
             let ne = dt.len().checked_div(nc).unwrap_or(0);
             let mirror = su.red.beam_full[el];
             let mut layout = Layout {
@@ -496,7 +498,7 @@ impl MaterialOperator {
         for &(el, layout, val_at) in &self.elements {
             let ne = model.elements[el].element.ne();
             let s = su.s_eff.get(el);
-            let cols = &su.red.elem_cols[el];
+            let cols = su.red.elem_cols(el);
             let layout = &self.layouts[layout as usize];
             let vals = &self.vals[val_at..];
             let value = |v: u16, neg: bool| {
@@ -510,12 +512,12 @@ impl MaterialOperator {
             de.clear();
             de.extend(layout.rows.iter().map(|row| {
                 row.iter()
-                    .map(|&(c, v, neg)| value(v, neg) * u[cols[c as usize].1])
+                    .map(|&(c, v, neg)| value(v, neg) * u[cols[c as usize].unknown()])
                     .sum::<f64>()
             }));
             sig.clear();
             sig.extend((0..ne).map(|a| (0..ne).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
-            for (col, &(_, m)) in layout.cols.iter().zip(cols) {
+            for (col, m) in layout.cols.iter().zip(cols.iter().map(|c| c.unknown())) {
                 if !col.is_empty() {
                     f[m] += col
                         .iter()

@@ -120,6 +120,67 @@ pub(super) enum RCol {
     Rot { a0: u32, j: u8 },
 }
 
+/// A reduced column of an element ([`RCol`]) with its reduced unknown, in 8 bytes (the columns
+/// of every element are held through a modal analysis: 12 per beam).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ElemCol {
+    /// [`RCol::Plain`]: the local coordinate; [`RCol::Rot`]: the top bit, then λ0's local
+    /// coordinate and j in the two lowest bits.
+    col: u32,
+    unknown: u32,
+}
+
+impl ElemCol {
+    const ROT: u32 = 1 << 31;
+
+    fn new(col: RCol, unknown: usize) -> Self {
+        let col = match col {
+            RCol::Plain(a) => {
+                debug_assert!(a < Self::ROT);
+                a
+            }
+            RCol::Rot { a0, j } => {
+                debug_assert!(a0 < 1 << 29 && j < 4);
+                Self::ROT | a0 << 2 | u32::from(j)
+            }
+        };
+        let unknown = u32::try_from(unknown).expect("reduced unknowns under 2^32");
+        Self { col, unknown }
+    }
+
+    pub(super) fn rcol(self) -> RCol {
+        if self.col & Self::ROT == 0 {
+            RCol::Plain(self.col)
+        } else {
+            RCol::Rot {
+                a0: (self.col & !Self::ROT) >> 2,
+                j: (self.col & 3) as u8,
+            }
+        }
+    }
+
+    pub(super) fn unknown(self) -> usize {
+        self.unknown as usize
+    }
+}
+
+/// A column of an element's block with the unknown it belongs to ([`element_entries`]).
+pub(super) trait Unknown {
+    fn unknown_of(&self) -> usize;
+}
+
+impl<T> Unknown for (T, usize) {
+    fn unknown_of(&self) -> usize {
+        self.1
+    }
+}
+
+impl Unknown for ElemCol {
+    fn unknown_of(&self) -> usize {
+        self.unknown()
+    }
+}
+
 /// The Newton system in reduced unknowns. A rotational node whose four Euler parameters are
 /// all free is described by three increments δ with Δλ = N(λ) δ, N = Λ̄(λ)ᵀ/‖λ‖ (an
 /// orthonormal basis of λ⊥, docs/rotations.md), instead of four parameters plus its
@@ -150,8 +211,11 @@ pub(super) struct Reduction {
     pub(super) n: usize,
     /// Whether reduced coordinate unknown u is a translation.
     pub(super) is_trans: Vec<bool>,
-    /// Reduced local coordinates of each element with their reduced unknown.
-    pub(super) elem_cols: Vec<Vec<(RCol, usize)>>,
+    /// Reduced local coordinates of every element with their reduced unknown, element after
+    /// element ([`Reduction::elem_cols`]).
+    cols: Vec<ElemCol>,
+    /// Start of each element's columns in `cols` (elements + 1).
+    col_start: Vec<u32>,
     /// Beams with all 14 coordinates free, both nodes reduced and no constrained mode: their
     /// reduced entries come directly from `BeamFirst::hessian_tangent`.
     pub(super) beam_full: Vec<bool>,
@@ -252,7 +316,8 @@ impl Reduction {
         }
         // element columns and entry order
         let mut elem_start = Vec::with_capacity(model.elements.len() + 1);
-        let mut elem_cols = Vec::with_capacity(model.elements.len());
+        let mut cols: Vec<ElemCol> = Vec::new();
+        let mut col_start = Vec::with_capacity(model.elements.len() + 1);
         let mut beam_full = Vec::with_capacity(model.elements.len());
         let mut elem_cons = Vec::with_capacity(model.elements.len());
         let mut n_entries = 0;
@@ -267,7 +332,7 @@ impl Reduction {
                 if let Some(k) = node_at[xi] {
                     let d0 = nodes[k].1;
                     for j in 0..3 {
-                        ec.push((
+                        ec.push(ElemCol::new(
                             RCol::Rot {
                                 a0: a as u32,
                                 j: j as u8,
@@ -279,7 +344,7 @@ impl Reduction {
                     continue;
                 }
                 if let Some(m) = unknown[xi].and_then(|u| map[u]) {
-                    ec.push((RCol::Plain(a as u32), m));
+                    ec.push(ElemCol::new(RCol::Plain(a as u32), m));
                 }
                 a += 1;
             }
@@ -292,7 +357,7 @@ impl Reduction {
             let full = entry.element.closed_form().is_some()
                 && ec.len() == 12
                 && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
-                && ec.iter().enumerate().all(|(c, (col, _))| match (c, *col) {
+                && ec.iter().enumerate().all(|(c, col)| match (c, col.rcol()) {
                     (0..=2, RCol::Plain(a)) => a as usize == c,
                     (3..=5, RCol::Rot { a0, j }) => a0 == 3 && j as usize == c - 3,
                     (6..=8, RCol::Plain(a)) => a as usize == c + 1,
@@ -300,12 +365,16 @@ impl Reduction {
                     _ => false,
                 });
             beam_full.push(full);
-            elem_cols.push(ec.to_vec());
+            col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
+            cols.extend_from_slice(&ec);
         }
+        col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
+        cols.shrink_to_fit();
         elem_start.push(n_entries);
         let mut diag_trans = Vec::new();
-        for (ec, &start) in elem_cols.iter().zip(&elem_start) {
-            for (a, &(_, ua)) in ec.iter().enumerate() {
+        for (el, &start) in elem_start[..model.elements.len()].iter().enumerate() {
+            let ec = &cols[col_start[el] as usize..col_start[el + 1] as usize];
+            for (a, ua) in ec.iter().map(|c| c.unknown()).enumerate() {
                 if ua < nfr && is_trans[ua] {
                     diag_trans.push(start + a * ec.len() + a);
                 }
@@ -321,7 +390,8 @@ impl Reduction {
             nfr,
             n,
             is_trans,
-            elem_cols,
+            cols,
+            col_start,
             beam_full,
             elem_cons,
             n_entries,
@@ -333,7 +403,7 @@ impl Reduction {
     /// element its block on the reduced columns (row-major), then for each constrained mode
     /// the pairs (G, Gᵀ). Generated, not stored (millions of entries on large models).
     pub(super) fn for_each_entry(&self, f: impl FnMut(usize, usize)) {
-        self.for_each_entry_in(0..self.elem_cols.len(), f);
+        self.for_each_entry_in(0..self.elem_cons.len(), f);
     }
 
     /// [`Reduction::for_each_entry`] for the elements `els` only.
@@ -342,29 +412,38 @@ impl Reduction {
         els: std::ops::Range<usize>,
         mut f: impl FnMut(usize, usize),
     ) {
-        for (ec, cons) in self.elem_cols[els.clone()].iter().zip(&self.elem_cons[els]) {
-            element_entries(ec, cons.iter().copied(), &mut f);
+        for el in els {
+            element_entries(
+                self.elem_cols(el),
+                self.elem_cons[el].iter().copied(),
+                &mut f,
+            );
         }
+    }
+
+    /// The reduced local coordinates of element `el` with their reduced unknowns.
+    pub(super) fn elem_cols(&self, el: usize) -> &[ElemCol] {
+        &self.cols[self.col_start[el] as usize..self.col_start[el + 1] as usize]
     }
 }
 
 /// The order of one element's KKT entries ([`Pattern`], [`Reduction`]): the block on its
 /// columns (the unknown of each is the second of its pair), row-major, then for each of the
 /// constraint rows `cons` the pairs (G, Gᵀ) over the columns.
-pub(super) fn element_entries<T>(
-    cols: &[(T, usize)],
+pub(super) fn element_entries<C: Unknown>(
+    cols: &[C],
     cons: impl Iterator<Item = usize>,
     f: &mut impl FnMut(usize, usize),
 ) {
-    for (_, ua) in cols {
-        for (_, ub) in cols {
-            f(*ua, *ub);
+    for ua in cols.iter().map(C::unknown_of) {
+        for ub in cols.iter().map(C::unknown_of) {
+            f(ua, ub);
         }
     }
     for kr in cons {
-        for (_, ub) in cols {
-            f(kr, *ub);
-            f(*ub, kr);
+        for ub in cols.iter().map(C::unknown_of) {
+            f(kr, ub);
+            f(ub, kr);
         }
     }
 }
@@ -486,7 +565,7 @@ pub(super) fn write_reduced(
     vals: &mut [f64],
     kt: &mut [f64],
 ) {
-    let cols = &su.red.elem_cols[el];
+    let cols = su.red.elem_cols(el);
     let nc = cols.len();
     let mut tcol = TColumns::new(xk);
     let mut ts_buf = [([(0usize, 0.0f64); 4], 0usize); 16];
@@ -497,8 +576,8 @@ pub(super) fn write_reduced(
         ts_vec = vec![([(0usize, 0.0f64); 4], 0usize); nc];
         &mut ts_vec
     };
-    for (t, (c, _)) in ts.iter_mut().zip(cols) {
-        *t = tcol.col(c);
+    for (t, c) in ts.iter_mut().zip(cols) {
+        *t = tcol.col(&c.rcol());
     }
     // K T
     for a in 0..nxk {

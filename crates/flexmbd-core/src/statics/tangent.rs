@@ -174,7 +174,7 @@ pub(super) fn element_local(
         k += d.transpose() * &sd;
     }
     if reduced {
-        let mut kt = vec![0.0; nxk * su.red.elem_cols[el].len()];
+        let mut kt = vec![0.0; nxk * su.red.elem_cols(el).len()];
         write_reduced(
             su,
             el,
