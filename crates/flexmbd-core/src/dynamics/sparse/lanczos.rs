@@ -97,8 +97,6 @@ pub(super) fn krylov_schur(
         mvj: vec![0.0; nc],
     };
     let mut h = Mat::<f64>::zeros(mmax, mmax);
-    let mut w = vec![0.0; nc];
-    let mut mw = vec![0.0; nc];
     // Gram–Schmidt coefficients and their scratch (the larger of the two bases)
     let mut hc = vec![0.0; mmax + 1];
     let mut scratch = vec![0.0; (mmax + 1).max(locked.len())];
@@ -124,30 +122,27 @@ pub(super) fn krylov_schur(
     // a start vector from the operator's range, M-orthogonal to the first j basis vectors,
     // normalised into column j (its M product into mvj); false when the reachable space is
     // exhausted
-    let mut new_start = |st: &mut Store,
-                         j: usize,
-                         w: &mut Vec<f64>,
-                         mw: &mut Vec<f64>,
-                         op: &mut Shifted,
-                         applications: &mut usize|
-     -> bool {
-        for _ in 0..3 {
-            // the random vector in mw (overwritten by M w below)
-            mw.iter_mut().for_each(|x| *x = rng.next());
-            op.apply(p, mw, w);
-            *applications += 1;
-            p.m_times(w, mw);
-            let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
-            let (h, rest) = start_scratch.split_at_mut(j);
-            let after = orthogonalise(p, &st.basis(j), lk, w, mw, h, rest);
-            if before > 0.0 && after > 1e-8 * before.sqrt() {
-                st.push(j, w, mw, after);
-                return true;
+    let mut new_start =
+        |st: &mut Store, j: usize, op: &mut Shifted, applications: &mut usize| -> bool {
+            for _ in 0..3 {
+                // (w formed in column j, M w in mvj: [`Store::split`])
+                let (basis, w, mw) = st.split(j);
+                // the random vector in mw (overwritten by M w below)
+                mw.iter_mut().for_each(|x| *x = rng.next());
+                op.apply(p, mw, w);
+                *applications += 1;
+                p.m_times(w, mw);
+                let before: f64 = w.iter().zip(mw.iter()).map(|(a, b)| a * b).sum::<f64>();
+                let (h, rest) = start_scratch.split_at_mut(j);
+                let after = orthogonalise(p, &basis, lk, w, mw, h, rest);
+                if before > 0.0 && after > 1e-8 * before.sqrt() {
+                    st.push(j, after);
+                    return true;
+                }
             }
-        }
-        false
-    };
-    if !new_start(&mut st, 0, &mut w, &mut mw, op, &mut applications) {
+            false
+        };
+    if !new_start(&mut st, 0, op, &mut applications) {
         return Ok(Run {
             theta: Vec::new(),
             x: Vec::new(),
@@ -161,10 +156,12 @@ pub(super) fn krylov_schur(
         let mut j = k;
         let mut exhausted = false;
         while j < mmax {
-            op.apply_mv(p, &st.mvj, &mut w);
+            // the operator on the newest column (its M product in mvj), into column j + 1
+            let (basis, w, mw) = st.split(j + 1);
+            op.apply_mv(p, mw, w);
             applications += 1;
             let hc = &mut hc[..j + 1];
-            let b = orthogonalise(p, &st.basis(j + 1), lk, &mut w, &mut mw, hc, &mut scratch);
+            let b = orthogonalise(p, &basis, lk, w, mw, hc, &mut scratch);
             for (i, c) in hc.iter().enumerate() {
                 h[(i, j)] = *c;
             }
@@ -172,11 +169,11 @@ pub(super) fn krylov_schur(
             j += 1;
             if b > 1e-12 * scale && b > 0.0 {
                 beta = b;
-                st.push(j, &w, &mw, b);
+                st.push(j, b);
             } else {
                 // an invariant subspace: continue with a new direction (coupling zero)
                 beta = 0.0;
-                if j < mmax && !new_start(&mut st, j, &mut w, &mut mw, op, &mut applications) {
+                if j < mmax && !new_start(&mut st, j, op, &mut applications) {
                     exhausted = true;
                     break;
                 }
@@ -242,19 +239,23 @@ struct Store {
 }
 
 impl Store {
-    /// The first `j` columns as a [`Basis`].
-    fn basis(&self, j: usize) -> Basis<'_> {
-        Basis {
-            v: &self.v,
+    /// The first `j` columns as a [`Basis`], with column `j` and `mvj` to form the next vector
+    /// w and its M product in (no work vectors of the model's size beside the basis; `mvj`,
+    /// the operator's right-hand side, is read before it is overwritten).
+    fn split(&mut self, j: usize) -> (Basis<'_>, &mut [f64], &mut [f64]) {
+        let (done, rest) = self.v.split_at_mut(j);
+        let basis = Basis {
+            v: done,
             mv: self.mv.as_deref(),
             j,
-        }
+        };
+        (basis, &mut rest[0], &mut self.mvj)
     }
 
-    /// Column j: w / norm, with its M product mw / norm.
-    fn push(&mut self, j: usize, w: &[f64], mw: &[f64], norm: f64) {
-        self.v[j].iter_mut().zip(w).for_each(|(a, b)| *a = b / norm);
-        self.mvj.iter_mut().zip(mw).for_each(|(a, b)| *a = b / norm);
+    /// Column j (holding w) and `mvj` (holding M w) scaled by 1 / norm.
+    fn push(&mut self, j: usize, norm: f64) {
+        self.v[j].iter_mut().for_each(|a| *a /= norm);
+        self.mvj.iter_mut().for_each(|a| *a /= norm);
         if let Some(mv) = &mut self.mv {
             mv[j].copy_from_slice(&self.mvj);
         }
