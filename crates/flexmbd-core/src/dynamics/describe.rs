@@ -156,6 +156,8 @@ fn describe(
         .map(|(e, m, u)| (e, m, u / norm_u))
         .filter(|s| s.2.abs() >= 1e-4)
         .collect();
+    // (collected in place: the list of every element's entries would keep its size)
+    strain.shrink_to_fit();
     // stable, largest first (insertion for the short lists of small models)
     let larger = |a: &(usize, usize, f64), b: &(usize, usize, f64)| {
         b.2.abs().total_cmp(&a.2.abs()) == std::cmp::Ordering::Less
