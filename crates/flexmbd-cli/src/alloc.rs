@@ -7,10 +7,15 @@
 //! back only after a delay, and the large vectors of one phase (the reader's, the static
 //! step's, a factorisation) are rarely the size the next phase asks for: on the 10^5-beam strip
 //! `modes` was resident at 1.25 times its heap. Blocks of [`LARGE`] bytes and more are few (a
-//! vector of the model's size is one), so a system call for each costs nothing measurable, and
-//! once freed they no longer count against the process. The small blocks' pages mimalloc
-//! gives back as soon as they are free ([`purge_at_once`]) instead of a second later: with the
-//! large blocks out of its way that costs no measurable time, and a model's many small
+//! vector of the model's size is one) and once freed they no longer count against the process.
+//! The price is fresh, zeroed pages for each: `modes` on the 10^4-beam strip takes 0.34 s
+//! instead of 0.27 s, for 57 MiB instead of 100–116 (bench/README.md §3b).
+//!
+//! Mappings up to [`POPULATE`] are filled at once (page faults one by one made `modes` at 10^5
+//! beams 40 % slower); larger ones, often capacity reserved ahead and never touched, page by
+//! page as they are touched. The small blocks' pages mimalloc gives back as soon as they are
+//! free ([`purge_at_once`]) instead of a second later: with the large blocks out of its way that
+//! costs no measurable time (30–40 % when mimalloc served them too), and a model's many small
 //! temporaries (the reader's, the builder's) no longer stay resident beside the analysis.
 
 use mimalloc::MiMalloc;
@@ -44,6 +49,10 @@ pub fn purge_at_once() {
 /// 32,768 reals).
 const LARGE: usize = 256 * 1024;
 
+/// Mappings up to this size are filled at once (MAP_POPULATE: one system call instead of a
+/// page fault per 4 KiB page), larger ones page by page as they are touched.
+const POPULATE: usize = 8 << 20;
+
 /// Alignments up to the page size come with every mapping.
 const PAGE: usize = 4096;
 
@@ -63,7 +72,11 @@ unsafe fn map(size: usize) -> *mut u8 {
             std::ptr::null_mut(),
             size,
             libc::PROT_READ | libc::PROT_WRITE,
-            libc::MAP_PRIVATE | libc::MAP_ANONYMOUS | libc::MAP_POPULATE,
+            if size <= POPULATE {
+                libc::MAP_PRIVATE | libc::MAP_ANONYMOUS | libc::MAP_POPULATE
+            } else {
+                libc::MAP_PRIVATE | libc::MAP_ANONYMOUS
+            },
             -1,
             0,
         )
