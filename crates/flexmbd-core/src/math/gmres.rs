@@ -102,7 +102,6 @@ pub fn refine_in(
         let beta = norm(r);
         let z_norm = norm(z);
         r.iter_mut().for_each(|v| *v /= beta);
-        let mut used = 1;
         // Hessenberg columns (rotated), the Givens rotations, and the rotated right-hand side
         let mut h: Vec<Vec<f64>> = Vec::with_capacity(CYCLE);
         let mut rot: Vec<(f64, f64)> = Vec::with_capacity(CYCLE);
@@ -113,10 +112,10 @@ pub fn refine_in(
             product(&v[j], w);
             precondition(w);
             stats.iterations += 1;
-            // modified Gram–Schmidt, twice
+            // modified Gram–Schmidt, twice, against Krylov vectors 0 ..= j
             let mut col = vec![0.0; j + 2];
             for _pass in 0..2 {
-                for (i, v) in v[..used].iter().enumerate() {
+                for (i, v) in v.iter().enumerate() {
                     let d: f64 = v.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
                     w.iter_mut().zip(v).for_each(|(x, a)| *x -= d * a);
                     col[i] += d;
@@ -148,7 +147,6 @@ pub fn refine_in(
             }
             if j + 1 < CYCLE {
                 w.iter_mut().for_each(|x| *x /= hn);
-                used += 1;
             }
         }
         // y from the triangular system, then z += V y
@@ -161,7 +159,8 @@ pub fn refine_in(
         if y.iter().any(|v| !v.is_finite()) {
             break;
         }
-        for (v, &yi) in ws.basis[..used].iter().zip(&y) {
+        // (one Krylov vector per Hessenberg column)
+        for (v, &yi) in ws.basis[..k].iter().zip(&y) {
             z.iter_mut().zip(v).for_each(|(a, b)| *a += yi * b);
         }
     }

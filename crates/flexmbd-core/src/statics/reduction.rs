@@ -323,8 +323,10 @@ impl Reduction {
         let mut n_entries = 0;
         // (each element's columns gathered here and kept at their exact size)
         let mut ec = Vec::new();
+        let mut diag_trans = Vec::new();
         for entry in &model.elements {
-            elem_start.push(n_entries);
+            let start = n_entries;
+            elem_start.push(start);
             ec.clear();
             let mut a = 0;
             while a < entry.xmap.len() {
@@ -365,21 +367,18 @@ impl Reduction {
                     _ => false,
                 });
             beam_full.push(full);
+            // the diagonal entries of its translations, in its block from `start`
+            for (a, ua) in ec.iter().map(|c| c.unknown()).enumerate() {
+                if ua < nfr && is_trans[ua] {
+                    diag_trans.push(start + a * ec.len() + a);
+                }
+            }
             col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
             cols.extend_from_slice(&ec);
         }
         col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
         cols.shrink_to_fit();
         elem_start.push(n_entries);
-        let mut diag_trans = Vec::new();
-        for (el, &start) in elem_start[..model.elements.len()].iter().enumerate() {
-            let ec = &cols[col_start[el] as usize..col_start[el + 1] as usize];
-            for (a, ua) in ec.iter().map(|c| c.unknown()).enumerate() {
-                if ua < nfr && is_trans[ua] {
-                    diag_trans.push(start + a * ec.len() + a);
-                }
-            }
-        }
         diag_trans.shrink_to_fit();
         Self {
             map: slots(&map),
@@ -428,7 +427,7 @@ impl Reduction {
 }
 
 /// The order of one element's KKT entries ([`Pattern`], [`Reduction`]): the block on its
-/// columns (the unknown of each is the second of its pair), row-major, then for each of the
+/// columns (each with its unknown: [`Unknown`]), row-major, then for each of the
 /// constraint rows `cons` the pairs (G, Gᵀ) over the columns.
 pub(super) fn element_entries<C: Unknown>(
     cols: &[C],

@@ -424,13 +424,17 @@ impl Problem {
         p
     }
 
+    /// The position of entry (r, c), either triangle, in the stored lower triangle, with the
+    /// steps `inv` of the pivot order ([`inverse`]).
+    fn position_in<'a>(&'a self, inv: &'a [u32]) -> impl Fn(usize, usize) -> usize + 'a {
+        move |r, c| lower_position(&self.col_ptr, &self.row_idx, |i| inv[i] as usize, r, c)
+    }
+
     /// K's entries after the element blocks, added into `k` (the stored lower triangle, whose
     /// unknown i is step `inv[i]`) after its element part, in this order: the tail (load
     /// stiffness of moments, normalisations), the softening of point masses, the added rows.
     fn add_k_rest(&self, inv: &[u32], k: &mut [f64]) {
-        let at = |r: usize, c: usize| {
-            lower_position(&self.col_ptr, &self.row_idx, |i| inv[i] as usize, r, c)
-        };
+        let at = self.position_in(inv);
         for (r, c, kv) in self.lin.tail() {
             k[at(r, c)] += half(r, c) * kv;
         }
@@ -505,9 +509,7 @@ impl Problem {
             return;
         }
         let inv = inverse(&self.perm);
-        let at = |r: usize, c: usize| {
-            lower_position(&self.col_ptr, &self.row_idx, |i| inv[i] as usize, r, c)
-        };
+        let at = self.position_in(&inv);
         let mut k = vec![0.0; self.row_idx.len()];
         element_blocks(&self.lin, model, step, false, |els, kb, _| {
             let mut i = 0;
@@ -565,12 +567,11 @@ impl Problem {
     /// position of its value in the stored lower triangle.
     pub(super) fn full_positions(&self, ptr: &[usize], rows: &[u32]) -> Vec<u32> {
         let inv = inverse(&self.perm);
+        let position = self.position_in(&inv);
         let mut at = Vec::with_capacity(rows.len());
         for c in 0..self.n {
             for &r in &rows[ptr[c]..ptr[c + 1]] {
-                let step = |i: usize| inv[i] as usize;
-                let q = lower_position(&self.col_ptr, &self.row_idx, step, r as usize, c);
-                at.push(q as u32);
+                at.push(position(r as usize, c) as u32);
             }
         }
         at
