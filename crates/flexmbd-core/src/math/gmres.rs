@@ -71,7 +71,9 @@ pub fn refine(
     )
 }
 
-/// [`refine`] with its vectors in `ws`.
+/// [`refine`] with its vectors in `ws`, and `b` given by its leading entries: those of the
+/// right-hand side beyond `b.len()` (up to `z.len()`) are zero (the shift-invert operator's
+/// right-hand side [M v; 0], whose M v is held by its caller: no copy of the model's size).
 pub fn refine_in(
     ws: &mut Workspace,
     b: &[f64],
@@ -81,7 +83,8 @@ pub fn refine_in(
     mut precondition: impl FnMut(&mut [f64]),
     mut product: impl FnMut(&[f64], &mut [f64]),
 ) -> Refined {
-    let n = b.len();
+    let n = z.len();
+    debug_assert!(b.len() <= n);
     let mut stats = Refined::default();
     if z.iter().any(|v| !v.is_finite()) {
         return stats;
@@ -91,7 +94,9 @@ pub fn refine_in(
         // the preconditioned residual, in the first Krylov vector
         let (_, r) = ws.split(0, n);
         product(z, r);
-        r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
+        let (head, tail) = r.split_at_mut(b.len());
+        head.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
+        tail.iter_mut().for_each(|r| *r = 0.0 - *r);
         precondition(r);
         let (rc, zc) = (norm(&r[..lead]), norm(&z[..lead]));
         stats.correction = if zc > 0.0 { rc / zc } else { rc };

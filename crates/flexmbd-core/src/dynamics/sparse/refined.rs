@@ -67,31 +67,31 @@ pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], ou
     }
 }
 
-/// Solves A(σ) z = b in place (b in, z out): the factorisation's solution in `op`, refined by
-/// [`crate::math::gmres::refine_in`] with the products of [`saddle_times`] to [`REFINED_TOL`]
-/// in the coordinates, its vectors in the operator's workspace ([`Shifted::refine_ws`]).
-/// Returns the last correction against z.
+/// Solves A(σ) z = b, b given by its leading entries (the rest zero, as in the operator's
+/// right-hand side [M v; 0]; z holds the whole of it on entry): the factorisation's solution
+/// in `op`, refined by [`crate::math::gmres::refine_in`] with the products of [`saddle_times`]
+/// to [`REFINED_TOL`] in the coordinates, its vectors in the operator's workspace
+/// ([`Shifted::refine_ws`]). Returns the last correction against z.
 pub(super) fn refined_solve(
     op: &mut Shifted<'_>,
     p: &Problem,
     ex: Exact<'_>,
-    b: &mut [f64],
+    b: &[f64],
+    z: &mut [f64],
 ) -> f64 {
     let sigma = op.sigma;
-    let (mut ws, mut rhs) = std::mem::take(&mut op.refine_ws);
-    rhs.clear();
-    rhs.extend_from_slice(b);
-    op.solve_factored(b);
+    let mut ws = std::mem::take(&mut op.refine_ws);
+    op.solve_factored(z);
     let correction = gmres::refine_in(
         &mut ws,
-        &rhs,
         b,
+        z,
         p.nc,
         REFINED_TOL,
         |v| op.solve_factored(v),
         |v, out| saddle_times(p, ex, sigma, v, out),
     )
     .correction;
-    op.refine_ws = (ws, rhs);
+    op.refine_ws = ws;
     correction
 }

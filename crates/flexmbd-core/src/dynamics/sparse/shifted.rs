@@ -49,9 +49,9 @@ pub(super) struct Shifted<'a> {
     /// When set, the operator's solves are refined (`refined` module) with products through
     /// the element deformations of this model and state.
     pub(super) exact: Option<Exact<'a>>,
-    /// The vectors of the refined solves and a copy of their right-hand side, kept from one
-    /// solve to the next (given back while K is made again: [`Shifted::with_k`]).
-    pub(super) refine_ws: (gmres::Workspace, Vec<f64>),
+    /// The vectors of the refined solves, kept from one solve to the next (given back while K
+    /// is made again: [`Shifted::with_k`]).
+    pub(super) refine_ws: gmres::Workspace,
     /// The shift at which the factorisation is made again before the next solve, after
     /// [`Shifted::count_below`] took it for an inertia count.
     restore: Option<f64>,
@@ -66,8 +66,7 @@ impl<'a> Shifted<'a> {
         // before the factorisation's values are made)
         let sym = p.ordered.then(|| {
             let (ptr, rows) = p.full_pattern();
-            let order = p.perm.iter().map(|&c| c as usize).collect();
-            let mut lu = SparseLu::with_order(p.n, order).ok()?;
+            let mut lu = SparseLu::with_order(p.n, p.perm.clone()).ok()?;
             if !lu.set_diagonal_pivots(&ptr, &rows) {
                 return None;
             }
@@ -208,44 +207,49 @@ impl<'a> Shifted<'a> {
             return false;
         };
         let mut rng = Rng(0x2545_F491_4F6C_DD1D);
-        let mut b = vec![0.0; p.n];
+        let mut z = vec![0.0; p.n];
         let mut mb = vec![0.0; p.nc];
         let v: Vec<f64> = (0..p.nc).map(|_| rng.next()).collect();
         p.m_times(&v, &mut mb);
-        b[..p.nc].copy_from_slice(&mb);
-        refined_solve(self, p, ex, &mut b) <= 1e-8 && b.iter().all(|z| z.is_finite())
+        z[..p.nc].copy_from_slice(&mb);
+        refined_solve(self, p, ex, &mb, &mut z) <= 1e-8 && z.iter().all(|v| v.is_finite())
     }
 
-    /// A solve of the operator: refined when [`Shifted::exact`] is set.
-    pub(super) fn solve(&mut self, p: &Problem, b: &mut [f64]) {
+    /// A solve of the operator, z = A(σ)⁻¹ b for the right-hand side whose leading entries are
+    /// `b` (the rest zero; z of the system's size): refined when [`Shifted::exact`] is set.
+    pub(super) fn solve(&mut self, p: &Problem, b: &[f64], z: &mut [f64]) {
         if let Some(sigma) = self.restore.take() {
             // accepted at σ before the inertia count took the factorisation
             let _ = self.factor(p, sigma, true);
         }
+        let (head, tail) = z.split_at_mut(b.len());
+        head.copy_from_slice(b);
+        tail.iter_mut().for_each(|r| *r = 0.0);
         match self.exact {
             Some(ex) => {
-                refined_solve(self, p, ex, b);
+                refined_solve(self, p, ex, b, z);
             }
-            None => self.solve_factored(b),
+            None => self.solve_factored(z),
         }
     }
 
     /// The shift-invert operator on coordinates: u = first nc of A(σ)⁻¹ [M v; 0].
     pub(super) fn apply(&mut self, p: &Problem, v: &[f64], out: &mut [f64]) {
-        let mut rhs = std::mem::take(&mut self.rhs);
-        p.m_times(v, &mut rhs[..p.nc]);
-        rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
-        self.solve(p, &mut rhs);
-        out.copy_from_slice(&rhs[..p.nc]);
-        self.rhs = rhs;
+        // (M v in `out`, the right-hand side's leading part until the solution replaces it)
+        p.m_times(v, out);
+        self.apply_mv_in(p, out);
     }
 
     /// The operator for a vector whose product `mv` = M v is known.
     pub(super) fn apply_mv(&mut self, p: &Problem, mv: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(mv);
+        self.apply_mv_in(p, out);
+    }
+
+    /// [`Shifted::apply_mv`] with M v given in `out`, which the result replaces.
+    fn apply_mv_in(&mut self, p: &Problem, out: &mut [f64]) {
         let mut rhs = std::mem::take(&mut self.rhs);
-        rhs[..p.nc].copy_from_slice(mv);
-        rhs[p.nc..].iter_mut().for_each(|r| *r = 0.0);
-        self.solve(p, &mut rhs);
+        self.solve(p, out, &mut rhs);
         out.copy_from_slice(&rhs[..p.nc]);
         self.rhs = rhs;
     }

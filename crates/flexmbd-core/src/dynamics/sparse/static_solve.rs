@@ -58,8 +58,8 @@ pub(super) fn saddle_solutions(
     }
     let mut out = Vec::with_capacity(rhs.len());
     for b in rhs {
-        let mut z = b.clone();
-        op.solve(p, &mut z);
+        let mut z = vec![0.0; b.len()];
+        op.solve(p, b, &mut z);
         if z.iter().any(|v| !v.is_finite()) {
             return Err(ModalError::SparseSingular);
         }

@@ -1,7 +1,9 @@
 //! LU with partial pivoting of [`SparseLu`]: the left-looking Gilbert–Peierls factorisation,
 //! the refactorisation with the recorded pivot order, and the triangular solves.
 
-use super::{sort_columns, LuFailure, RowIndex, SparseLu, DIAG_TOL, PIVOT_TOL};
+use super::{
+    sort_columns, step, LRows, LuFailure, RowIndex, SparseLu, DIAG_TOL, NO_STEP, PIVOT_TOL,
+};
 
 impl SparseLu {
     /// Factor with partial pivoting (records the pivot order and the structure of L and U).
@@ -16,10 +18,11 @@ impl SparseLu {
         self.symmetric_factors = false;
         self.diagonal_structure = false;
         self.a_step.clear();
-        self.pinv.iter_mut().for_each(|p| *p = usize::MAX);
+        self.pinv.iter_mut().for_each(|p| *p = NO_STEP);
         self.mark.clear();
         self.mark.resize(n, usize::MAX);
         self.l_idx.clear();
+        self.l_start.clear();
         self.l_val.clear();
         self.u_idx.clear();
         self.u_val.clear();
@@ -28,7 +31,7 @@ impl SparseLu {
         self.u_ptr[0] = 0;
         let x = &mut self.work;
         for k in 0..n {
-            let col = self.q[k];
+            let col = self.q[k] as usize;
             let (lo, hi) = (col_ptr[col], col_ptr[col + 1]);
             // rows reachable from the column's pattern in the graph of L (rows of A numbering),
             // in topological order (reverse DFS post-order)
@@ -53,7 +56,7 @@ impl SparseLu {
             }
             // reach holds post-order: process in reverse
             for &r in self.reach.iter().rev() {
-                let s = self.pinv[r];
+                let s = step(self.pinv[r]);
                 if s == usize::MAX {
                     continue;
                 }
@@ -66,7 +69,7 @@ impl SparseLu {
             // pivot: the largest candidate
             let (mut piv, mut piv_abs) = (usize::MAX, -1.0);
             for &r in &self.reach {
-                if self.pinv[r] == usize::MAX {
+                if self.pinv[r] == NO_STEP {
                     let a = x[r].abs();
                     if a > piv_abs || a.is_nan() {
                         piv = r;
@@ -77,9 +80,7 @@ impl SparseLu {
             if self.diag_pref && piv != usize::MAX {
                 // the diagonal entry (row q[k]) if it is large enough
                 let r = col;
-                if self.pinv[r] == usize::MAX
-                    && self.mark[r] == k
-                    && x[r].abs() >= DIAG_TOL * piv_abs
+                if self.pinv[r] == NO_STEP && self.mark[r] == k && x[r].abs() >= DIAG_TOL * piv_abs
                 {
                     piv = r;
                     piv_abs = x[r].abs();
@@ -93,9 +94,9 @@ impl SparseLu {
             }
             let d = x[piv];
             self.u_diag[k] = d;
-            self.pinv[piv] = k;
+            self.pinv[piv] = k as u32;
             for &r in &self.reach {
-                let s = self.pinv[r];
+                let s = step(self.pinv[r]);
                 if r != piv && s == usize::MAX {
                     self.l_idx.push(r as u32);
                     self.l_val.push(x[r] / d);
@@ -110,7 +111,7 @@ impl SparseLu {
         }
         // L rows to step numbering; U columns sorted by step (valid elimination order)
         for r in self.l_idx.iter_mut() {
-            *r = self.pinv[*r as usize] as u32;
+            *r = self.pinv[*r as usize];
         }
         sort_columns(&self.u_ptr, &mut self.u_idx, &mut self.u_val);
         self.factored = true;
@@ -139,12 +140,12 @@ impl SparseLu {
         if self.a_step.len() != nnz {
             self.a_step.clear();
             self.a_step
-                .extend(row_idx[..nnz].iter().map(|&r| self.pinv[r.ix()] as u32));
+                .extend(row_idx[..nnz].iter().map(|&r| self.pinv[r.ix()]));
         }
         let x = &mut self.work;
         let mut min_ratio: f64 = 1.0;
         for k in 0..n {
-            let col = self.q[k];
+            let col = self.q[k] as usize;
             let (lo, hi) = (col_ptr[col], col_ptr[col + 1]);
             for (&s, &v) in self.a_step[lo..hi].iter().zip(&val[lo..hi]) {
                 x[s as usize] += v;
@@ -188,14 +189,21 @@ impl SparseLu {
         let n = self.n;
         let y = &mut self.work[..n];
         for (&pi, &bi) in self.pinv[..n].iter().zip(b.iter()) {
-            y[pi] = bi;
+            y[pi as usize] = bi;
         }
         // the entries of column k of L as slices (the same operations in the same order as
         // indexing them one by one, without the bounds checks)
-        let (l_ptr, l_idx, l_val) = (&self.l_ptr, &self.l_idx, &self.l_val);
+        let (rows, l_val) = (
+            LRows {
+                ptr: &self.l_ptr,
+                idx: &self.l_idx,
+                start: &self.l_start,
+            },
+            &self.l_val,
+        );
         let column = |k: usize| {
-            let (lo, hi) = (l_ptr[k], l_ptr[k + 1]);
-            l_idx[lo..hi].iter().zip(&l_val[lo..hi])
+            let (lo, hi) = (rows.ptr[k], rows.ptr[k + 1]);
+            rows.of(k).iter().zip(&l_val[lo..hi])
         };
         for k in 0..n {
             let v = y[k];
@@ -229,7 +237,7 @@ impl SparseLu {
             }
         }
         for (&qk, yk) in self.q[..n].iter().zip(y.iter_mut()) {
-            b[qk] = *yk;
+            b[qk as usize] = *yk;
             *yk = 0.0;
         }
     }
@@ -274,7 +282,7 @@ pub(super) fn pivot_step(
 pub(super) fn dfs(
     r: usize,
     k: usize,
-    pinv: &[usize],
+    pinv: &[u32],
     l_ptr: &[usize],
     l_idx: &[u32],
     mark: &mut [usize],
@@ -287,7 +295,7 @@ pub(super) fn dfs(
     stack.push(r);
     mark[r] = k;
     let start = |row: usize| -> usize {
-        let s = pinv[row];
+        let s = step(pinv[row]);
         if s == usize::MAX {
             usize::MAX
         } else {
@@ -296,7 +304,7 @@ pub(super) fn dfs(
     };
     pstack.push(start(r));
     while let Some(&row) = stack.last() {
-        let s = pinv[row];
+        let s = step(pinv[row]);
         let top = pstack.len() - 1;
         let mut descended = false;
         if s != usize::MAX {

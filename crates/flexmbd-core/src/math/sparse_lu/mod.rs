@@ -48,15 +48,22 @@ pub enum LuFailure {
 #[derive(Debug, Clone)]
 pub struct SparseLu {
     n: usize,
-    /// Column order: step k factors column `q[k]` of A.
-    q: Vec<usize>,
+    /// Column order: step k factors column `q[k]` of A (u32, as the row indices: 4 bytes per
+    /// unknown less, as `pinv`).
+    q: Vec<u32>,
     /// Symmetric strategy: prefer the diagonal entry as pivot.
     diag_pref: bool,
     /// Row i of A is pivot row of step `pinv[i]` (valid after a successful factorisation).
-    pinv: Vec<usize>,
+    pinv: Vec<u32>,
     l_ptr: Vec<usize>,
-    /// Row steps of L's entries (u32: half the memory traffic of the solves).
+    /// Row steps of L's entries (u32: half the memory traffic of the solves), parallel to
+    /// `l_val`, or shared between columns when `l_start` is set.
     l_idx: Vec<u32>,
+    /// When not empty ([`SparseLu::share_l_rows`]): the rows of column k of L are
+    /// `l_idx[l_start[k]..]`, as many as its values. A column whose rows are those of the
+    /// column before it without the first (the columns of a supernode: the six of a beam
+    /// node) reads them from that column's list, one entry on.
+    l_start: Vec<u32>,
     l_val: Vec<f64>,
     u_ptr: Vec<usize>,
     /// Strictly upper entries, ascending step order within each column.
@@ -237,7 +244,11 @@ impl SparseLu {
             .map_err(|e| format!("column ordering failed: {e:?}"))?;
             q
         };
-        Ok(Self::unfactored(n, q, diag_pref))
+        Ok(Self::unfactored(
+            n,
+            q.iter().map(|&c| c as u32).collect(),
+            diag_pref,
+        ))
     }
 
     /// The symmetric strategy with a given column (and pivot) order `q` (step k factors column
@@ -245,12 +256,14 @@ impl SparseLu {
     /// example a saddle-point matrix whose constraint rows are ordered after the coordinates
     /// they couple, so that L D Lᵀ with diagonal pivots exists. Follow with
     /// [`SparseLu::set_diagonal_pivots`].
-    pub fn with_order(n: usize, q: Vec<usize>) -> Result<Self, String> {
+    pub fn with_order(n: usize, q: Vec<u32>) -> Result<Self, String> {
         check_size(n)?;
         let mut seen = vec![false; n];
         if q.len() != n
-            || q.iter()
-                .any(|&c| c >= n || std::mem::replace(&mut seen[c], true))
+            || q.iter().any(|&c| {
+                let c = c as usize;
+                c >= n || std::mem::replace(&mut seen[c], true)
+            })
         {
             return Err("the column order is not a permutation".into());
         }
@@ -258,14 +271,15 @@ impl SparseLu {
     }
 
     /// No factors yet, for the column order `q` (step k factors column `q[k]`).
-    fn unfactored(n: usize, q: Vec<usize>, diag_pref: bool) -> Self {
+    fn unfactored(n: usize, q: Vec<u32>, diag_pref: bool) -> Self {
         Self {
             n,
             q,
             diag_pref,
-            pinv: vec![usize::MAX; n],
+            pinv: vec![NO_STEP; n],
             l_ptr: vec![0; n + 1],
             l_idx: Vec::new(),
+            l_start: Vec::new(),
             l_val: Vec::new(),
             u_ptr: vec![0; n + 1],
             u_idx: Vec::new(),
@@ -311,15 +325,82 @@ impl SparseLu {
 
     /// Number of nonzeros of L (without the unit diagonal) and U (with the diagonal).
     pub fn nnz(&self) -> (usize, usize) {
-        (self.l_idx.len(), self.u_idx.len() + self.n)
+        (self.l_ptr[self.n], self.u_idx.len() + self.n)
     }
 }
 
-/// The factors store their row indices as u32.
+/// The row structure of L ([`SparseLu::l_idx`], [`SparseLu::l_start`]), borrowed apart from
+/// its values and the work vector that a factorisation or solve writes.
+#[derive(Clone, Copy)]
+struct LRows<'a> {
+    ptr: &'a [usize],
+    idx: &'a [u32],
+    start: &'a [u32],
+}
+
+impl<'a> LRows<'a> {
+    /// The rows of column k of L (the steps of its entries, as many as its values).
+    #[inline]
+    fn of(self, k: usize) -> &'a [u32] {
+        let (lo, hi) = (self.ptr[k], self.ptr[k + 1]);
+        match self.start.get(k) {
+            Some(&start) => &self.idx[start as usize..start as usize + (hi - lo)],
+            None => &self.idx[lo..hi],
+        }
+    }
+}
+
+impl SparseLu {
+    /// Stores each run of columns of L whose rows are those of the column before without its
+    /// first (fundamental supernodes, Liu, Ng & Peyton 1993) as one list of rows
+    /// ([`LRows::of`]): the row indices of a beam model's factor take a quarter of
+    /// the room. Only the symmetric refactorisation and the solves read L afterwards.
+    fn share_l_rows(&mut self) {
+        let n = self.n;
+        let mut idx: Vec<u32> = Vec::new();
+        let mut start: Vec<u32> = Vec::with_capacity(n);
+        for k in 0..n {
+            let rows = &self.l_idx[self.l_ptr[k]..self.l_ptr[k + 1]];
+            let shared = k > 0 && {
+                let prev = &self.l_idx[self.l_ptr[k - 1]..self.l_ptr[k]];
+                prev.first() == Some(&(k as u32)) && prev[1..] == *rows
+            };
+            let at = if shared {
+                start[k - 1] as usize + 1
+            } else {
+                idx.extend_from_slice(rows);
+                idx.len() - rows.len()
+            };
+            let Ok(at) = u32::try_from(at) else {
+                // (more than 2³² row indices: kept as they are)
+                return;
+            };
+            start.push(at);
+        }
+        idx.shrink_to_fit();
+        self.l_idx = idx;
+        self.l_start = start;
+    }
+}
+
+/// `pinv` of a row not yet pivotal.
+const NO_STEP: u32 = u32::MAX;
+
+/// The step of a row from `pinv`, `usize::MAX` for none.
+#[inline]
+fn step(s: u32) -> usize {
+    if s == NO_STEP {
+        usize::MAX
+    } else {
+        s as usize
+    }
+}
+
+/// The factors store their row and column indices as u32 (`u32::MAX` marks no step).
 fn check_size(n: usize) -> Result<(), String> {
-    if n > u32::MAX as usize {
+    if n >= u32::MAX as usize {
         return Err(format!(
-            "{n} unknowns: too many for the sparse LU (at most 2^32 - 1)"
+            "{n} unknowns: too many for the sparse LU (at most 2^32 - 2)"
         ));
     }
     Ok(())

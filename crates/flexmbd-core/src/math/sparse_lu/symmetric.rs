@@ -2,7 +2,7 @@
 //! Cholesky factorisation) and L D Lᵀ refactorisation with an inertia count.
 
 use super::lu::pivot_step;
-use super::{sort_columns, sort_small, LuFailure, RowIndex, SparseLu};
+use super::{sort_columns, sort_small, step, LRows, LuFailure, RowIndex, SparseLu};
 
 impl SparseLu {
     /// Symmetric strategy: set up the pivot order "all pivots on the diagonal" and its
@@ -38,7 +38,7 @@ impl SparseLu {
             }
         }
         let r = self.factor(col_ptr, row_idx, &v);
-        if r.is_err() || (0..n).any(|k| self.pinv[self.q[k]] != k) {
+        if r.is_err() || (0..n).any(|k| step(self.pinv[self.q[k] as usize]) != k) {
             return false;
         }
         // L columns by ascending row (for the symmetric refactorisation)
@@ -60,6 +60,9 @@ impl SparseLu {
         self.u_val = Vec::new();
         self.u_ptr = Vec::new();
         self.a_step = Vec::new();
+        if self.diagonal_structure && self.l_start.is_empty() {
+            self.share_l_rows();
+        }
     }
 
     /// The structure of L and U for diagonal pivots of a structurally symmetric matrix: that
@@ -70,18 +73,18 @@ impl SparseLu {
         let n = self.n;
         self.a_step.clear();
         for k in 0..n {
-            self.pinv[self.q[k]] = k;
+            self.pinv[self.q[k] as usize] = k as u32;
         }
         // elimination tree of the permuted matrix
         let mut parent = vec![NONE; n];
         let mut ancestor = vec![NONE; n];
         for k in 0..n {
-            let col = self.q[k];
+            let col = self.q[k] as usize;
             for r in row_idx[col_ptr[col]..col_ptr[col + 1]]
                 .iter()
                 .map(|r| r.ix())
             {
-                let mut i = self.pinv[r];
+                let mut i = step(self.pinv[r]);
                 while i != NONE && i < k {
                     let next = ancestor[i];
                     ancestor[i] = k;
@@ -102,12 +105,12 @@ impl SparseLu {
         for k in 0..n {
             mark[k] = k;
             let start = self.u_idx.len();
-            let col = self.q[k];
+            let col = self.q[k] as usize;
             for r in row_idx[col_ptr[col]..col_ptr[col + 1]]
                 .iter()
                 .map(|r| r.ix())
             {
-                let mut i = self.pinv[r];
+                let mut i = step(self.pinv[r]);
                 if i >= k {
                     continue;
                 }
@@ -160,10 +163,10 @@ impl SparseLu {
         // entries on or below the diagonal, to size the arrays exactly
         let count = (0..n)
             .map(|k| {
-                let col = self.q[k];
+                let col = self.q[k] as usize;
                 row_idx[col_ptr[col]..col_ptr[col + 1]]
                     .iter()
-                    .filter(|&&r| self.pinv[r.ix()] >= k)
+                    .filter(|&&r| step(self.pinv[r.ix()]) >= k)
                     .count()
             })
             .sum();
@@ -174,9 +177,9 @@ impl SparseLu {
         self.lower_ptr.push(0);
         let mut slot = Vec::with_capacity(count);
         for k in 0..n {
-            let col = self.q[k];
+            let col = self.q[k] as usize;
             for p in col_ptr[col]..col_ptr[col + 1] {
-                let s = self.pinv[row_idx[p].ix()];
+                let s = step(self.pinv[row_idx[p].ix()]);
                 if s >= k {
                     self.lower_row.push(s as u32);
                     slot.push(p as u32);
@@ -253,9 +256,15 @@ impl SparseLu {
         let mut all_positive = true;
         let pivot_tol = self.pivot_tol;
         self.n_negative = 0;
+        let rows = LRows {
+            ptr: &self.l_ptr,
+            idx: &self.l_idx,
+            start: &self.l_start,
+        };
+        // (`at`: the position of an entry among the values of L, in column s)
         let wait = |s: usize, head: &mut [u32], link: &mut [u32], at: usize, end: usize| {
             if at < end {
-                let r = self.l_idx[at] as usize;
+                let r = rows.of(s)[at - self.l_ptr[s]] as usize;
                 link[s] = head[r];
                 head[r] = s as u32;
             }
@@ -278,13 +287,11 @@ impl SparseLu {
                 // L(:, s) from row k on (its columns are sorted by row)
                 let start = next[s];
                 let end = self.l_ptr[s + 1];
-                debug_assert_eq!(self.l_idx[start] as usize, k);
+                let rows = &rows.of(s)[start - self.l_ptr[s]..];
+                debug_assert_eq!(rows[0] as usize, k);
                 let u = self.u_diag[s] * self.l_val[start];
                 x[k] -= self.l_val[start] * u;
-                for (&i, &l) in self.l_idx[start + 1..end]
-                    .iter()
-                    .zip(&self.l_val[start + 1..end])
-                {
+                for (&i, &l) in rows[1..].iter().zip(&self.l_val[start + 1..end]) {
                     x[i as usize] -= l * u;
                 }
                 next[s] = start + 1;
@@ -294,7 +301,7 @@ impl SparseLu {
             let (d, ok) = pivot_step(
                 x,
                 k,
-                &self.l_idx[llo..lhi],
+                rows.of(k),
                 &mut self.l_val[llo..lhi],
                 pivot_tol,
                 &mut min_ratio,

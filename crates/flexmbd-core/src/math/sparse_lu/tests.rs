@@ -231,3 +231,61 @@ fn rank_revealing_lu_finds_the_rank_of_a_product_and_its_null_spaces() {
         }
     }
 }
+
+/// The row lists that L's supernodes share ([`SparseLu::release_upper_structure`]) give the
+/// same factorisation and solves, to the bit, as one list per column: a chain of dense 6 × 6
+/// blocks (the six unknowns of a beam node, coupled to the next node), whose factor's columns
+/// come in runs of nested structure, with a natural order and a reversed one.
+#[test]
+fn shared_row_lists_of_supernodes_solve_as_the_full_lists() {
+    let mut rng = crate::elements::testing::Rng(11);
+    let (nodes, b) = (7, 6);
+    let n = nodes * b;
+    let mut a = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in 0..i {
+            if i / b == j / b || i / b == j / b + 1 {
+                let v = rng.next();
+                a[i][j] = v;
+                a[j][i] = v;
+            }
+        }
+        a[i][i] = 30.0 + rng.next();
+    }
+    let (cp, ri, v) = csc(&a);
+    for order in [
+        (0..n as u32).collect::<Vec<u32>>(),
+        (0..n as u32).rev().collect(),
+    ] {
+        let mut lu = SparseLu::with_order(n, order).unwrap();
+        assert!(lu.set_diagonal_pivots(&cp, &ri));
+        let slots = lu.lower_layout(&cp, &ri);
+        let lower: Vec<f64> = slots.iter().map(|&p| v[p as usize]).collect();
+        let xs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let rhs = csc_mul(&cp, &ri, &v, &xs);
+        lu.refactor_symmetric(&lower).unwrap();
+        let mut full = rhs.clone();
+        lu.solve(&mut full);
+        let rows_before = lu.l_idx.len();
+        lu.release_upper_structure();
+        // a node's six columns share one list, its last five read it one entry on
+        assert_eq!(lu.nnz().0, rows_before);
+        assert!(
+            lu.l_idx.len() * 3 < rows_before,
+            "{} of {rows_before}",
+            lu.l_idx.len()
+        );
+        lu.refactor_symmetric(&lower).unwrap();
+        let mut shared = rhs.clone();
+        lu.solve(&mut shared);
+        for i in 0..n {
+            assert_eq!(shared[i].to_bits(), full[i].to_bits(), "entry {i}");
+            assert!(
+                (shared[i] - xs[i]).abs() < 1e-12,
+                "{} vs {}",
+                shared[i],
+                xs[i]
+            );
+        }
+    }
+}
