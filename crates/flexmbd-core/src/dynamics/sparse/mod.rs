@@ -465,6 +465,8 @@ fn modes_of(
     // the shape, the geometric and point-mass stiffness uᵀ K_g u, uᵀ M u, and the kinetic
     // energy by node
     let has_geo = p.lin.geo.iter().any(|&v| v != 0.0);
+    // the node of every coordinate (made here, not held through the iteration)
+    let group = p.lin.coord_nodes(model);
     let mode_of = |u: Vec<f64>| -> (Vec<f64>, f64, f64, NodeKinetic) {
         let shape = p.lin.to_x(model, &step.x, &u);
         let mut g2 = 0.0;
@@ -485,7 +487,7 @@ fn modes_of(
         p.m_times(&u, &mut mu);
         let m2: f64 = u.iter().zip(&mu).map(|(a, b)| a * b).sum();
         let mut kinetic = vec![(0.0, 0.0); model.nodes.len()];
-        for (m, (&node, (a, b))) in p.group.iter().zip(u.iter().zip(&mu)).enumerate() {
+        for (m, (&node, (a, b))) in group.iter().zip(u.iter().zip(&mu)).enumerate() {
             if let Some(t) = kinetic.get_mut(node) {
                 if p.lin.is_translation(m) {
                     t.0 += a * b;

@@ -18,8 +18,6 @@ pub(super) struct Problem {
     /// Stiffness entries outside the element pattern (softening of point masses), for the
     /// Rayleigh quotients.
     pub(super) extra_k: Vec<(usize, usize, f64)>,
-    /// The node of every coordinate.
-    pub(super) group: Vec<usize>,
     /// Size of the saddle-point system.
     pub(super) n: usize,
     /// Number of coordinates (the first `nc` unknowns).
@@ -42,46 +40,49 @@ pub(super) struct Problem {
     k: std::sync::RwLock<Vec<f64>>,
     /// The entries (row, column, value) of the added constraint rows, for making K again.
     added: Vec<(usize, usize, f64)>,
-    /// The coordinate block of M (CSC, both triangles, non-zero entries only, rows sorted), for
-    /// M v; an entry of the structure above finds its M value here by bisection
-    /// ([`Problem::shifted_entries`]), without a map of 4 bytes per entry.
+    /// The coordinate block of M (CSC, lower triangle, non-zero entries only, rows sorted), for
+    /// M v ([`Problem::m_times`]); an entry of the structure above finds its M value here by
+    /// bisection ([`Problem::shifted_entries`]), without a map of 4 bytes per entry.
     pub(super) m_ptr: Vec<usize>,
     pub(super) m_idx: Vec<u32>,
     pub(super) m_val: Vec<f64>,
 }
 
-/// A CSC block of a symmetric matrix times a vector: (A v)_j = Σ_p A[p] v[idx[p]] over column
-/// j (gather form, parallel over columns), handed to `put(&mut out[j], (A v)_j)`.
-fn csc_sym_times_with(
-    ptr: &[usize],
-    idx: &[u32],
-    val: &[f64],
-    v: &[f64],
-    out: &mut [f64],
-    put: impl Fn(&mut f64, f64) + Sync,
-) {
+/// A symmetric matrix A, stored as its lower triangle (CSC, rows sorted), times a vector, into
+/// `out`: (A v)_j = Σ_i A_ij v_i summed over i ascending, as a gather over the whole column j
+/// of both triangles would sum it (the same value to the bit, with half the entries stored).
+/// The terms above the diagonal (i < j: entry (j, i) of column i) are scattered first, column
+/// by column in order (serial); those on and below it are then gathered onto them (parallel
+/// over columns).
+fn csc_lower_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: &mut [f64]) {
     const CHUNK: usize = 4096;
-    if out.len() < PAR_MIN {
-        for (j, y) in out.iter_mut().enumerate() {
-            let (lo, hi) = (ptr[j], ptr[j + 1]);
-            let s = idx[lo..hi]
-                .iter()
-                .zip(&val[lo..hi])
-                .map(|(&i, &a)| a * v[i as usize])
-                .sum();
-            put(y, s);
+    // (the start of a sum of floats, which is where a gather would start)
+    let start: f64 = std::iter::empty::<f64>().sum();
+    out.iter_mut().for_each(|y| *y = start);
+    for (i, &vi) in v.iter().enumerate() {
+        let (lo, hi) = (ptr[i], ptr[i + 1]);
+        for (&j, &a) in idx[lo..hi].iter().zip(&val[lo..hi]) {
+            if j as usize != i {
+                out[j as usize] += a * vi;
+            }
         }
+    }
+    let gather = |j: usize, y: &mut f64| {
+        let (lo, hi) = (ptr[j], ptr[j + 1]);
+        *y = idx[lo..hi]
+            .iter()
+            .zip(&val[lo..hi])
+            .fold(*y, |s, (&i, &a)| s + a * v[i as usize]);
+    };
+    if out.len() < PAR_MIN {
+        out.iter_mut().enumerate().for_each(|(j, y)| gather(j, y));
         return;
     }
     out.par_chunks_mut(CHUNK)
         .enumerate()
         .for_each(|(c, chunk)| {
             for (o, y) in chunk.iter_mut().enumerate() {
-                let j = c * CHUNK + o;
-                let s = (ptr[j]..ptr[j + 1])
-                    .map(|p| val[p] * v[idx[p] as usize])
-                    .sum();
-                put(y, s);
+                gather(c * CHUNK + o, y);
             }
         });
 }
@@ -334,54 +335,24 @@ impl Problem {
         // again: a few per rotational node)
         let mut lin = tangent.lin;
         lin.release_assembly();
-        // the coordinate block of M (non-zero entries) in both triangles, for products by
-        // columns (gather, parallel): each column's rows above the diagonal (the mirrors of
-        // the lower entries of the columns before it, in their order) and then its own lower
-        // entries; and where each lower entry lies in that block
-        let is_m = |p: usize| (row_idx[p] as usize) < nc && m[p] != 0.0;
-        let mut m_count = vec![0usize; nc + 1];
-        let mut upper = vec![0usize; nc];
+        // the coordinate block of M (non-zero entries of the lower triangle, rows sorted as
+        // in the structure above)
+        // (32-bit rows like the rows above: below 4·10⁹ entries, some 3·10⁷ beams, far beyond
+        // the memory of the machines this runs on)
+        let mut m_ptr = Vec::with_capacity(nc + 1);
+        let (mut m_idx, mut m_val) = (Vec::new(), Vec::new());
+        m_ptr.push(0);
         for c in 0..nc {
             for p in col_ptr[c]..col_ptr[c + 1] {
-                if is_m(p) {
-                    let r = row_idx[p] as usize;
-                    m_count[c + 1] += 1;
-                    if r != c {
-                        m_count[r + 1] += 1;
-                        upper[r] += 1;
-                    }
+                if (row_idx[p] as usize) < nc && m[p] != 0.0 {
+                    m_idx.push(row_idx[p]);
+                    m_val.push(m[p]);
                 }
             }
+            m_ptr.push(m_idx.len());
         }
-        for c in 0..nc {
-            m_count[c + 1] += m_count[c];
-        }
-        let m_ptr = m_count;
-        let nnz_m = m_ptr[nc];
-        // (32-bit like the rows above: below 4·10⁹ entries, some 3·10⁷ beams, far beyond the
-        // memory of the machines this runs on)
-        let (mut m_idx, mut m_val) = (vec![0u32; nnz_m], vec![0.0; nnz_m]);
-        {
-            let mut fill_up: Vec<usize> = m_ptr[..nc].to_vec();
-            let mut fill_low: Vec<usize> = (0..nc).map(|c| m_ptr[c] + upper[c]).collect();
-            for c in 0..nc {
-                for p in col_ptr[c]..col_ptr[c + 1] {
-                    if is_m(p) {
-                        let r = row_idx[p] as usize;
-                        let q = fill_low[c];
-                        fill_low[c] += 1;
-                        m_idx[q] = r as u32;
-                        m_val[q] = m[p];
-                        if r != c {
-                            let q = fill_up[r];
-                            fill_up[r] += 1;
-                            m_idx[q] = c as u32;
-                            m_val[q] = m[p];
-                        }
-                    }
-                }
-            }
-        }
+        m_idx.shrink_to_fit();
+        m_val.shrink_to_fit();
         drop(m);
         if lin.geo.iter().all(|&v| v == 0.0) {
             lin.geo = Vec::new();
@@ -396,7 +367,7 @@ impl Problem {
             let (fp, fr) = full_of_triangle(n, &col_ptr, &row_idx, |i| i);
             Self::saddle_order(n, nc, &point, (&fp, &fr)).ok()
         };
-        drop(point);
+        drop((point, group));
         let ordered = order.is_some();
         let perm: Vec<u32> = match order {
             Some(o) => o.into_iter().map(|c| c as u32).collect(),
@@ -407,7 +378,6 @@ impl Problem {
             lin,
             extra_k,
             added,
-            group,
             n,
             nc,
             perm,
@@ -454,6 +424,8 @@ impl Problem {
         if r >= self.nc || c >= self.nc {
             return None;
         }
+        // (the entry of the lower triangle of M)
+        let (r, c) = (r.max(c), r.min(c));
         let (lo, hi) = (self.m_ptr[c], self.m_ptr[c + 1]);
         let i = lo + self.m_idx[lo..hi].partition_point(|&x| (x as usize) < r);
         (i < hi && self.m_idx[i] as usize == r).then(|| self.m_val[i])
@@ -523,14 +495,14 @@ impl Problem {
     }
 
     pub(super) fn m_times(&self, v: &[f64], out: &mut [f64]) {
-        csc_sym_times_with(&self.m_ptr, &self.m_idx, &self.m_val, v, out, |y, s| *y = s);
+        csc_lower_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
     }
 
-    /// out −= s M v (no vector for M v).
+    /// out −= s M v.
     pub(super) fn sub_m_times(&self, s: f64, v: &[f64], out: &mut [f64]) {
-        csc_sym_times_with(&self.m_ptr, &self.m_idx, &self.m_val, v, out, |y, m| {
-            *y -= s * m
-        });
+        let mut mv = vec![0.0; out.len()];
+        self.m_times(v, &mut mv);
+        out.iter_mut().zip(&mv).for_each(|(y, m)| *y -= s * m);
     }
 
     /// The entries (row, column, value) of the saddle-point matrix in the constraint rows or
