@@ -570,7 +570,7 @@ fn run_modes(
         .into());
     }
     let note = run.note();
-    run.keep_only_step(k);
+    run.keep_only_linearised_state(k);
     let step = &run.solution().steps[k];
     let modal = progress::stage("modal analysis", || {
         modes_with(&model, step, count, &modal_opts)

@@ -57,22 +57,20 @@ impl Path {
     }
 
     /// Releases the states of every step but `k` (coordinates, deformations, stress
-    /// resultants, reactions, multipliers; load factors and counts stay), for a command that
-    /// goes on with that one step after its notes are made ([`Path::note`]): the reference
-    /// state of a large model is as large as the one analysed (0.2 KB per beam).
-    pub fn keep_only_step(&mut self, k: usize) {
+    /// resultants, reactions, multipliers; load factors and counts stay), and of step `k` what
+    /// a linearisation does not read (its deformations and reactions), for a command that goes
+    /// on with the linearised stage of that one step after its notes are made
+    /// ([`Path::note`]): the reference state of a large model is as large as the one analysed
+    /// (0.2 KB per beam), and the deformations and reactions of the one kept are another 0.1 KB.
+    pub fn keep_only_linearised_state(&mut self, k: usize) {
         for (i, s) in self.analysis.solution.steps.iter_mut().enumerate() {
+            let mut release = vec![&mut s.e, &mut s.reactions];
             if i != k {
-                for v in [
-                    &mut s.x,
-                    &mut s.e,
-                    &mut s.sigma,
-                    &mut s.reactions,
-                    &mut s.multipliers,
-                ] {
-                    *v = Vec::new();
-                }
+                release.extend([&mut s.x, &mut s.sigma, &mut s.multipliers]);
                 s.tangent_eigenvalues = None;
+            }
+            for v in release {
+                *v = Vec::new();
             }
         }
     }
