@@ -136,6 +136,7 @@ impl SparseLu {
         self.symmetric_factors = false;
         self.u_val.resize(self.u_idx.len(), 0.0);
         let n = self.n;
+        self.l_val.resize(self.l_ptr[n], 0.0);
         let nnz = col_ptr[n];
         if self.a_step.len() != nnz {
             self.a_step.clear();

@@ -142,8 +142,9 @@ impl SparseLu {
                 fill[j] += 1;
             }
         }
-        self.l_val.clear();
-        self.l_val.resize(self.l_idx.len(), 0.0);
+        // (the values are made by the first refactorisation: not held beside the symbolic
+        // work, U's structure and the caller's pattern, at the peak of a large model's set-up)
+        self.l_val = Vec::new();
         // U's values are made by `refactor` (L D Lᵀ does not store U)
         self.u_val.clear();
         self.u_diag.iter_mut().for_each(|d| *d = 1.0);
@@ -241,6 +242,7 @@ impl SparseLu {
         self.symmetric_factors = false;
         const NONE: u32 = u32::MAX;
         let n = self.n;
+        self.l_val.resize(self.l_ptr[n], 0.0);
         let x = &mut self.work;
         // left-looking, the columns s that update column k (the structure of row k of L) found
         // from linked lists instead of a stored row structure (4 bytes per entry of L): every
