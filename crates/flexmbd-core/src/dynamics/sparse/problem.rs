@@ -6,7 +6,7 @@
 use super::basis::PAR_MIN;
 use crate::linearized::sparse::element_blocks;
 use crate::linearized::Tangent;
-use crate::math::sparse_lu::{amd_order, sort_small};
+use crate::math::sparse_lu::{amd_order, share_rows, sort_small, ColRows};
 use crate::model::Model;
 use crate::statics::ReducedLinear;
 use crate::statics::StepResult;
@@ -32,8 +32,11 @@ pub(super) struct Problem {
     /// starting with the diagonal; u32 rows, 4 bytes per entry): half the entries of both
     /// triangles, and the very layout the L D Lᵀ factorisation reads (not held a second time
     /// beside it).
-    pub(super) col_ptr: Vec<usize>,
-    pub(super) row_idx: Vec<u32>,
+    /// (The rows are held as lists shared by the columns of a supernode, [`share_rows`]: a
+    /// node's six columns read one list; [`Problem::rows`].)
+    col_ptr: Vec<usize>,
+    row_idx: Vec<u32>,
+    row_start: Vec<u32>,
     /// K values on that structure (the symmetric part of K): released while the Lanczos basis
     /// is held and made again from the model when a factorisation needs them
     /// ([`Problem::release_k`], [`Problem::restore_k`]; 8 bytes per entry).
@@ -92,14 +95,13 @@ fn csc_lower_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: 
 /// numbering).
 fn full_of_triangle(
     n: usize,
-    col_ptr: &[usize],
-    row_idx: &[u32],
+    tri: ColRows<'_>,
     label: impl Fn(usize) -> usize,
 ) -> (Vec<usize>, Vec<u32>) {
     let mut ptr = vec![0usize; n + 1];
     for t in 0..n {
         let c = label(t);
-        for &r in &row_idx[col_ptr[t]..col_ptr[t + 1]] {
+        for &r in tri.of(t) {
             let r = label(r as usize);
             ptr[c + 1] += 1;
             if r != c {
@@ -114,7 +116,7 @@ fn full_of_triangle(
     let mut fill: Vec<usize> = ptr[..n].to_vec();
     for t in 0..n {
         let c = label(t);
-        for &r in &row_idx[col_ptr[t]..col_ptr[t + 1]] {
+        for &r in tri.of(t) {
             let r = label(r as usize);
             rows[fill[c]] = r as u32;
             fill[c] += 1;
@@ -142,18 +144,13 @@ fn inverse(perm: &[u32]) -> Vec<u32> {
 
 /// The position of entry (r, c) of a symmetric matrix, either triangle, in its stored lower
 /// triangle (CSC, rows sorted) whose unknown i is `step(i)`: column min, row max.
-fn lower_position(
-    col_ptr: &[usize],
-    row_idx: &[u32],
-    step: impl Fn(usize) -> usize,
-    r: usize,
-    c: usize,
-) -> usize {
+fn lower_position(tri: ColRows<'_>, step: impl Fn(usize) -> usize, r: usize, c: usize) -> usize {
     let (a, b) = (step(r), step(c));
     let (s, t) = (a.max(b), a.min(b));
-    let q = col_ptr[t] + row_idx[col_ptr[t]..col_ptr[t + 1]].partition_point(|&x| (x as usize) < s);
-    debug_assert_eq!(row_idx[q] as usize, s);
-    q
+    let rows = tri.of(t);
+    let i = rows.partition_point(|&x| (x as usize) < s);
+    debug_assert_eq!(rows[i] as usize, s);
+    tri.ptr()[t] + i
 }
 
 /// The weight of an entry in the stored lower triangle: an entry off the diagonal adds half its
@@ -317,7 +314,8 @@ impl Problem {
         // factorisation needs (the load stiffness of moments is not symmetric; the dense path
         // takes the same part). K's entries after the element blocks are added once the
         // structure is in pivot order (`Problem::add_k_rest`, which also serves `restore_k`).
-        let at = |r: usize, c: usize| lower_position(&col_ptr, &row_idx, |i| i, r, c);
+        let at =
+            |r: usize, c: usize| lower_position(ColRows::plain(&col_ptr, &row_idx), |i| i, r, c);
         let (mut k, mut m) = (vec![0.0; nnz], vec![0.0; nnz]);
         tangent.element_blocks(model, step, |els, kb, mb| {
             let mut i = 0;
@@ -364,7 +362,7 @@ impl Problem {
             .map(|&g| model.nodes.get(g).and_then(|n| n.host).unwrap_or(g))
             .collect();
         let order = {
-            let (fp, fr) = full_of_triangle(n, &col_ptr, &row_idx, |i| i);
+            let (fp, fr) = full_of_triangle(n, ColRows::plain(&col_ptr, &row_idx), |i| i);
             Self::saddle_order(n, nc, &point, (&fp, &fr)).ok()
         };
         drop((point, group));
@@ -374,6 +372,7 @@ impl Problem {
             None => (0..n as u32).collect(),
         };
         let (col_ptr, row_idx, mut k) = permuted_lower(&perm, &col_ptr, &row_idx, &k);
+        let (row_idx, row_start) = share_rows(&col_ptr, &row_idx).unwrap_or((row_idx, Vec::new()));
         let mut p = Self {
             lin,
             extra_k,
@@ -384,6 +383,7 @@ impl Problem {
             ordered,
             col_ptr,
             row_idx,
+            row_start,
             k: std::sync::RwLock::new(Vec::new()),
             m_ptr,
             m_idx,
@@ -397,7 +397,18 @@ impl Problem {
     /// The position of entry (r, c), either triangle, in the stored lower triangle, with the
     /// steps `inv` of the pivot order ([`inverse`]).
     fn position_in<'a>(&'a self, inv: &'a [u32]) -> impl Fn(usize, usize) -> usize + 'a {
-        move |r, c| lower_position(&self.col_ptr, &self.row_idx, |i| inv[i] as usize, r, c)
+        move |r, c| lower_position(self.rows(), |i| inv[i] as usize, r, c)
+    }
+
+    /// The stored lower triangle's rows by column (pivot steps; the values of column t's
+    /// entries are at positions `col_ptr[t]..col_ptr[t + 1]`).
+    pub(super) fn rows(&self) -> ColRows<'_> {
+        ColRows::shared(&self.col_ptr, &self.row_idx, &self.row_start)
+    }
+
+    /// Number of entries of the stored lower triangle.
+    pub(super) fn nnz(&self) -> usize {
+        self.col_ptr[self.n]
     }
 
     /// K's entries after the element blocks, added into `k` (the stored lower triangle, whose
@@ -437,7 +448,7 @@ impl Problem {
     pub(super) fn shifted_entries(&self, s: f64) -> impl Fn(usize) -> f64 + '_ {
         let column = std::cell::Cell::new(0usize);
         let kv = self.k_values();
-        debug_assert!(kv.len() == self.row_idx.len(), "K was released");
+        debug_assert!(kv.len() == self.nnz(), "K was released");
         move |q| {
             let k = kv[q];
             if s == 0.0 {
@@ -454,7 +465,7 @@ impl Problem {
                 };
                 column.set(t);
             }
-            match self.m_entry(self.row_idx[q] as usize, t) {
+            match self.m_entry(self.rows().of(t)[q - cp[t]] as usize, t) {
                 None => k,
                 Some(m) => k - s * m,
             }
@@ -477,12 +488,12 @@ impl Problem {
     /// the added rows, summed into the stored structure in the order of [`Problem::with_rows`]
     /// (the same values, bit for bit).
     pub(super) fn restore_k(&self, model: &Model, step: &StepResult) {
-        if self.k_values().len() == self.row_idx.len() {
+        if self.k_values().len() == self.nnz() {
             return;
         }
         let inv = inverse(&self.perm);
         let at = self.position_in(&inv);
-        let mut k = vec![0.0; self.row_idx.len()];
+        let mut k = vec![0.0; self.nnz()];
         element_blocks(&self.lin, model, step, false, |els, kb, _| {
             let mut i = 0;
             self.lin.for_each_entry_in(els, |r, c| {
@@ -513,8 +524,8 @@ impl Problem {
         let mut out = Vec::new();
         for t in 0..self.n {
             let c = self.perm[t] as usize;
-            for q in self.col_ptr[t]..self.col_ptr[t + 1] {
-                let (r, v) = (self.perm[self.row_idx[q] as usize] as usize, k[q]);
+            for (q, &s) in (self.col_ptr[t]..).zip(self.rows().of(t)) {
+                let (r, v) = (self.perm[s as usize] as usize, k[q]);
                 if (r >= nc || c >= nc) && v != 0.0 {
                     out.push((r, c, v));
                     if r != c {
@@ -530,9 +541,7 @@ impl Problem {
     /// sorted), for the symbolic factorisation and the LU fall-back: made when they need it and
     /// released after.
     pub(super) fn full_pattern(&self) -> (Vec<usize>, Vec<u32>) {
-        full_of_triangle(self.n, &self.col_ptr, &self.row_idx, |i| {
-            self.perm[i] as usize
-        })
+        full_of_triangle(self.n, self.rows(), |i| self.perm[i] as usize)
     }
 
     /// For every entry of the structure of both triangles ([`Problem::full_pattern`]), the
@@ -559,7 +568,7 @@ impl Problem {
             if c < self.nc {
                 // (each column of the lower triangle starts with its diagonal entry)
                 let p = self.col_ptr[t];
-                debug_assert_eq!(self.row_idx[p] as usize, t);
+                debug_assert_eq!(self.rows().of(t)[0] as usize, t);
                 kd[c] = k[p];
                 md[c] = self.m_entry(t, t).unwrap_or(0.0);
             }

@@ -182,7 +182,7 @@ impl<'a> Shifted<'a> {
         let bp: Vec<f64> = p.perm.iter().map(|&c| b[c as usize]).collect();
         let sigma = self.sigma;
         z.iter().all(|v| v.is_finite())
-            && csc_sym_residual_with(&p.col_ptr, &p.row_idx, p.shifted_entries(sigma), &zp, &bp).1
+            && csc_sym_residual_with(p.rows(), p.shifted_entries(sigma), &zp, &bp).1
                 <= MAX_BACKWARD_ERROR
     }
 
@@ -290,5 +290,5 @@ fn inertia_count(lu: &mut SparseLu, p: &Problem, s: f64) -> Option<usize> {
 /// L D Lᵀ of A(s) in `lu`, from the lower triangle of the problem in its pivot order, the
 /// values formed as the factorisation reads them (no array of them beside the factor).
 fn refactor_at(lu: &mut SparseLu, p: &Problem, s: f64) -> Result<f64, LuFailure> {
-    lu.refactor_symmetric_on(&p.col_ptr, &p.row_idx, p.shifted_entries(s))
+    lu.refactor_symmetric_on(p.rows(), p.shifted_entries(s))
 }

@@ -2,7 +2,7 @@
 //! the refactorisation with the recorded pivot order, and the triangular solves.
 
 use super::{
-    sort_columns, step, LRows, LuFailure, RowIndex, SparseLu, DIAG_TOL, NO_STEP, PIVOT_TOL,
+    sort_columns, step, ColRows, LuFailure, RowIndex, SparseLu, DIAG_TOL, NO_STEP, PIVOT_TOL,
 };
 
 impl SparseLu {
@@ -194,16 +194,10 @@ impl SparseLu {
         }
         // the entries of column k of L as slices (the same operations in the same order as
         // indexing them one by one, without the bounds checks)
-        let (rows, l_val) = (
-            LRows {
-                ptr: &self.l_ptr,
-                idx: &self.l_idx,
-                start: &self.l_start,
-            },
-            &self.l_val,
-        );
+        let rows = ColRows::shared(&self.l_ptr, &self.l_idx, &self.l_start);
+        let l_val = &self.l_val;
         let column = |k: usize| {
-            let (lo, hi) = (rows.ptr[k], rows.ptr[k + 1]);
+            let (lo, hi) = (rows.ptr()[k], rows.ptr()[k + 1]);
             rows.of(k).iter().zip(&l_val[lo..hi])
         };
         for k in 0..n {

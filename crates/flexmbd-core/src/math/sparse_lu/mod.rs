@@ -21,7 +21,9 @@
 
 mod lu;
 pub mod rank;
+mod rows;
 mod symmetric;
+pub use rows::{share_rows, ColRows};
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::{amd, colamd};
@@ -159,27 +161,26 @@ pub(crate) fn csc_residual<R: RowIndex>(
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
-    residual_of(cp, ri, |p| v[p], z, b, false)
+    residual_of(|j| (cp[j], &ri[cp[j]..cp[j + 1]]), |p| v[p], z, b, false)
 }
 
 /// [`csc_residual`] of a symmetric matrix of which one triangle is stored (each entry off the
 /// diagonal stands for itself and its mirror), with the value of entry p given by `value(p)`
 /// (a matrix whose values are formed on the fly, as K − σM).
-pub(crate) fn csc_sym_residual_with<R: RowIndex>(
-    cp: &[usize],
-    ri: &[R],
+pub(crate) fn csc_sym_residual_with(
+    a: ColRows<'_>,
     value: impl Fn(usize) -> f64,
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
-    residual_of(cp, ri, value, z, b, true)
+    residual_of(|j| (a.ptr()[j], a.of(j)), value, z, b, true)
 }
 
-/// b − A z and its componentwise backward error; `mirror`: each stored entry off the diagonal
-/// also stands for its mirror (one triangle of a symmetric matrix).
-fn residual_of<R: RowIndex>(
-    cp: &[usize],
-    ri: &[R],
+/// b − A z and its componentwise backward error, column j of A given by `column(j)` (the
+/// position of its first value, its rows); `mirror`: each stored entry off the diagonal also
+/// stands for its mirror (one triangle of a symmetric matrix).
+fn residual_of<'a, R: RowIndex>(
+    column: impl Fn(usize) -> (usize, &'a [R]),
     value: impl Fn(usize) -> f64,
     z: &[f64],
     b: &[f64],
@@ -188,8 +189,9 @@ fn residual_of<R: RowIndex>(
     let mut res = b.to_vec();
     let mut scale: Vec<f64> = b.iter().map(|x| x.abs()).collect();
     for (j, &zj) in z.iter().enumerate() {
-        for p in cp[j]..cp[j + 1] {
-            let (v, r) = (value(p), ri[p].ix());
+        let (first, rows) = column(j);
+        for (p, r) in (first..).zip(rows) {
+            let (v, r) = (value(p), r.ix());
             let a = v * zj;
             res[r] -= a;
             scale[r] += a.abs();
@@ -329,57 +331,15 @@ impl SparseLu {
     }
 }
 
-/// The row structure of L ([`SparseLu::l_idx`], [`SparseLu::l_start`]), borrowed apart from
-/// its values and the work vector that a factorisation or solve writes.
-#[derive(Clone, Copy)]
-struct LRows<'a> {
-    ptr: &'a [usize],
-    idx: &'a [u32],
-    start: &'a [u32],
-}
-
-impl<'a> LRows<'a> {
-    /// The rows of column k of L (the steps of its entries, as many as its values).
-    #[inline]
-    fn of(self, k: usize) -> &'a [u32] {
-        let (lo, hi) = (self.ptr[k], self.ptr[k + 1]);
-        match self.start.get(k) {
-            Some(&start) => &self.idx[start as usize..start as usize + (hi - lo)],
-            None => &self.idx[lo..hi],
-        }
-    }
-}
-
 impl SparseLu {
-    /// Stores each run of columns of L whose rows are those of the column before without its
-    /// first (fundamental supernodes, Liu, Ng & Peyton 1993) as one list of rows
-    /// ([`LRows::of`]): the row indices of a beam model's factor take a quarter of
-    /// the room. Only the symmetric refactorisation and the solves read L afterwards.
+    /// Shares the row lists of L's supernodes ([`share_rows`]): the row indices of a beam
+    /// model's factor take a quarter of the room. Only the symmetric refactorisation and the
+    /// solves read L afterwards.
     fn share_l_rows(&mut self) {
-        let n = self.n;
-        let mut idx: Vec<u32> = Vec::new();
-        let mut start: Vec<u32> = Vec::with_capacity(n);
-        for k in 0..n {
-            let rows = &self.l_idx[self.l_ptr[k]..self.l_ptr[k + 1]];
-            let shared = k > 0 && {
-                let prev = &self.l_idx[self.l_ptr[k - 1]..self.l_ptr[k]];
-                prev.first() == Some(&(k as u32)) && prev[1..] == *rows
-            };
-            let at = if shared {
-                start[k - 1] as usize + 1
-            } else {
-                idx.extend_from_slice(rows);
-                idx.len() - rows.len()
-            };
-            let Ok(at) = u32::try_from(at) else {
-                // (more than 2³² row indices: kept as they are)
-                return;
-            };
-            start.push(at);
+        if let Some((idx, start)) = share_rows(&self.l_ptr, &self.l_idx) {
+            self.l_idx = idx;
+            self.l_start = start;
         }
-        idx.shrink_to_fit();
-        self.l_idx = idx;
-        self.l_start = start;
     }
 }
 

@@ -2,7 +2,7 @@
 //! Cholesky factorisation) and L D Lᵀ refactorisation with an inertia count.
 
 use super::lu::pivot_step;
-use super::{sort_columns, sort_small, step, LRows, LuFailure, RowIndex, SparseLu};
+use super::{sort_columns, sort_small, step, ColRows, LuFailure, RowIndex, SparseLu};
 
 impl SparseLu {
     /// Symmetric strategy: set up the pivot order "all pivots on the diagonal" and its
@@ -219,23 +219,22 @@ impl SparseLu {
             std::mem::take(&mut self.lower_ptr),
             std::mem::take(&mut self.lower_row),
         );
-        let r = self.refactor_symmetric_on(&ptr, &row, lower);
+        let r = self.refactor_symmetric_on(ColRows::plain(&ptr, &row), lower);
         (self.lower_ptr, self.lower_row) = (ptr, row);
         r
     }
 
     /// [`SparseLu::refactor_symmetric_with`] with the layout of the lower triangle in pivot order
-    /// given by the caller instead of [`SparseLu::lower_layout`]: entries of step k are
-    /// `row[ptr[k]..ptr[k + 1]]` (pivot numbering, ≥ k), entry q's value `lower(q)`. For a
-    /// caller that keeps its matrix in pivot order (the sparse modal problem), so that the
-    /// layout is not held twice.
+    /// given by the caller instead of [`SparseLu::lower_layout`]: the rows of step k are
+    /// `a.of(k)` (pivot numbering, ≥ k), the values of its entries at positions
+    /// `a.ptr()[k]..a.ptr()[k + 1]`, entry q's value `lower(q)`. For a caller that keeps its
+    /// matrix in pivot order (the sparse modal problem), so that the layout is not held twice.
     pub fn refactor_symmetric_on(
         &mut self,
-        ptr: &[usize],
-        row: &[u32],
+        a: ColRows<'_>,
         lower: impl Fn(usize) -> f64,
     ) -> Result<f64, LuFailure> {
-        if !self.diagonal_structure || !self.diag_pref || ptr.len() != self.n + 1 {
+        if !self.diagonal_structure || !self.diag_pref || a.ncols() != self.n {
             return Err(LuFailure::PivotTooSmall);
         }
         self.factored = false;
@@ -258,11 +257,7 @@ impl SparseLu {
         let mut all_positive = true;
         let pivot_tol = self.pivot_tol;
         self.n_negative = 0;
-        let rows = LRows {
-            ptr: &self.l_ptr,
-            idx: &self.l_idx,
-            start: &self.l_start,
-        };
+        let rows = ColRows::shared(&self.l_ptr, &self.l_idx, &self.l_start);
         // (`at`: the position of an entry among the values of L, in column s)
         let wait = |s: usize, head: &mut [u32], link: &mut [u32], at: usize, end: usize| {
             if at < end {
@@ -272,8 +267,8 @@ impl SparseLu {
             }
         };
         for k in 0..n {
-            let (alo, ahi) = (ptr[k], ptr[k + 1]);
-            for (q, &s) in (alo..ahi).zip(&row[alo..ahi]) {
+            let (alo, ahi) = (a.ptr()[k], a.ptr()[k + 1]);
+            for (q, &s) in (alo..ahi).zip(a.of(k)) {
                 x[s as usize] += lower(q);
             }
             // the columns with an entry in row k, in ascending order (the order of the sums
