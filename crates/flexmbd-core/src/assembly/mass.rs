@@ -7,7 +7,7 @@
 use crate::assembly::{gather_local, per_element, SMALL};
 use crate::elements::ElementKind;
 use crate::math::inertia::{lambda_inertia_force, node_inertia_block};
-use crate::model::Model;
+use crate::model::{ElementEntry, Model};
 use faer::Mat;
 
 /// Every entry of the mass matrix at x, element by element, as `f(row, column, value)` in x
@@ -21,10 +21,10 @@ pub(crate) fn for_each_entry(
     rotary: bool,
     mut f: impl FnMut(usize, usize, f64),
 ) {
-    for_each_element(model, x, weight, rotary, |xmap, me| {
-        let n = xmap.len();
-        for (r, &gr) in xmap.iter().enumerate() {
-            for (c, &gc) in xmap.iter().enumerate() {
+    for_each_element(model, x, weight, rotary, |entry, me| {
+        let n = entry.xmap.len();
+        for (r, gr) in entry.x_indices().enumerate() {
+            for (c, gc) in entry.x_indices().enumerate() {
                 f(gr, gc, me[r * n + c]);
             }
         }
@@ -33,13 +33,13 @@ pub(crate) fn for_each_entry(
 }
 
 /// The elements' mass matrices ([`ElementKind::mass`], row-major) with their coordinates in x,
-/// as `f(xmap, matrix)`, in the order of the elements; elements without mass are skipped.
+/// as `f(element, matrix)` (its `xmap` the rows and columns), in the order of the elements; elements without mass are skipped.
 pub(crate) fn for_each_element(
     model: &Model,
     x: &[f64],
     weight: Option<&[[f64; 3]; 3]>,
     rotary: bool,
-    mut f: impl FnMut(&[usize], &[f64]),
+    mut f: impl FnMut(&ElementEntry, &[f64]),
 ) {
     // in chunks: each evaluated in parallel (large models), then handed to `f` in order, so
     // that the buffer stays small
@@ -58,7 +58,7 @@ pub(crate) fn for_each_element(
             },
         );
         for (entry, m) in me.each(chunk) {
-            f(&entry.xmap, m);
+            f(entry, m);
         }
     }
 }
@@ -204,12 +204,12 @@ pub fn mass_matrix(model: &Model, x: &[f64]) -> Mat<f64> {
 pub fn mass_times(model: &Model, x: &[f64], vs: &[&[f64]]) -> Vec<Vec<f64>> {
     let mut out = vec![vec![0.0; model.nx]; vs.len()];
     // per vector the same additions in the same order as entry by entry
-    for_each_element(model, x, None, true, |xmap, me| {
-        let n = xmap.len();
+    for_each_element(model, x, None, true, |entry, me| {
+        let n = entry.xmap.len();
         for (v, o) in vs.iter().zip(out.iter_mut()) {
-            for (r, &gr) in xmap.iter().enumerate() {
+            for (r, gr) in entry.x_indices().enumerate() {
                 let mut acc = o[gr];
-                for (c, &gc) in xmap.iter().enumerate() {
+                for (c, gc) in entry.x_indices().enumerate() {
                     acc += me[r * n + c] * v[gc];
                 }
                 o[gr] = acc;
@@ -247,7 +247,7 @@ pub fn inertia_forces(model: &Model, x: &[f64], v: &[f64], a: &[f64]) -> Vec<f64
         },
     );
     for (entry, f) in fk.each(&model.elements) {
-        for (&i, fi) in entry.xmap.iter().zip(f) {
+        for (i, fi) in entry.x_indices().zip(f) {
             out[i] += fi;
         }
     }

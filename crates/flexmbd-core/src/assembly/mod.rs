@@ -115,14 +115,14 @@ pub(crate) fn gather_local<'b>(
         &mut heap[..]
     };
     buf.iter_mut()
-        .zip(&entry.xmap)
-        .for_each(|(b, &i)| *b = src[i]);
+        .zip(entry.x_indices())
+        .for_each(|(b, i)| *b = src[i]);
     buf
 }
 
 /// Element coordinates x_k gathered from the global x.
 pub fn gather(entry: &ElementEntry, x: &[f64]) -> Vec<f64> {
-    entry.xmap.iter().map(|&i| x[i]).collect()
+    entry.x_indices().map(|i| x[i]).collect()
 }
 
 /// Deformations and first derivatives of the whole model at x.
@@ -148,7 +148,7 @@ pub fn evaluate(model: &Model, x: &[f64]) -> Evaluation {
         // scatter into global e and D
         e[entry.ie..entry.ie + ek.len()].copy_from_slice(&ek);
         for (r, _) in ek.iter().enumerate() {
-            for (c, &col) in entry.xmap.iter().enumerate() {
+            for (c, col) in entry.x_indices().enumerate() {
                 D[(entry.ie + r, col)] += dk[(r, c)];
             }
         }

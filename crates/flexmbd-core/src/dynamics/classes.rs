@@ -103,15 +103,15 @@ pub(super) fn fractions(
     let nm = shapes.len();
     let mut out = vec![ClassFractions::default(); nm];
     // kinetic: the elements' mass matrices once each, every mode through them
-    crate::assembly::mass::for_each_element(model, x, None, true, |xmap, me| {
-        let n = xmap.len();
+    crate::assembly::mass::for_each_element(model, x, None, true, |entry, me| {
+        let n = entry.xmap.len();
         for (f, v) in out.iter_mut().zip(shapes) {
             let mut q = 0.0;
-            for (r, &gr) in xmap.iter().enumerate() {
-                let mv: f64 = xmap
-                    .iter()
+            for (r, gr) in entry.x_indices().enumerate() {
+                let mv: f64 = entry
+                    .x_indices()
                     .enumerate()
-                    .map(|(c, &gc)| me[r * n + c] * v[gc])
+                    .map(|(c, gc)| me[r * n + c] * v[gc])
                     .sum();
                 q += v[gr] * mv;
             }

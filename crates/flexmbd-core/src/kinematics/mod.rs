@@ -546,7 +546,7 @@ pub fn rate_rows(model: &Model, x: &[f64], cols: &[Column], defs: &[usize]) -> V
             }
             // the row of D over x, duplicates of an x index summed in local order
             let mut dx: Vec<(usize, f64)> = Vec::with_capacity(entry.xmap.len());
-            for (c, &xi) in entry.xmap.iter().enumerate() {
+            for (c, xi) in entry.x_indices().enumerate() {
                 let d = dk[(mode, c)];
                 match dx.iter_mut().find(|e| e.0 == xi) {
                     Some(e) => e.1 += d,

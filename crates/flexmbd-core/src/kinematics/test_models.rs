@@ -108,7 +108,7 @@ pub fn truss_nodes(m: &Model, entry: &crate::model::ElementEntry) -> [usize; 2] 
     [0, 3].map(|o| {
         m.nodes
             .iter()
-            .position(|n| n.ix_pos == entry.xmap[o])
+            .position(|n| n.ix_pos == entry.x_index(o))
             .expect("node of the truss")
     })
 }

@@ -594,6 +594,10 @@ impl ModelBuilder {
                 ix_rot,
             });
         }
+        // (the element maps hold 32-bit indices into x)
+        if u32::try_from(nx).is_err() {
+            return Err(ModelError::TooLarge { nx, max: u32::MAX });
+        }
         // elements
         let mut elements = Vec::with_capacity(pending.len());
         let mut e_kind = Vec::with_capacity(6 * pending.len());
@@ -661,19 +665,20 @@ impl ModelBuilder {
                     });
                 }
             }
-            let mut xmap = Vec::with_capacity(14);
+            let mut xmap: Vec<u32> = Vec::with_capacity(14);
             for u in element.node_uses() {
                 let n = &nodes[u.node];
                 if u.pos {
-                    xmap.extend(n.ix_pos..n.ix_pos + 3);
+                    xmap.extend((n.ix_pos..n.ix_pos + 3).map(|i| i as u32));
                 }
                 if u.rot {
                     let r = n
                         .ix_rot
                         .expect("rotation flags were set for every element use");
-                    xmap.extend(r..r + 4);
+                    xmap.extend((r..r + 4).map(|i| i as u32));
                 }
             }
+            xmap.shrink_to_fit();
             let mut kinds = vec![DefKind::Fixed; n_modes];
             for &m in &p.free {
                 kinds[m - 1] = DefKind::Free;

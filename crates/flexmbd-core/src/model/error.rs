@@ -160,6 +160,14 @@ pub enum ModelError {
         /// The value.
         value: f64,
     },
+    /// More nodal coordinates than 32-bit indices reach (the element maps into x).
+    #[error("model: {nx} nodal coordinates, more than the {max} this program indexes")]
+    TooLarge {
+        /// Number of nodal coordinates.
+        nx: usize,
+        /// The most it takes.
+        max: u32,
+    },
 }
 
 impl std::fmt::Display for Item {
@@ -200,6 +208,7 @@ impl ModelError {
             },
             FixAndInput { node, .. } => Item::Input(node.clone()),
             BadValue { item, .. } => item.clone(),
+            TooLarge { .. } => Item::Model,
         }
     }
 }

@@ -160,11 +160,25 @@ pub struct ElementEntry {
     pub element: Element,
     /// Index of its first deformation in e (SPACAR `le`).
     pub ie: usize,
-    /// Global index in x of each local coordinate (SPACAR `lnp`).
-    pub xmap: Vec<usize>,
+    /// Global index in x of each local coordinate (SPACAR `lnp`; 32-bit, 56 bytes for a
+    /// beam's 14: [`ElementEntry::x_index`] gives them as `usize`).
+    pub xmap: Vec<u32>,
     /// Retardation time τ [s] of the element's material damping (Kelvin–Voigt: σ = S (e + τ ė)
     /// in a time simulation; 0: none).
     pub damping: f64,
+}
+
+impl ElementEntry {
+    /// Global index in x of local coordinate `a`.
+    #[inline]
+    pub fn x_index(&self, a: usize) -> usize {
+        self.xmap[a] as usize
+    }
+
+    /// Global index in x of each local coordinate, in order.
+    pub fn x_indices(&self) -> impl ExactSizeIterator<Item = usize> + Clone + '_ {
+        self.xmap.iter().map(|&i| i as usize)
+    }
 }
 
 /// Partition of x and e into fixed, dependent and independent parts.

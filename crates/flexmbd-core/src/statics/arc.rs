@@ -130,7 +130,7 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Ve
     }
     for (el, entry) in model.elements.iter().enumerate() {
         let s = su.s_eff.get(el);
-        let v: Vec<f64> = entry.xmap.iter().map(|&i| rate[i]).collect();
+        let v: Vec<f64> = entry.x_indices().map(|i| rate[i]).collect();
         if v.iter().all(|&r| r == 0.0) {
             continue;
         }
@@ -145,7 +145,7 @@ fn load_rate(model: &Model, su: &Setup, x: &[f64], t: f64, a: &Assembled) -> (Ve
             .map(|m| (0..ne).map(|n| s[(m, n)] * dv[n]).sum())
             .collect();
         let h = entry.element.hessian_weighted(&xk, sigma);
-        for (a_loc, &xi) in entry.xmap.iter().enumerate() {
+        for (a_loc, xi) in entry.x_indices().enumerate() {
             let f: f64 = (0..v.len()).map(|b| h[(a_loc, b)] * v[b]).sum::<f64>()
                 + (0..ne).map(|m| d[(m, a_loc)] * sdv[m]).sum::<f64>();
             qx[xi] += f;

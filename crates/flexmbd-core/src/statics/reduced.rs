@@ -17,8 +17,9 @@ use super::*;
 /// stiffness as the dense [`crate::linearized::linearize`], in other coordinates.
 pub(crate) struct ReducedLinear {
     pub(super) su: Setup,
-    /// Row and column of the entries after the element blocks (moments, normalisations).
-    pub(super) tail: Vec<(usize, usize)>,
+    /// Row and column of the entries after the element blocks (moments, normalisations;
+    /// 32-bit, as the reduction's columns: three per rotational node).
+    pub(super) tail: Vec<(u32, u32)>,
     /// Value of every tail entry. The values of the element blocks are not held: they are
     /// made a block of elements at a time ([`ReducedLinear::element_values`]), as many as
     /// 144 per beam.
@@ -35,6 +36,7 @@ impl ReducedLinear {
     pub(crate) fn new(model: &Model, step: &StepResult) -> Self {
         let su = setup(model);
         let (tail, tail_vals) = tail_entries(model, &su, step, (Part::Full, true));
+        let tail: Vec<(u32, u32)> = tail.iter().map(|&(r, c)| (r as u32, c as u32)).collect();
         // the geometric part vanishes in a state without stress resultants, multipliers and
         // moment loads (the unloaded reference state)
         let unstressed = step.sigma.iter().all(|&v| v == 0.0)
@@ -53,7 +55,11 @@ impl ReducedLinear {
                 true,
                 Vec::new(),
             );
-            debug_assert_eq!(g.tail, tail);
+            debug_assert!(g
+                .tail
+                .iter()
+                .copied()
+                .eq(tail.iter().map(|&(r, c)| (r as usize, c as usize))));
             g.vals
         };
         if !geo.is_empty() {
@@ -67,7 +73,7 @@ impl ReducedLinear {
             };
             su.red.for_each_entry(&mut clear_constraints);
             for &(r, c) in &tail {
-                clear_constraints(r, c);
+                clear_constraints(r as usize, c as usize);
             }
         }
         Self {
@@ -119,14 +125,14 @@ impl ReducedLinear {
         self.tail
             .iter()
             .zip(&self.tail_vals)
-            .map(|(&(r, c), &v)| (r, c, v))
+            .map(|(&(r, c), &v)| (r as usize, c as usize, v))
     }
 
     /// Row and column of every entry, in the order of `vals`.
     pub(crate) fn for_each_entry(&self, mut f: impl FnMut(usize, usize)) {
         self.su.red.for_each_entry(&mut f);
         for &(r, c) in &self.tail {
-            f(r, c);
+            f(r as usize, c as usize);
         }
     }
 
@@ -184,7 +190,7 @@ impl ReducedLinear {
             el,
             entry.ie,
             entry.element.ne(),
-            &|a| x[entry.xmap[a]],
+            &|a| x[entry.x_index(a)],
             nxk,
             local,
             &|_, _| 0.0,
@@ -402,7 +408,7 @@ impl MaterialOperator {
             let (ne, nxe) = (entry.element.ne(), entry.xmap.len());
             let d: Vec<f64> = match (entry.element.closed_form(), ne, nxe) {
                 (Some(cf), 6, 14) => {
-                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+                    let xk: [f64; 14] = std::array::from_fn(|i| x[entry.x_index(i)]);
                     cf.first(&xk).d.iter().flatten().copied().collect()
                 }
                 _ => {
@@ -413,7 +419,7 @@ impl MaterialOperator {
                         .collect()
                 }
             };
-            let xk = |a: usize| x[entry.xmap[a]];
+            let xk = |a: usize| x[entry.x_index(a)];
             let mut tc = super::reduction::TColumns::new(&xk);
             let cols: Vec<([(usize, f64); 4], usize)> = su
                 .red
@@ -582,15 +588,14 @@ pub(crate) fn deformation_energies(
     let mut out = Vec::with_capacity(ne * shapes.len());
     if let (Some(cf), 6, 14) = (entry.element.closed_form(), ne, entry.xmap.len()) {
         // the same sums as below, without allocations per shape
-        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.x_index(i)]);
         let d = cf.first(&xk).d;
         for dx in shapes {
             let de: [f64; 6] = std::array::from_fn(|r| {
                 entry
-                    .xmap
-                    .iter()
+                    .x_indices()
                     .enumerate()
-                    .map(|(c, &i)| d[r][c] * dx[i])
+                    .map(|(c, i)| d[r][c] * dx[i])
                     .sum()
             });
             out.extend((0..6).map(|a| de[a] * (0..6).map(|b| s[(a, b)] * de[b]).sum::<f64>()));
@@ -614,10 +619,9 @@ pub(super) fn deformation_change(
     (0..d.nrows())
         .map(|r| {
             entry
-                .xmap
-                .iter()
+                .x_indices()
                 .enumerate()
-                .map(|(c, &i)| d[(r, c)] * dx[i])
+                .map(|(c, i)| d[(r, c)] * dx[i])
                 .sum()
         })
         .collect()

@@ -59,10 +59,9 @@ impl Pattern {
         f_start.push(0);
         for entry in &model.elements {
             let free: Vec<(usize, usize)> = entry
-                .xmap
-                .iter()
+                .x_indices()
                 .enumerate()
-                .filter_map(|(a, &xa)| unknown[xa].map(|u| (a, u)))
+                .filter_map(|(a, xa)| unknown[xa].map(|u| (a, u)))
                 .collect();
             elem_free.push(free);
             elem_constraints.push(
@@ -253,12 +252,12 @@ impl Reduction {
         for entry in &model.elements {
             let mut a = 0;
             while a < entry.xmap.len() {
-                let xi = entry.xmap[a];
+                let xi = entry.x_index(a);
                 let r = lambda0[xi];
                 if r != usize::MAX && node_ok[r] {
                     let block = xi == r
                         && a + 4 <= entry.xmap.len()
-                        && (0..4).all(|i| entry.xmap[a + i] == r + i);
+                        && (0..4).all(|i| entry.x_index(a + i) == r + i);
                     if !block {
                         node_ok[r] = false;
                     } else {
@@ -330,7 +329,7 @@ impl Reduction {
             ec.clear();
             let mut a = 0;
             while a < entry.xmap.len() {
-                let xi = entry.xmap[a];
+                let xi = entry.x_index(a);
                 if let Some(k) = node_at[xi] {
                     let d0 = nodes[k].1;
                     for j in 0..3 {

@@ -103,7 +103,7 @@ pub(super) fn element_local(
     let constrained = &su.constraint[entry.ie..entry.ie + ne];
     if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
         // closed-form derivatives in fixed-size arrays (elements/beam/closed_form.rs)
-        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.xmap[i]]);
+        let xk: [f64; 14] = std::array::from_fn(|i| x[entry.x_index(i)]);
         let first = cf.first(&xk);
         e_out.copy_from_slice(&first.e);
         let s6: [[f64; 6]; 6] = std::array::from_fn(|a| std::array::from_fn(|b| s[(a, b)]));
@@ -332,7 +332,7 @@ pub(crate) fn assemble_values(
     for (el, entry) in model.elements.iter().enumerate() {
         // internal forces Dᵀσ
         let f = &fbuf[pat.f_start[el]..pat.f_start[el + 1]];
-        for (&xi, &fi) in entry.xmap.iter().zip(f) {
+        for (xi, &fi) in entry.x_indices().zip(f) {
             int_force[xi] += fi;
             int_abs[xi] += fi.abs();
         }

@@ -363,7 +363,7 @@ pub(super) fn output_row(
         .element
         .jacobian(&crate::assembly::gather(entry, &step.x));
     let mut w = vec![0.0; model.nx];
-    for (c, &i) in entry.xmap.iter().enumerate() {
+    for (c, i) in entry.x_indices().enumerate() {
         w[i] += (0..ne).map(|b| coef[b] * d[(b, c)]).sum::<f64>();
     }
     Ok(w)

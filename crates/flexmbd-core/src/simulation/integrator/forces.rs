@@ -127,12 +127,16 @@ impl Engine<'_> {
             let s = self.su.s_eff.get(el);
             let ne = jac.nrows();
             let ed: Vec<f64> = (0..ne)
-                .map(|m| (0..xk.len()).map(|c| jac[(m, c)] * w[entry.xmap[c]]).sum())
+                .map(|m| {
+                    (0..xk.len())
+                        .map(|c| jac[(m, c)] * w[entry.x_index(c)])
+                        .sum()
+                })
                 .collect();
             let sd: Vec<f64> = (0..ne)
                 .map(|m| c * (0..ne).map(|n| s[(m, n)] * ed[n]).sum::<f64>())
                 .collect();
-            for (c, &xi) in entry.xmap.iter().enumerate() {
+            for (c, xi) in entry.x_indices().enumerate() {
                 out[xi] += (0..ne).map(|m| jac[(m, c)] * sd[m]).sum::<f64>();
             }
         }
@@ -298,11 +302,11 @@ impl Engine<'_> {
             }
             let xk = crate::assembly::gather(entry, x);
             let jac = entry.element.jacobian(&xk);
-            let wk: Vec<f64> = entry.xmap.iter().map(|&i| w[i]).collect();
+            let wk: Vec<f64> = entry.x_indices().map(|i| w[i]).collect();
             for &(m, kc) in &cons {
                 out[kc] += (0..xk.len()).map(|c| jac[(m, c)] * wk[c]).sum::<f64>();
                 if let Some(v) = quad {
-                    let vk: Vec<f64> = entry.xmap.iter().map(|&i| v[i]).collect();
+                    let vk: Vec<f64> = entry.x_indices().map(|i| v[i]).collect();
                     let mut unit = vec![0.0; ne];
                     unit[m] = 1.0;
                     let hm = entry.element.hessian_weighted(&xk, &unit);

@@ -190,7 +190,7 @@ impl<'a> Engine<'a> {
             element_mass(entry, &x0, None, true, |me| {
                 let n = entry.xmap.len();
                 for i in 0..me.len() {
-                    let (r, c) = (entry.xmap[i / n], entry.xmap[i % n]);
+                    let (r, c) = (entry.x_index(i / n), entry.x_index(i % n));
                     match (su.unknown[r].get(), su.unknown[c].get()) {
                         (Some(a), Some(b)) => {
                             mass.local.push((rows.len() - start) as u32);
