@@ -17,6 +17,7 @@ impl SparseLu {
         self.factored = false;
         self.symmetric_factors = false;
         self.diagonal_structure = false;
+        self.work.resize(n, 0.0);
         self.a_step.clear();
         self.pinv.iter_mut().for_each(|p| *p = NO_STEP);
         self.mark.clear();
@@ -143,6 +144,7 @@ impl SparseLu {
             self.a_step
                 .extend(row_idx[..nnz].iter().map(|&r| self.pinv[r.ix()]));
         }
+        self.work.resize(n, 0.0);
         let x = &mut self.work;
         let mut min_ratio: f64 = 1.0;
         for k in 0..n {
@@ -188,10 +190,9 @@ impl SparseLu {
             "solve without a factorisation"
         );
         let n = self.n;
-        let y = &mut self.work[..n];
-        for (&pi, &bi) in self.pinv[..n].iter().zip(b.iter()) {
-            y[pi as usize] = bi;
-        }
+        // y = P b in b itself (no vector of the system's size beside the factors)
+        let y = &mut b[..n];
+        permute_in_place(y, |i| self.pinv[i] as usize);
         // the entries of column k of L as slices (the same operations in the same order as
         // indexing them one by one, without the bounds checks)
         let rows = ColRows::shared(&self.l_ptr, &self.l_idx, &self.l_start);
@@ -231,9 +232,31 @@ impl SparseLu {
                 }
             }
         }
-        for (&qk, yk) in self.q[..n].iter().zip(y.iter_mut()) {
-            b[qk as usize] = *yk;
-            *yk = 0.0;
+        // z = Q y
+        permute_in_place(y, |k| self.q[k] as usize);
+    }
+}
+
+/// Moves the entry at i of `v` to `dest(i)` for every i (`dest` a permutation), in place:
+/// each cycle of the permutation is followed once, the entries already moved marked in a
+/// bit set (n / 8 bytes).
+fn permute_in_place(v: &mut [f64], dest: impl Fn(usize) -> usize) {
+    let n = v.len();
+    let mut done = vec![0u64; n.div_ceil(64)];
+    for s in 0..n {
+        if done[s / 64] >> (s % 64) & 1 == 1 {
+            continue;
+        }
+        let (mut carry, mut j) = (v[s], s);
+        loop {
+            done[j / 64] |= 1 << (j % 64);
+            let d = dest(j);
+            if d == s {
+                v[s] = carry;
+                break;
+            }
+            carry = std::mem::replace(&mut v[d], carry);
+            j = d;
         }
     }
 }

@@ -76,7 +76,8 @@ pub struct SparseLu {
     /// [`SparseLu::refactor`]; empty until the first refactorisation after the pivot order is
     /// set.
     a_step: Vec<u32>,
-    /// Dense work vector (kept zero between uses) and DFS work (empty until LU with pivoting
+    /// Dense work vector of the factorisations (kept zero between uses; empty until one runs,
+    /// and released after each L D Lᵀ refactorisation) and DFS work (empty until LU with pivoting
     /// runs).
     work: Vec<f64>,
     mark: Vec<usize>,
@@ -288,7 +289,7 @@ impl SparseLu {
             u_val: Vec::new(),
             u_diag: vec![0.0; n],
             a_step: Vec::new(),
-            work: vec![0.0; n],
+            work: Vec::new(),
             // (the search work of LU with pivoting, made when it runs: the symmetric strategy
             // needs none of it beside its factors)
             mark: Vec::new(),

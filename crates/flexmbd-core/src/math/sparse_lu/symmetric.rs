@@ -242,7 +242,11 @@ impl SparseLu {
         const NONE: u32 = u32::MAX;
         let n = self.n;
         self.l_val.resize(self.l_ptr[n], 0.0);
-        let x = &mut self.work;
+        // the dense work vector, made for the refactorisation and released after it (the
+        // solves need none: [`SparseLu::solve`])
+        let mut work = std::mem::take(&mut self.work);
+        work.resize(n, 0.0);
+        let x = &mut work[..];
         // left-looking, the columns s that update column k (the structure of row k of L) found
         // from linked lists instead of a stored row structure (4 bytes per entry of L): every
         // finished column waits in the list of the row of its next entry (`head`, `link`);
