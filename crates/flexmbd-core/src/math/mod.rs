@@ -4,6 +4,7 @@
 //! All small fixed-size vectors are plain `[T; 3]` arrays with the hand-written helpers below;
 //! this is the project's one choice for small vector math (no nalgebra).
 
+pub(crate) mod blocks;
 pub mod gmres;
 pub mod inertia;
 pub mod jet;

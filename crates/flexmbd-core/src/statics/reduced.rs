@@ -351,7 +351,7 @@ fn has_stiffness(s: faer::MatRef<'_, f64>, ne: usize) -> bool {
 pub(crate) struct MaterialOperator {
     /// Per element with stiffness: its index, its [`Layout`] in `layouts`, and the offset of
     /// its kept values in `vals`.
-    elements: Vec<(usize, u32, usize)>,
+    elements: Vec<(u32, u32, usize)>,
     /// The distinct layouts of the elements' D T (the beams of a leaf share one or a few).
     layouts: Vec<Layout>,
     /// The entries kept ([`Code::Kept`]), element by element, row by row.
@@ -437,52 +437,58 @@ impl MaterialOperator {
             }
             dt
         };
-        let blocks: Vec<Vec<f64>> = if stiff.len() < 256 {
-            stiff.iter().map(jac_t).collect()
-        } else {
-            stiff.par_iter().with_min_len(64).map(jac_t).collect()
-        };
         let mut elements = Vec::with_capacity(stiff.len());
         let mut layouts: Vec<Layout> = Vec::new();
         let mut index: rustc_hash::FxHashMap<Layout, u32> = Default::default();
         let mut vals = Vec::new();
         let small =
             |i: usize| u16::try_from(i).expect("element D T of under 2^16 columns and values");
-        for (&el, dt) in stiff.iter().zip(&blocks) {
-            let nc = su.red.elem_cols(el).len();
-            let ne = dt.len().checked_div(nc).unwrap_or(0);
-            let mirror = su.red.beam_full[el];
-            let mut layout = Layout {
-                rows: vec![Vec::new(); ne],
-                cols: vec![Vec::new(); nc],
+        // (a chunk of elements at a time, in parallel: not every element's D T at once, 0.6 KB
+        // per beam)
+        const CHUNK: usize = 8192;
+        for part in stiff.chunks(CHUNK) {
+            let blocks: Vec<Vec<f64>> = if stiff.len() < 256 {
+                part.iter().map(jac_t).collect()
+            } else {
+                part.par_iter().with_min_len(64).map(jac_t).collect()
             };
-            let val_at = vals.len();
-            for (r, row) in dt.chunks_exact(nc.max(1)).enumerate() {
-                // (the index among the element's kept values of the row's first three)
-                let mut kept_at = [usize::MAX; 3];
-                for c in 0..nc {
-                    let (v, neg) = match Code::of(row, c, mirror) {
-                        Code::Zero => continue,
-                        Code::Kept => {
-                            vals.push(row[c]);
-                            let v = vals.len() - 1 - val_at;
-                            if c < 3 {
-                                kept_at[c] = v;
+            for (&el, dt) in part.iter().zip(&blocks) {
+                let nc = su.red.elem_cols(el).len();
+                let ne = dt.len().checked_div(nc).unwrap_or(0);
+                let mirror = su.red.beam_full[el];
+                let mut layout = Layout {
+                    rows: vec![Vec::new(); ne],
+                    cols: vec![Vec::new(); nc],
+                };
+                let val_at = vals.len();
+                for (r, row) in dt.chunks_exact(nc.max(1)).enumerate() {
+                    // (the index among the element's kept values of the row's first three)
+                    let mut kept_at = [usize::MAX; 3];
+                    for c in 0..nc {
+                        let (v, neg) = match Code::of(row, c, mirror) {
+                            Code::Zero => continue,
+                            Code::Kept => {
+                                vals.push(row[c]);
+                                let v = vals.len() - 1 - val_at;
+                                if c < 3 {
+                                    kept_at[c] = v;
+                                }
+                                (v, false)
                             }
-                            (v, false)
-                        }
-                        // (a mirror's source is not zero: it is kept)
-                        Code::Mirror => (kept_at[c - 6], true),
-                    };
-                    layout.rows[r].push((small(c), small(v), neg));
-                    layout.cols[c].push((small(r), small(v), neg));
+                            // (a mirror's source is not zero: it is kept)
+                            Code::Mirror => (kept_at[c - 6], true),
+                        };
+                        layout.rows[r].push((small(c), small(v), neg));
+                        layout.cols[c].push((small(r), small(v), neg));
+                    }
                 }
+                let id = *index.entry(layout).or_insert_with_key(|l| {
+                    layouts.push(l.clone());
+                    (layouts.len() - 1) as u32
+                });
+                let el = u32::try_from(el).expect("fewer than 2³² elements");
+                elements.push((el, id, val_at));
             }
-            let id = *index.entry(layout).or_insert_with_key(|l| {
-                layouts.push(l.clone());
-                (layouts.len() - 1) as u32
-            });
-            elements.push((el, id, val_at));
         }
         vals.shrink_to_fit();
         MaterialOperator {
@@ -502,6 +508,7 @@ impl MaterialOperator {
         let mut de = Vec::new();
         let mut sig = Vec::new();
         for &(el, layout, val_at) in &self.elements {
+            let el = el as usize;
             let ne = model.elements[el].element.ne();
             let s = su.s_eff.get(el);
             let cols = su.red.elem_cols(el);

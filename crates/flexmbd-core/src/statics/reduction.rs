@@ -218,8 +218,11 @@ pub(super) struct Reduction {
     /// Beams with all 14 coordinates free, both nodes reduced and no constrained mode: their
     /// reduced entries come directly from `BeamFirst::hessian_tangent`.
     pub(super) beam_full: Vec<bool>,
-    /// Reduced constraint row of each constrained mode of each element.
-    pub(super) elem_cons: Vec<Vec<usize>>,
+    /// Reduced constraint row of each constrained mode of each element, element after element
+    /// ([`Reduction::elem_cons`]; a list per element took 24 bytes for the none of a beam).
+    cons: Vec<u32>,
+    /// Start of each element's rows in `cons` (elements + 1).
+    cons_start: Vec<u32>,
     /// Number of KKT entries written by the element assembly ([`Reduction::for_each_entry`]).
     pub(super) n_entries: usize,
     /// The diagonal entries of translations among them.
@@ -318,7 +321,8 @@ impl Reduction {
         let mut cols: Vec<ElemCol> = Vec::new();
         let mut col_start = Vec::with_capacity(model.elements.len() + 1);
         let mut beam_full = Vec::with_capacity(model.elements.len());
-        let mut elem_cons = Vec::with_capacity(model.elements.len());
+        let mut cons: Vec<u32> = Vec::new();
+        let mut cons_start: Vec<u32> = Vec::with_capacity(model.elements.len() + 1);
         let mut n_entries = 0;
         // (each element's columns gathered here and kept at their exact size)
         let mut ec = Vec::new();
@@ -349,12 +353,14 @@ impl Reduction {
                 }
                 a += 1;
             }
-            let cons: Vec<usize> = (0..entry.element.ne())
-                .filter_map(|m| constraint[entry.ie + m])
-                .map(|kc| map[nf + kc].expect("element constraints are kept"))
-                .collect();
-            n_entries += element_entry_count(ec.len(), cons.len());
-            elem_cons.push(cons);
+            cons_start.push(u32::try_from(cons.len()).expect("constraint rows under 2^32"));
+            cons.extend(
+                (0..entry.element.ne())
+                    .filter_map(|m| constraint[entry.ie + m])
+                    .map(|kc| map[nf + kc].expect("element constraints are kept") as u32),
+            );
+            let n_cons = cons.len() - *cons_start.last().unwrap_or(&0) as usize;
+            n_entries += element_entry_count(ec.len(), n_cons);
             let full = entry.element.closed_form().is_some()
                 && ec.len() == 12
                 && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
@@ -376,7 +382,9 @@ impl Reduction {
             cols.extend_from_slice(&ec);
         }
         col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
+        cons_start.push(u32::try_from(cons.len()).expect("constraint rows under 2^32"));
         cols.shrink_to_fit();
+        cons.shrink_to_fit();
         elem_start.push(n_entries);
         diag_trans.shrink_to_fit();
         Self {
@@ -391,7 +399,8 @@ impl Reduction {
             cols,
             col_start,
             beam_full,
-            elem_cons,
+            cons,
+            cons_start,
             n_entries,
             elem_start,
         }
@@ -401,7 +410,7 @@ impl Reduction {
     /// element its block on the reduced columns (row-major), then for each constrained mode
     /// the pairs (G, Gᵀ). Generated, not stored (millions of entries on large models).
     pub(super) fn for_each_entry(&self, f: impl FnMut(usize, usize)) {
-        self.for_each_entry_in(0..self.elem_cons.len(), f);
+        self.for_each_entry_in(0..self.beam_full.len(), f);
     }
 
     /// [`Reduction::for_each_entry`] for the elements `els` only.
@@ -411,12 +420,17 @@ impl Reduction {
         mut f: impl FnMut(usize, usize),
     ) {
         for el in els {
-            element_entries(
-                self.elem_cols(el),
-                self.elem_cons[el].iter().copied(),
-                &mut f,
-            );
+            element_entries(self.elem_cols(el), self.elem_cons(el), &mut f);
         }
+    }
+
+    /// The reduced constraint rows of element `el`'s constrained modes.
+    pub(super) fn elem_cons(&self, el: usize) -> impl Iterator<Item = usize> + '_ {
+        let (lo, hi) = (
+            self.cons_start[el] as usize,
+            self.cons_start[el + 1] as usize,
+        );
+        self.cons[lo..hi].iter().map(|&r| r as usize)
     }
 
     /// The reduced local coordinates of element `el` with their reduced unknowns.

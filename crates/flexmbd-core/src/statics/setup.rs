@@ -2,6 +2,7 @@
 //! loads and targets at t = 1 ([`Setup`]).
 
 use super::*;
+use crate::math::blocks::DistinctBlocks;
 
 /// An index that may be absent, in 4 bytes (`u32::MAX` for none; an `Option<usize>` takes 16):
 /// the per-coordinate and per-deformation maps of the setup, which large models hold for the
@@ -42,60 +43,33 @@ pub(crate) fn slots(v: &[Option<usize>]) -> Vec<Slot> {
 /// beam's 288 of values; the elements of a uniform leaf or wire share one block, 4 bytes each).
 pub(crate) struct ElementStiffness {
     block: Vec<u32>,
-    start: Vec<usize>,
-    vals: Vec<f64>,
+    blocks: DistinctBlocks,
 }
 
 impl ElementStiffness {
     /// The blocks `blocks` (ne × ne each, column-major) of the elements in order, each distinct
     /// one (bit for bit) stored once.
     fn new(n_elements: usize, mut blocks: impl FnMut(usize, &mut Vec<f64>)) -> Self {
-        use std::collections::HashMap;
-        use std::hash::{DefaultHasher, Hash, Hasher};
         let mut out = Self {
             block: Vec::with_capacity(n_elements),
-            start: vec![0],
-            vals: Vec::new(),
+            blocks: DistinctBlocks::default(),
         };
-        // distinct blocks by the hash of their bits (a list of candidates per hash)
-        let mut seen: HashMap<u64, Vec<u32>> = HashMap::new();
         let mut b = Vec::new();
         for el in 0..n_elements {
             b.clear();
             blocks(el, &mut b);
-            let mut h = DefaultHasher::new();
-            b.iter().for_each(|v| v.to_bits().hash(&mut h));
-            let candidates = seen.entry(h.finish()).or_default();
-            let same = candidates.iter().copied().find(|&c| {
-                let (lo, hi) = (out.start[c as usize], out.start[c as usize + 1]);
-                let stored = &out.vals[lo..hi];
-                stored.len() == b.len()
-                    && stored
-                        .iter()
-                        .zip(&b)
-                        .all(|(x, y)| x.to_bits() == y.to_bits())
-            });
-            let id = same.unwrap_or_else(|| {
-                let id = u32::try_from(out.start.len() - 1).expect("fewer than 2³² elements");
-                out.vals.extend_from_slice(&b);
-                out.start.push(out.vals.len());
-                candidates.push(id);
-                id
-            });
-            out.block.push(id);
+            out.block.push(out.blocks.add(&b));
         }
-        out.vals.shrink_to_fit();
-        out.start.shrink_to_fit();
+        out.blocks.finish();
         out
     }
 
     /// The block of element `el`.
     #[inline]
     pub(crate) fn get(&self, el: usize) -> faer::MatRef<'_, f64> {
-        let b = self.block[el] as usize;
-        let (lo, hi) = (self.start[b], self.start[b + 1]);
-        let ne = (hi - lo).isqrt();
-        faer::MatRef::from_column_major_slice(&self.vals[lo..hi], ne, ne)
+        let v = self.blocks.get(self.block[el]);
+        let ne = v.len().isqrt();
+        faer::MatRef::from_column_major_slice(v, ne, ne)
     }
 }
 
