@@ -9,6 +9,7 @@ pub mod gmres;
 pub mod inertia;
 pub mod jet;
 pub mod lanczos;
+pub(crate) mod lists;
 pub mod small_eigen;
 pub mod sparse_lu;
 

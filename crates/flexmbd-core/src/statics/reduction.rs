@@ -2,6 +2,7 @@
 //! ([`Reduction`]): rotation increments of fully free rotational nodes, singles eliminated.
 
 use super::*;
+use crate::math::lists::Lists;
 
 /// Fixed order of the KKT matrix entries written by the assembly (the "triplets" without
 /// values). It depends only on the model, so the sparse structure, the map to its value slots
@@ -18,9 +19,9 @@ pub(super) struct Pattern {
     /// Rows, columns and element starts of the entries ([`Pattern::layout`]).
     pub(super) layout: std::sync::OnceLock<PatternLayout>,
     /// Free local coordinates of each element: (local index, unknown index).
-    pub(super) elem_free: Vec<Vec<(usize, usize)>>,
-    /// Constraint index of each element's modes (`None`: flexible), by element.
-    pub(super) elem_constraints: Vec<Vec<usize>>,
+    pub(super) elem_free: Lists<(u32, u32)>,
+    /// Constraint index of each element's constrained modes, by element.
+    pub(super) elem_constraints: Lists<u32>,
     /// Number of free coordinates (the constraint rows follow).
     pub(super) nf: usize,
     /// Start of each element's internal forces in the per-element force buffer.
@@ -40,8 +41,8 @@ impl Pattern {
     pub(super) fn released(nf: usize) -> Self {
         Self {
             layout: std::sync::OnceLock::new(),
-            elem_free: Vec::new(),
-            elem_constraints: Vec::new(),
+            elem_free: Lists::with_capacity(0),
+            elem_constraints: Lists::with_capacity(0),
             nf,
             f_start: Vec::new(),
         }
@@ -53,24 +54,26 @@ impl Pattern {
         constraint: &[Option<usize>],
         nf: usize,
     ) -> Self {
-        let mut elem_free = Vec::with_capacity(model.elements.len());
-        let mut elem_constraints = Vec::with_capacity(model.elements.len());
+        let mut elem_free = Lists::with_capacity(model.elements.len());
+        let mut elem_constraints = Lists::with_capacity(model.elements.len());
         let mut f_start = Vec::with_capacity(model.elements.len() + 1);
         f_start.push(0);
         for entry in &model.elements {
-            let free: Vec<(usize, usize)> = entry
-                .x_indices()
-                .enumerate()
-                .filter_map(|(a, xa)| unknown[xa].map(|u| (a, u)))
-                .collect();
-            elem_free.push(free);
+            elem_free.push(
+                entry
+                    .x_indices()
+                    .enumerate()
+                    .filter_map(|(a, xa)| unknown[xa].map(|u| (a as u32, u as u32))),
+            );
             elem_constraints.push(
                 (0..entry.element.ne())
                     .filter_map(|m| constraint[entry.ie + m])
-                    .collect(),
+                    .map(|kc| kc as u32),
             );
             f_start.push(f_start.last().copied().unwrap_or(0) + entry.xmap.len());
         }
+        elem_free.finish();
+        elem_constraints.finish();
         Self {
             layout: std::sync::OnceLock::new(),
             elem_free,
@@ -84,20 +87,26 @@ impl Pattern {
     pub(super) fn layout(&self) -> &PatternLayout {
         self.layout.get_or_init(|| {
             let nf = self.nf;
-            let total: usize = self
-                .elem_free
-                .iter()
-                .zip(&self.elem_constraints)
-                .map(|(f, c)| element_entry_count(f.len(), c.len()))
+            let n_el = self.elem_free.len();
+            let total: usize = (0..n_el)
+                .map(|el| {
+                    let (f, c) = (self.elem_free.of(el), self.elem_constraints.of(el));
+                    element_entry_count(f.len(), c.len())
+                })
                 .sum();
             let (mut rows, mut cols) = (Vec::with_capacity(total), Vec::with_capacity(total));
-            let mut elem_start = Vec::with_capacity(self.elem_free.len() + 1);
-            for (free, cons) in self.elem_free.iter().zip(&self.elem_constraints) {
+            let mut elem_start = Vec::with_capacity(n_el + 1);
+            for el in 0..n_el {
+                let (free, cons) = (self.elem_free.of(el), self.elem_constraints.of(el));
                 elem_start.push(rows.len());
-                element_entries(free, cons.iter().map(|&kc| nf + kc), &mut |r, c| {
-                    rows.push(r);
-                    cols.push(c);
-                });
+                element_entries(
+                    free,
+                    cons.iter().map(|&kc| nf + kc as usize),
+                    &mut |r, c| {
+                        rows.push(r);
+                        cols.push(c);
+                    },
+                );
             }
             elem_start.push(rows.len());
             PatternLayout {
@@ -174,6 +183,12 @@ impl<T> Unknown for (T, usize) {
     }
 }
 
+impl Unknown for (u32, u32) {
+    fn unknown_of(&self) -> usize {
+        self.1 as usize
+    }
+}
+
 impl Unknown for ElemCol {
     fn unknown_of(&self) -> usize {
         self.unknown()
@@ -220,9 +235,7 @@ pub(super) struct Reduction {
     pub(super) beam_full: Vec<bool>,
     /// Reduced constraint row of each constrained mode of each element, element after element
     /// ([`Reduction::elem_cons`]; a list per element took 24 bytes for the none of a beam).
-    cons: Vec<u32>,
-    /// Start of each element's rows in `cons` (elements + 1).
-    cons_start: Vec<u32>,
+    cons: Lists<u32>,
     /// Number of KKT entries written by the element assembly ([`Reduction::for_each_entry`]).
     pub(super) n_entries: usize,
     /// The diagonal entries of translations among them.
@@ -321,8 +334,7 @@ impl Reduction {
         let mut cols: Vec<ElemCol> = Vec::new();
         let mut col_start = Vec::with_capacity(model.elements.len() + 1);
         let mut beam_full = Vec::with_capacity(model.elements.len());
-        let mut cons: Vec<u32> = Vec::new();
-        let mut cons_start: Vec<u32> = Vec::with_capacity(model.elements.len() + 1);
+        let mut cons: Lists<u32> = Lists::with_capacity(model.elements.len());
         let mut n_entries = 0;
         // (each element's columns gathered here and kept at their exact size)
         let mut ec = Vec::new();
@@ -353,14 +365,12 @@ impl Reduction {
                 }
                 a += 1;
             }
-            cons_start.push(u32::try_from(cons.len()).expect("constraint rows under 2^32"));
-            cons.extend(
+            cons.push(
                 (0..entry.element.ne())
                     .filter_map(|m| constraint[entry.ie + m])
                     .map(|kc| map[nf + kc].expect("element constraints are kept") as u32),
             );
-            let n_cons = cons.len() - *cons_start.last().unwrap_or(&0) as usize;
-            n_entries += element_entry_count(ec.len(), n_cons);
+            n_entries += element_entry_count(ec.len(), cons.of(cons.len() - 1).len());
             let full = entry.element.closed_form().is_some()
                 && ec.len() == 12
                 && (0..entry.element.ne()).all(|m| constraint[entry.ie + m].is_none())
@@ -382,9 +392,8 @@ impl Reduction {
             cols.extend_from_slice(&ec);
         }
         col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
-        cons_start.push(u32::try_from(cons.len()).expect("constraint rows under 2^32"));
         cols.shrink_to_fit();
-        cons.shrink_to_fit();
+        cons.finish();
         elem_start.push(n_entries);
         diag_trans.shrink_to_fit();
         Self {
@@ -400,7 +409,6 @@ impl Reduction {
             col_start,
             beam_full,
             cons,
-            cons_start,
             n_entries,
             elem_start,
         }
@@ -426,11 +434,7 @@ impl Reduction {
 
     /// The reduced constraint rows of element `el`'s constrained modes.
     pub(super) fn elem_cons(&self, el: usize) -> impl Iterator<Item = usize> + '_ {
-        let (lo, hi) = (
-            self.cons_start[el] as usize,
-            self.cons_start[el + 1] as usize,
-        );
-        self.cons[lo..hi].iter().map(|&r| r as usize)
+        self.cons.of(el).iter().map(|&r| r as usize)
     }
 
     /// The reduced local coordinates of element `el` with their reduced unknowns.

@@ -98,7 +98,7 @@ pub(super) fn element_local(
     let ne = e_out.len();
     // (the unreduced system's columns: read only there, so that the reduced assembly also runs
     // after `Setup::release_assembly`)
-    let free = || su.pattern.elem_free[el].as_slice();
+    let free = || su.pattern.elem_free.of(el);
     // KKT entries: K on the free local coordinates, then (G, Gᵀ) of the constrained modes
     let constrained = &su.constraint[entry.ie..entry.ie + ne];
     if let (Some(cf), 14) = (entry.element.closed_form(), entry.xmap.len()) {
@@ -226,7 +226,7 @@ fn stress(
 #[inline]
 fn write_entries(
     vals: &mut [f64],
-    free: &[(usize, usize)],
+    free: &[(u32, u32)],
     constrained: &[Slot],
     k: impl Fn(usize, usize) -> f64,
     d: impl Fn(usize, usize) -> f64,
@@ -234,14 +234,14 @@ fn write_entries(
     let mut i = 0;
     for &(a, _) in free {
         for &(b, _) in free {
-            vals[i] = k(a, b);
+            vals[i] = k(a as usize, b as usize);
             i += 1;
         }
     }
     for (m, c) in constrained.iter().enumerate() {
         if c.get().is_some() {
             for &(b, _) in free {
-                let v = d(m, b);
+                let v = d(m, b as usize);
                 vals[i] = v;
                 vals[i + 1] = v;
                 i += 2;
