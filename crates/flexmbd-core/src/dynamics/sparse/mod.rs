@@ -428,6 +428,7 @@ fn modes_of(
         }
     }
     drop(found);
+    op.release_vectors();
     // M-orthonormal: the Ritz vectors are (full reorthogonalisation); purified ones are made so
     // again (Löwdin: Y (YᵀMY)^-½, the nearest M-orthonormal set)
     let q: Cols = if massless > 0 {

@@ -45,6 +45,8 @@ pub(super) struct Shifted<'a> {
     pub(super) sigma: f64,
     /// Number of eigenvalues below σ (from the inertia), when L D Lᵀ holds A(σ).
     pub(super) below: Option<usize>,
+    /// The right-hand side and solution of an application (empty until one is made, and after
+    /// [`Shifted::release_vectors`]).
     pub(super) rhs: Vec<f64>,
     /// When set, the operator's solves are refined (`refined` module) with products through
     /// the element deformations of this model and state.
@@ -82,7 +84,7 @@ impl<'a> Shifted<'a> {
             use_sym: false,
             sigma: f64::NAN,
             below: None,
-            rhs: vec![0.0; p.n],
+            rhs: Vec::new(),
             exact: None,
             refine_ws: Default::default(),
             restore: None,
@@ -249,9 +251,19 @@ impl<'a> Shifted<'a> {
     /// [`Shifted::apply_mv`] with M v given in `out`, which the result replaces.
     fn apply_mv_in(&mut self, p: &Problem, out: &mut [f64]) {
         let mut rhs = std::mem::take(&mut self.rhs);
+        rhs.resize(p.n, 0.0);
         self.solve(p, out, &mut rhs);
         out.copy_from_slice(&rhs[..p.nc]);
         self.rhs = rhs;
+    }
+
+    /// Releases the vectors the operator's applications keep from one to the next (its
+    /// right-hand side, the refined solves' Krylov vectors; made again by the next
+    /// application): for the phase after the iteration, whose mode shapes and inertia count
+    /// they would add to.
+    pub(super) fn release_vectors(&mut self) {
+        self.rhs = Vec::new();
+        self.refine_ws = Default::default();
     }
 
     /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it. The
