@@ -6,7 +6,7 @@
 use super::basis::PAR_MIN;
 use crate::linearized::sparse::element_blocks;
 use crate::linearized::Tangent;
-use crate::math::sparse_lu::{amd_order, share_rows, sort_small, ColRows};
+use crate::math::sparse_lu::{amd_order, share_rows, sort_small, ColRows, RowIndex};
 use crate::model::Model;
 use crate::statics::ReducedLinear;
 use crate::statics::StepResult;
@@ -34,7 +34,7 @@ pub(super) struct Problem {
     /// beside it).
     /// (The rows are held as lists shared by the columns of a supernode, [`share_rows`]: a
     /// node's six columns read one list; [`Problem::rows`].)
-    col_ptr: Vec<usize>,
+    col_ptr: Vec<u32>,
     row_idx: Vec<u32>,
     row_start: Vec<u32>,
     /// K values on that structure (the symmetric part of K): released while the Lanczos basis
@@ -46,7 +46,7 @@ pub(super) struct Problem {
     /// The coordinate block of M (CSC, lower triangle, non-zero entries only, rows sorted), for
     /// M v ([`Problem::m_times`]); an entry of the structure above finds its M value here by
     /// bisection ([`Problem::shifted_entries`]), without a map of 4 bytes per entry.
-    pub(super) m_ptr: Vec<usize>,
+    pub(super) m_ptr: Vec<u32>,
     pub(super) m_idx: Vec<u32>,
     pub(super) m_val: Vec<f64>,
 }
@@ -57,13 +57,13 @@ pub(super) struct Problem {
 /// The terms above the diagonal (i < j: entry (j, i) of column i) are scattered first, column
 /// by column in order (serial); those on and below it are then gathered onto them (parallel
 /// over columns).
-fn csc_lower_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: &mut [f64]) {
+fn csc_lower_sym_times(ptr: &[u32], idx: &[u32], val: &[f64], v: &[f64], out: &mut [f64]) {
     const CHUNK: usize = 4096;
     // (the start of a sum of floats, which is where a gather would start)
     let start: f64 = std::iter::empty::<f64>().sum();
     out.iter_mut().for_each(|y| *y = start);
     for (i, &vi) in v.iter().enumerate() {
-        let (lo, hi) = (ptr[i], ptr[i + 1]);
+        let (lo, hi) = (ptr[i] as usize, ptr[i + 1] as usize);
         for (&j, &a) in idx[lo..hi].iter().zip(&val[lo..hi]) {
             if j as usize != i {
                 out[j as usize] += a * vi;
@@ -71,7 +71,7 @@ fn csc_lower_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: 
         }
     }
     let gather = |j: usize, y: &mut f64| {
-        let (lo, hi) = (ptr[j], ptr[j + 1]);
+        let (lo, hi) = (ptr[j] as usize, ptr[j + 1] as usize);
         *y = idx[lo..hi]
             .iter()
             .zip(&val[lo..hi])
@@ -93,9 +93,9 @@ fn csc_lower_sym_times(ptr: &[usize], idx: &[u32], val: &[f64], v: &[f64], out: 
 /// The structure of both triangles (CSC, rows sorted) of a symmetric matrix from that of one
 /// triangle, each unknown i renamed `label(i)` (a permutation; the identity keeps the
 /// numbering).
-fn full_of_triangle(
+fn full_of_triangle<P: RowIndex>(
     n: usize,
-    tri: ColRows<'_>,
+    tri: ColRows<'_, P>,
     label: impl Fn(usize) -> usize,
 ) -> (Vec<usize>, Vec<u32>) {
     let mut ptr = vec![0usize; n + 1];
@@ -144,13 +144,18 @@ fn inverse(perm: &[u32]) -> Vec<u32> {
 
 /// The position of entry (r, c) of a symmetric matrix, either triangle, in its stored lower
 /// triangle (CSC, rows sorted) whose unknown i is `step(i)`: column min, row max.
-fn lower_position(tri: ColRows<'_>, step: impl Fn(usize) -> usize, r: usize, c: usize) -> usize {
+fn lower_position<P: RowIndex>(
+    tri: ColRows<'_, P>,
+    step: impl Fn(usize) -> usize,
+    r: usize,
+    c: usize,
+) -> usize {
     let (a, b) = (step(r), step(c));
     let (s, t) = (a.max(b), a.min(b));
     let rows = tri.of(t);
     let i = rows.partition_point(|&x| (x as usize) < s);
     debug_assert_eq!(rows[i] as usize, s);
-    tri.ptr()[t] + i
+    tri.first(t) + i
 }
 
 /// The weight of an entry in the stored lower triangle: an entry off the diagonal adds half its
@@ -347,7 +352,7 @@ impl Problem {
                     m_val.push(m[p]);
                 }
             }
-            m_ptr.push(m_idx.len());
+            m_ptr.push(m_idx.len() as u32);
         }
         m_idx.shrink_to_fit();
         m_val.shrink_to_fit();
@@ -373,6 +378,8 @@ impl Problem {
         };
         let (col_ptr, row_idx, mut k) = permuted_lower(&perm, &col_ptr, &row_idx, &k);
         let (row_idx, row_start) = share_rows(&col_ptr, &row_idx).unwrap_or((row_idx, Vec::new()));
+        // (32-bit like the rows: below 4·10⁹ entries)
+        let col_ptr: Vec<u32> = col_ptr.iter().map(|&p| p as u32).collect();
         let mut p = Self {
             lin,
             extra_k,
@@ -402,13 +409,13 @@ impl Problem {
 
     /// The stored lower triangle's rows by column (pivot steps; the values of column t's
     /// entries are at positions `col_ptr[t]..col_ptr[t + 1]`).
-    pub(super) fn rows(&self) -> ColRows<'_> {
+    pub(super) fn rows(&self) -> ColRows<'_, u32> {
         ColRows::shared(&self.col_ptr, &self.row_idx, &self.row_start)
     }
 
     /// Number of entries of the stored lower triangle.
     pub(super) fn nnz(&self) -> usize {
-        self.col_ptr[self.n]
+        self.col_ptr[self.n] as usize
     }
 
     /// K's entries after the element blocks, added into `k` (the stored lower triangle, whose
@@ -437,7 +444,7 @@ impl Problem {
         }
         // (the entry of the lower triangle of M)
         let (r, c) = (r.max(c), r.min(c));
-        let (lo, hi) = (self.m_ptr[c], self.m_ptr[c + 1]);
+        let (lo, hi) = (self.m_ptr[c] as usize, self.m_ptr[c + 1] as usize);
         let i = lo + self.m_idx[lo..hi].partition_point(|&x| (x as usize) < r);
         (i < hi && self.m_idx[i] as usize == r).then(|| self.m_val[i])
     }
@@ -454,18 +461,18 @@ impl Problem {
             if s == 0.0 {
                 return k;
             }
-            let cp = &self.col_ptr;
+            let cp = |t: usize| self.col_ptr[t] as usize;
             let mut t = column.get();
-            if q < cp[t] || q >= cp[t + 1] {
+            if q < cp(t) || q >= cp(t + 1) {
                 // (every column holds its diagonal: the next column when q is just past)
-                t = if q >= cp[t + 1] && t + 2 < cp.len() && q < cp[t + 2] {
+                t = if q >= cp(t + 1) && t + 2 < self.col_ptr.len() && q < cp(t + 2) {
                     t + 1
                 } else {
-                    cp.partition_point(|&x| x <= q) - 1
+                    self.col_ptr.partition_point(|&x| x as usize <= q) - 1
                 };
                 column.set(t);
             }
-            match self.m_entry(self.rows().of(t)[q - cp[t]] as usize, t) {
+            match self.m_entry(self.rows().of(t)[q - cp(t)] as usize, t) {
                 None => k,
                 Some(m) => k - s * m,
             }
@@ -524,7 +531,7 @@ impl Problem {
         let mut out = Vec::new();
         for t in 0..self.n {
             let c = self.perm[t] as usize;
-            for (q, &s) in (self.col_ptr[t]..).zip(self.rows().of(t)) {
+            for (q, &s) in (self.col_ptr[t] as usize..).zip(self.rows().of(t)) {
                 let (r, v) = (self.perm[s as usize] as usize, k[q]);
                 if (r >= nc || c >= nc) && v != 0.0 {
                     out.push((r, c, v));
@@ -567,7 +574,7 @@ impl Problem {
             let c = c as usize;
             if c < self.nc {
                 // (each column of the lower triangle starts with its diagonal entry)
-                let p = self.col_ptr[t];
+                let p = self.col_ptr[t] as usize;
                 debug_assert_eq!(self.rows().of(t)[0] as usize, t);
                 kd[c] = k[p];
                 md[c] = self.m_entry(t, t).unwrap_or(0.0);

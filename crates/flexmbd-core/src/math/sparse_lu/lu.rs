@@ -198,7 +198,7 @@ impl SparseLu {
         let rows = ColRows::shared(&self.l_ptr, &self.l_idx, &self.l_start);
         let l_val = &self.l_val;
         let column = |k: usize| {
-            let (lo, hi) = (rows.ptr()[k], rows.ptr()[k + 1]);
+            let (lo, hi) = (rows.first(k), rows.first(k + 1));
             rows.of(k).iter().zip(&l_val[lo..hi])
         };
         for k in 0..n {

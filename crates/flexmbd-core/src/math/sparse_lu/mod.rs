@@ -168,13 +168,13 @@ pub(crate) fn csc_residual<R: RowIndex>(
 /// [`csc_residual`] of a symmetric matrix of which one triangle is stored (each entry off the
 /// diagonal stands for itself and its mirror), with the value of entry p given by `value(p)`
 /// (a matrix whose values are formed on the fly, as K − σM).
-pub(crate) fn csc_sym_residual_with(
-    a: ColRows<'_>,
+pub(crate) fn csc_sym_residual_with<P: RowIndex>(
+    a: ColRows<'_, P>,
     value: impl Fn(usize) -> f64,
     z: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64) {
-    residual_of(|j| (a.ptr()[j], a.of(j)), value, z, b, true)
+    residual_of(|j| (a.first(j), a.of(j)), value, z, b, true)
 }
 
 /// b − A z and its componentwise backward error, column j of A given by `column(j)` (the

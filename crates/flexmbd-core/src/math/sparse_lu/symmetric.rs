@@ -227,11 +227,11 @@ impl SparseLu {
     /// [`SparseLu::refactor_symmetric_with`] with the layout of the lower triangle in pivot order
     /// given by the caller instead of [`SparseLu::lower_layout`]: the rows of step k are
     /// `a.of(k)` (pivot numbering, ≥ k), the values of its entries at positions
-    /// `a.ptr()[k]..a.ptr()[k + 1]`, entry q's value `lower(q)`. For a caller that keeps its
+    /// `a.first(k)..a.first(k + 1)`, entry q's value `lower(q)`. For a caller that keeps its
     /// matrix in pivot order (the sparse modal problem), so that the layout is not held twice.
-    pub fn refactor_symmetric_on(
+    pub fn refactor_symmetric_on<P: RowIndex>(
         &mut self,
-        a: ColRows<'_>,
+        a: ColRows<'_, P>,
         lower: impl Fn(usize) -> f64,
     ) -> Result<f64, LuFailure> {
         if !self.diagonal_structure || !self.diag_pref || a.ncols() != self.n {
@@ -271,7 +271,7 @@ impl SparseLu {
             }
         };
         for k in 0..n {
-            let (alo, ahi) = (a.ptr()[k], a.ptr()[k + 1]);
+            let (alo, ahi) = (a.first(k), a.first(k + 1));
             for (q, &s) in (alo..ahi).zip(a.of(k)) {
                 x[s as usize] += lower(q);
             }
