@@ -1,16 +1,14 @@
 //! Blocks of values kept once however many items share them: the elements of a uniform leaf
-//! or wire have the same stiffness block, and in a straight reference state the same
-//! deformation Jacobian, bit for bit.
+//! or wire have the same stiffness block, bit for bit.
 
+use super::lists::Lists;
 use std::collections::HashMap;
 use std::hash::{DefaultHasher, Hash, Hasher};
 
-/// Blocks of values in one array, each distinct one (bit for bit) stored once and named by an
-/// id ([`DistinctBlocks::add`], [`DistinctBlocks::get`]).
+/// Blocks of values, each distinct one (bit for bit) stored once and named by an id, its
+/// index among the stored blocks ([`DistinctBlocks::add`], [`DistinctBlocks::get`]).
 pub(crate) struct DistinctBlocks {
-    vals: Vec<f64>,
-    /// Start of block id in `vals` (blocks + 1).
-    start: Vec<usize>,
+    blocks: Lists<f64>,
     /// The ids of the blocks by the hash of their bits (a list of candidates per hash); dropped
     /// by [`DistinctBlocks::finish`].
     seen: HashMap<u64, Vec<u32>>,
@@ -19,8 +17,7 @@ pub(crate) struct DistinctBlocks {
 impl Default for DistinctBlocks {
     fn default() -> Self {
         Self {
-            vals: Vec::new(),
-            start: vec![0],
+            blocks: Lists::with_capacity(0),
             seen: HashMap::new(),
         }
     }
@@ -33,9 +30,9 @@ impl DistinctBlocks {
         block.len().hash(&mut h);
         block.iter().for_each(|v| v.to_bits().hash(&mut h));
         let candidates = self.seen.entry(h.finish()).or_default();
-        let (vals, start) = (&self.vals, &self.start);
+        let blocks = &self.blocks;
         let same = candidates.iter().copied().find(|&c| {
-            let stored = &vals[start[c as usize]..start[c as usize + 1]];
+            let stored = blocks.of(c as usize);
             stored.len() == block.len()
                 && stored
                     .iter()
@@ -43,9 +40,8 @@ impl DistinctBlocks {
                     .all(|(x, y)| x.to_bits() == y.to_bits())
         });
         same.unwrap_or_else(|| {
-            let id = u32::try_from(self.start.len() - 1).expect("fewer than 2³² blocks");
-            self.vals.extend_from_slice(block);
-            self.start.push(self.vals.len());
+            let id = u32::try_from(self.blocks.len()).expect("fewer than 2³² blocks");
+            self.blocks.push(block.iter().copied());
             candidates.push(id);
             id
         })
@@ -54,14 +50,12 @@ impl DistinctBlocks {
     /// No more blocks: the search structure is released and the arrays shrunk to their size.
     pub(crate) fn finish(&mut self) {
         self.seen = HashMap::new();
-        self.vals.shrink_to_fit();
-        self.start.shrink_to_fit();
+        self.blocks.finish();
     }
 
     /// The values of block `id`.
     #[inline]
     pub(crate) fn get(&self, id: u32) -> &[f64] {
-        let id = id as usize;
-        &self.vals[self.start[id]..self.start[id + 1]]
+        self.blocks.of(id as usize)
     }
 }

@@ -227,9 +227,7 @@ pub(super) struct Reduction {
     pub(super) is_trans: Vec<bool>,
     /// Reduced local coordinates of every element with their reduced unknown, element after
     /// element ([`Reduction::elem_cols`]).
-    cols: Vec<ElemCol>,
-    /// Start of each element's columns in `cols` (elements + 1).
-    col_start: Vec<u32>,
+    cols: Lists<ElemCol>,
     /// Beams with all 14 coordinates free, both nodes reduced and no constrained mode: their
     /// reduced entries come directly from `BeamFirst::hessian_tangent`.
     pub(super) beam_full: Vec<bool>,
@@ -331,8 +329,7 @@ impl Reduction {
         }
         // element columns and entry order
         let mut elem_start = Vec::with_capacity(model.elements.len() + 1);
-        let mut cols: Vec<ElemCol> = Vec::new();
-        let mut col_start = Vec::with_capacity(model.elements.len() + 1);
+        let mut cols: Lists<ElemCol> = Lists::with_capacity(model.elements.len());
         let mut beam_full = Vec::with_capacity(model.elements.len());
         let mut cons: Lists<u32> = Lists::with_capacity(model.elements.len());
         let mut n_entries = 0;
@@ -388,11 +385,9 @@ impl Reduction {
                     diag_trans.push(start + a * ec.len() + a);
                 }
             }
-            col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
-            cols.extend_from_slice(&ec);
+            cols.push(ec.iter().copied());
         }
-        col_start.push(u32::try_from(cols.len()).expect("element columns under 2^32"));
-        cols.shrink_to_fit();
+        cols.finish();
         cons.finish();
         elem_start.push(n_entries);
         diag_trans.shrink_to_fit();
@@ -406,7 +401,6 @@ impl Reduction {
             n,
             is_trans,
             cols,
-            col_start,
             beam_full,
             cons,
             n_entries,
@@ -439,7 +433,7 @@ impl Reduction {
 
     /// The reduced local coordinates of element `el` with their reduced unknowns.
     pub(super) fn elem_cols(&self, el: usize) -> &[ElemCol] {
-        &self.cols[self.col_start[el] as usize..self.col_start[el + 1] as usize]
+        self.cols.of(el)
     }
 }
 
