@@ -9,7 +9,7 @@ use super::{
     apply_loads, assemble_values, chord_consistent_scale, inf_norm, normalise_lambda, rot_basis,
     solve_single_multipliers, Assembled, Part, Setup, StaticOptions,
 };
-use crate::math::sparse_lu::SparseLu;
+use crate::math::sparse_lu::{ColRows, SparseLu};
 use crate::model::Model;
 use rayon::prelude::*;
 
@@ -351,10 +351,9 @@ impl KktSolver {
                 if at[p] == NONE {
                     // (r, c) above the diagonal: the value of (c, r), in column r
                     let r = ri[p] as usize;
-                    let col = &ri[cp[r]..cp[r + 1]];
-                    let p2 = cp[r] + col.partition_point(|&x| (x as usize) < c);
-                    debug_assert_eq!(ri[p2] as usize, c);
-                    mirror[p] = at[p2];
+                    let p2 = ColRows::plain(cp, ri).find(r, c);
+                    debug_assert!(p2.is_ok(), "the pattern is symmetric");
+                    mirror[p] = at[p2.unwrap_or_else(|q| q)];
                 }
             }
         }

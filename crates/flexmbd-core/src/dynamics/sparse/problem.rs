@@ -152,10 +152,9 @@ fn lower_position<P: RowIndex>(
 ) -> usize {
     let (a, b) = (step(r), step(c));
     let (s, t) = (a.max(b), a.min(b));
-    let rows = tri.of(t);
-    let i = rows.partition_point(|&x| (x as usize) < s);
-    debug_assert_eq!(rows[i] as usize, s);
-    tri.first(t) + i
+    let q = tri.find(t, s);
+    debug_assert!(q.is_ok(), "entry ({s}, {t}) is in the structure");
+    q.unwrap_or_else(|q| q)
 }
 
 /// The weight of an entry in the stored lower triangle: an entry off the diagonal adds half its
@@ -444,9 +443,8 @@ impl Problem {
         }
         // (the entry of the lower triangle of M)
         let (r, c) = (r.max(c), r.min(c));
-        let (lo, hi) = (self.m_ptr[c] as usize, self.m_ptr[c + 1] as usize);
-        let i = lo + self.m_idx[lo..hi].partition_point(|&x| (x as usize) < r);
-        (i < hi && self.m_idx[i] as usize == r).then(|| self.m_val[i])
+        let m = ColRows::plain(&self.m_ptr, &self.m_idx);
+        m.find(c, r).ok().map(|q| self.m_val[q])
     }
 
     /// The entries of the shifted matrix A(s) = [K − sM, Gᵀ; G, 0] by their position q in the

@@ -42,6 +42,19 @@ impl<'a, P: RowIndex> ColRows<'a, P> {
         }
     }
 
+    /// The position of row `r` in column k (rows ascending), as `binary_search`: `Ok` with its
+    /// position where the column has it, `Err` with the position it would take otherwise.
+    pub fn find(self, k: usize, r: usize) -> Result<usize, usize> {
+        let rows = self.of(k);
+        let i = rows.partition_point(|&x| (x as usize) < r);
+        let q = self.first(k) + i;
+        if rows.get(i).is_some_and(|&x| x as usize == r) {
+            Ok(q)
+        } else {
+            Err(q)
+        }
+    }
+
     /// The position of the first value of column k (of none past the last: k = columns).
     #[inline]
     pub fn first(self, k: usize) -> usize {
@@ -110,6 +123,11 @@ mod tests {
         assert_eq!(shared, [0, 1, 2, 5, 3, 4, 5, 6]);
         let rows = ColRows::shared(&ptr[..], &shared, &start);
         assert_eq!(rows.ncols(), cols.len());
+        // rows found where the columns have them, and where they would go otherwise
+        assert_eq!(rows.find(1, 2), Ok(5));
+        assert_eq!(rows.find(1, 3), Err(6));
+        assert_eq!(rows.find(4, 4), Ok(11));
+        assert_eq!(rows.find(6, 0), Err(14));
         for (k, c) in cols.iter().enumerate() {
             assert_eq!(rows.of(k), *c, "column {k}");
             assert_eq!(ColRows::plain(&ptr[..], &idx).of(k), *c);
