@@ -514,11 +514,11 @@ impl Problem {
         csc_lower_sym_times(&self.m_ptr, &self.m_idx, &self.m_val, v, out);
     }
 
-    /// out −= s M v.
-    pub(super) fn sub_m_times(&self, s: f64, v: &[f64], out: &mut [f64]) {
-        let mut mv = vec![0.0; out.len()];
-        self.m_times(v, &mut mv);
-        out.iter_mut().zip(&mv).for_each(|(y, m)| *y -= s * m);
+    /// out −= s M v, M v formed in `mv` (the caller's, kept from one product to the next).
+    pub(super) fn sub_m_times(&self, s: f64, v: &[f64], out: &mut [f64], mv: &mut Vec<f64>) {
+        mv.resize(out.len(), 0.0);
+        self.m_times(v, mv);
+        out.iter_mut().zip(mv.iter()).for_each(|(y, m)| *y -= s * m);
     }
 
     /// The entries (row, column, value) of the saddle-point matrix in the constraint rows or

@@ -38,8 +38,16 @@ pub(super) struct Exact<'a> {
 /// deformations and its geometric part (symmetric, as factored) and the softening of point
 /// masses from their entries; G z for the constraint rows and Gᵀ μ in the coordinate rows (μ
 /// the constraint part of z), from the saddle-point matrix, which holds them (with the added
-/// rows of [`Problem::with_rows`]).
-pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], out: &mut [f64]) {
+/// rows of [`Problem::with_rows`]). `mv`: room for M z (used at σ ≠ 0), kept by the caller
+/// from one product to the next.
+pub(super) fn saddle_times(
+    p: &Problem,
+    ex: Exact<'_>,
+    sigma: f64,
+    z: &[f64],
+    out: &mut [f64],
+    mv: &mut Vec<f64>,
+) {
     let nc = p.nc;
     let model = ex.model;
     ex.km
@@ -63,7 +71,7 @@ pub(super) fn saddle_times(p: &Problem, ex: Exact<'_>, sigma: f64, z: &[f64], ou
         out[r] += v * z[c];
     }
     if sigma != 0.0 {
-        p.sub_m_times(sigma, &z[..nc], &mut out[..nc]);
+        p.sub_m_times(sigma, &z[..nc], &mut out[..nc], mv);
     }
 }
 
@@ -81,6 +89,8 @@ pub(super) fn refined_solve(
 ) -> f64 {
     let sigma = op.sigma;
     let mut ws = std::mem::take(&mut op.refine_ws);
+    // (M z of the products at σ ≠ 0, made once per solve)
+    let mut mv = Vec::new();
     op.solve_factored(z);
     let correction = gmres::refine_in(
         &mut ws,
@@ -89,7 +99,7 @@ pub(super) fn refined_solve(
         p.nc,
         REFINED_TOL,
         |v| op.solve_factored(v),
-        |v, out| saddle_times(p, ex, sigma, v, out),
+        |v, out| saddle_times(p, ex, sigma, v, out, &mut mv),
     )
     .correction;
     op.refine_ws = ws;
