@@ -111,7 +111,7 @@ pub(super) fn tangent_eigenvalues(
         return None;
     }
     let reassembled;
-    let a = if a.reduced {
+    let a = if a.reduced && a.tangent {
         a
     } else {
         reassembled = reduced_at(model, su, st);
@@ -232,6 +232,27 @@ mod tests {
             b.set_rigid_modes(&format!("b{i}"), &[1]).unwrap();
         }
         b.build().unwrap()
+    }
+
+    /// The unloaded start is found without the tangent (`newton::exact_equilibrium`): its
+    /// tangent eigenvalues are those of the tangent assembled there, which for the unloaded
+    /// column are of the material stiffness alone and all positive.
+    #[test]
+    fn the_tangent_eigenvalues_of_an_unloaded_start_are_of_its_tangent() {
+        let model = inextensible_column(20, 0.5);
+        let opts = StaticOptions {
+            steps: 2,
+            tangent_eigenvalues: true,
+            ..Default::default()
+        };
+        let sol = solve_path(&model, &opts, |_, _| {}).unwrap();
+        let st = &sol.steps[0];
+        assert_eq!(st.iterations, 0);
+        let su = setup(&model);
+        let a = reduced_at(&model, &su, st);
+        assert_eq!(st.tangent_eigenvalues, kappa(&su, &a, true));
+        let k = st.tangent_eigenvalues.as_ref().expect("asked for");
+        assert!(!k.is_empty() && k.iter().all(|&v| v > 0.0), "{k:?}");
     }
 
     #[test]

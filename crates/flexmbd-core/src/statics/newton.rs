@@ -590,7 +590,7 @@ pub(super) fn newton(
     // `prev`: the reduced assembly at this x and μ for another load factor (the last
     // converged state): only its load part changes
     let mut a = match prev {
-        Some(mut p) if p.reduced => {
+        Some(mut p) if p.reduced && p.tangent => {
             apply_loads(model, su, x, mu, t, Part::Full, &mut p);
             *p
         }
@@ -669,6 +669,77 @@ pub(super) fn newton(
     unreachable!("the loop returns at it == max_iterations")
 }
 
+/// The state at `x` for load factor `t` when it is an exact equilibrium — residual and
+/// constraint violations exactly zero, where [`newton`] stops at iteration 0 before it uses its
+/// tangent ([`check`]) — assembled without the tangent (`Part::Residual`; the tangent is the
+/// largest part of a large model's static solve, 1.5 KB per beam of a strip, and an unloaded
+/// model, the start of most paths and the whole path of a modal analysis without loads, never
+/// needs it). `prev`: an assembly at this x and μ for another load factor, whose element part
+/// is reused when it has no tangent either (one with a tangent is Newton's to reuse). `Err`
+/// gives back what Newton can reuse when the state is not an exact equilibrium, with x and μ
+/// as they were.
+pub(super) fn exact_equilibrium(
+    model: &Model,
+    su: &Setup,
+    x: &mut [f64],
+    mu: &mut [f64],
+    t: f64,
+    prev: Option<Box<Assembled>>,
+) -> Result<Box<Assembled>, Option<Box<Assembled>>> {
+    // (Newton's first steps on copies of x and μ)
+    let mut xn = x.to_vec();
+    normalise_lambda(su, &mut xn);
+    let mut a = match prev {
+        Some(p) if p.tangent => return Err(Some(p)),
+        Some(mut p) if p.reduced => {
+            apply_loads(model, su, &xn, mu, t, Part::Residual, &mut p);
+            p
+        }
+        _ => Box::new(assemble_values(
+            model,
+            su,
+            &xn,
+            mu,
+            t,
+            Part::Residual,
+            true,
+            Vec::new(),
+        )),
+    };
+    let mut mun = mu.to_vec();
+    solve_single_multipliers(su, &xn, &mut mun, &mut a);
+    if inf_norm(&a.r) == 0.0 && inf_norm(&a.g) == 0.0 {
+        x.copy_from_slice(&xn);
+        mu.copy_from_slice(&mun);
+        Ok(a)
+    } else {
+        Err(None)
+    }
+}
+
+/// [`newton`] from an exact equilibrium without the tangent when the start is one
+/// ([`exact_equilibrium`]).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn newton_or_exact(
+    model: &Model,
+    su: &Setup,
+    opts: &StaticOptions,
+    x: &mut [f64],
+    mu: &mut [f64],
+    t: f64,
+    kkt: &mut Option<KktSolver>,
+    prev: Option<Box<Assembled>>,
+) -> Newton {
+    match exact_equilibrium(model, su, x, mu, t, prev) {
+        Ok(state) => Newton::Converged {
+            iterations: 0,
+            residual: 0.0,
+            state,
+        },
+        Err(prev) => newton(model, su, opts, x, mu, t, kkt, prev),
+    }
+}
+
 /// Why a Newton step has no direction.
 pub(super) const SINGULAR: &str =
     "the tangent matrix is singular (a mechanism, or a buckled state)";
@@ -676,6 +747,44 @@ pub(super) const SINGULAR: &str =
 #[cfg(test)]
 mod tests {
     use super::KktSolver;
+
+    /// An unloaded start is an exact equilibrium: found without the tangent, in the state
+    /// Newton reaches there (its own assembly, iteration 0); a loaded one is not, and x and μ
+    /// are left as they were.
+    #[test]
+    fn an_exact_equilibrium_is_newtons_first_state_without_the_tangent() {
+        use super::{exact_equilibrium, newton, Newton};
+        use crate::statics::test_models::column;
+        use crate::statics::{setup, StaticOptions};
+        let model = column(8, 4.0, [0.3, -0.2, 0.1]).build().unwrap();
+        let su = setup(&model);
+        let x0 = model.x0();
+        let mu0 = vec![0.0; su.nk];
+        let (mut x, mut mu) = (x0.clone(), mu0.clone());
+        let Ok(exact) = exact_equilibrium(&model, &su, &mut x, &mut mu, 0.0, None) else {
+            panic!("the unloaded column is in equilibrium");
+        };
+        assert!(!exact.tangent && exact.vals.is_empty());
+        let (mut xn, mut mun) = (x0.clone(), mu0.clone());
+        let opts = StaticOptions::default();
+        let Newton::Converged {
+            iterations, state, ..
+        } = newton(&model, &su, &opts, &mut xn, &mut mun, 0.0, &mut None, None)
+        else {
+            panic!("Newton converges at the unloaded start");
+        };
+        assert_eq!(iterations, 0);
+        assert!(state.tangent && !state.vals.is_empty());
+        assert_eq!((&x, &mu), (&xn, &mun));
+        assert_eq!(exact.r, state.r);
+        assert_eq!(exact.balance, state.balance);
+        assert_eq!((&exact.e, &exact.sigma), (&state.e, &state.sigma));
+        // loaded: not an equilibrium, the tangent-less assembly handed on is none
+        let (mut x1, mut mu1) = (x0.clone(), mu0.clone());
+        let loaded = exact_equilibrium(&model, &su, &mut x1, &mut mu1, 1.0, Some(exact));
+        assert!(matches!(loaded, Err(None)));
+        assert_eq!((&x1, &mu1), (&x0, &mu0));
+    }
 
     /// b − A z for A given as entries (row, column, value; repeated positions add up).
     fn residual(entries: &[(usize, usize, f64)], z: &[f64], b: &[f64]) -> f64 {

@@ -8,7 +8,7 @@
 
 use super::eigen::tangent_eigenvalues;
 use super::{
-    apply_prescribed, assemble, inverted_element, linear, newton, non_finite_parts, setup,
+    apply_prescribed, assemble, inverted_element, linear, newton_or_exact, non_finite_parts, setup,
     Assembled, Newton, PathMethod, SolveError, StaticOptions, StaticSolution, StepResult,
     MAX_ITERATIONS, MAX_STEPS,
 };
@@ -197,7 +197,7 @@ fn follow(
     // prescribed coordinates leave x unchanged
     let reuse = su.x_targets.is_empty();
     apply_prescribed(model, &su, &mut x, 0.0);
-    let mut last = match newton(model, &su, opts, &mut x, &mut mu, 0.0, &mut kkt, None) {
+    let mut last = match newton_or_exact(model, &su, opts, &mut x, &mut mu, 0.0, &mut kkt, None) {
         Newton::Converged {
             iterations,
             residual,
@@ -257,7 +257,8 @@ fn follow(
             }
             apply_prescribed(model, &su, &mut x, t_try);
             let prev = if reuse { last.take() } else { None };
-            let mut result = newton(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev);
+            let mut result =
+                newton_or_exact(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev);
             let mut inverted: Option<String> = None;
             if matches!(result, Newton::Converged { .. }) {
                 if let Some(name) = inverted_element(model, &x, &x_save) {

@@ -32,6 +32,9 @@ pub(crate) struct Assembled {
     pub(crate) energy: f64,
     /// Whether `vals` holds the reduced system ([`Reduction`]).
     pub(crate) reduced: bool,
+    /// Whether `vals` holds the matrix entries (false after `Part::Residual`: forces,
+    /// deformations and constraint violations alone).
+    pub(crate) tangent: bool,
 }
 
 /// Which part of the tangent to assemble.
@@ -292,7 +295,11 @@ pub(crate) fn assemble_values(
     // every element entry is written by its element: no need to clear a reused buffer; room
     // for the entries [`apply_loads`] appends, so that appending them does not double the
     // buffer (16 MB at 10⁴ beams), and a new buffer when it is short (nothing to copy)
-    let capacity = n_el + tail_capacity(su);
+    let capacity = if part == Part::Residual {
+        0
+    } else {
+        n_el + tail_capacity(su)
+    };
     let mut vals = spare;
     if vals.capacity() < capacity {
         vals = Vec::with_capacity(capacity);
@@ -338,6 +345,7 @@ pub(crate) fn assemble_values(
         }
     }
     let mut a = Assembled::of_elements(vals, int_force, int_abs, e, sigma, energy, reduced);
+    a.tangent = part != Part::Residual;
     apply_loads(model, su, x, mu, t, part, &mut a);
     a
 }
@@ -369,6 +377,7 @@ impl Assembled {
             sigma,
             energy,
             reduced,
+            tangent: true,
         }
     }
 }
