@@ -280,6 +280,7 @@ pub(super) fn lanczos_runs(
     let mut applications = 0;
     for run in 0..8u64 {
         let need = want.saturating_sub(thetas.len()).max(1);
+        op.hold_basis(p, true);
         let r = krylov_schur(
             p,
             op,
@@ -288,8 +289,9 @@ pub(super) fn lanczos_runs(
             0x5DEE_CE66_D1CE_4E5B ^ (run + 1).wrapping_mul(0x9E37_79B9),
             max_applications.saturating_sub(applications),
             keep_mv,
-        )
-        .map_err(|a| ModalError::NotConverged {
+        );
+        op.hold_basis(p, false);
+        let r = r.map_err(|a| ModalError::NotConverged {
             found: thetas.len(),
             wanted: want,
             applications: applications + a,

@@ -374,14 +374,10 @@ fn modes_of(
         });
     }
     let max_applications = 200 + MAX_APPLICATIONS_PER_MODE * want;
-    // with refined solves the Lanczos phase holds the basis, GMRES's vectors and the element
-    // Jacobians (the peak of a large model's modal analysis): K is released from now on between
-    // the factorisations, which make it again from the model (at 10⁵ beams 0.46 KB per beam
-    // for about 1 s in 13; with plain solves the time it costs, a tenth at 10⁴ beams, is not
-    // worth the memory)
-    if refine {
-        op.release_k_between(p, model, step);
-    }
+    // the Lanczos phase holds the basis beside the factorisation (with refined solves also
+    // GMRES's vectors and the element Jacobians): the peak of a large model's modal analysis,
+    // which K is released from (made again from the model for the factorisations)
+    op.release_k_between(p, model, step, refine);
     let (mut found, mut thetas, mut applications) =
         lanczos_runs(p, &mut op, want, max_applications, massless > 0)?;
     // A shift that makes the operator amplify some directions far more than the wanted modes
@@ -461,15 +457,15 @@ fn modes_of(
     } else {
         y
     };
-    // each mode from its Ritz vector, which is released as soon as the mode is made (the
-    // shapes in x replace the vectors in the coordinates instead of being held beside them):
-    // the shape, the geometric and point-mass stiffness uᵀ K_g u, uᵀ M u, and the kinetic
-    // energy by node
+    // the factorisation is not needed again unless the probe below counts at its shift: its
+    // values are released while the shapes are made
+    op.release_factors();
+    // eigenvalues: Rayleigh quotients of the shapes in x, the stiffness through the element
+    // deformations, the geometric and point-mass stiffness uᵀ K_g u and the mass uᵀ M u in the
+    // coordinates
     let has_geo = p.lin.geo.iter().any(|&v| v != 0.0);
-    // the node of every coordinate (made here, not held through the iteration)
-    let group = p.lin.coord_nodes(model);
-    let mode_of = |u: Vec<f64>| -> (Vec<f64>, f64, f64, NodeKinetic) {
-        let shape = p.lin.to_x(model, &step.x, &u);
+    let shape_of = |u: &Vec<f64>| -> (Vec<f64>, f64, f64) {
+        let shape = p.lin.to_x(model, &step.x, u);
         let mut g2 = 0.0;
         if has_geo {
             let mut e = 0;
@@ -485,8 +481,56 @@ fn modes_of(
             g2 += kv * u[r] * u[c];
         }
         let mut mu = vec![0.0; nc];
-        p.m_times(&u, &mut mu);
+        p.m_times(u, &mut mu);
         let m2: f64 = u.iter().zip(&mu).map(|(a, b)| a * b).sum();
+        (shape, g2, m2)
+    };
+    let parts: Vec<(Vec<f64>, f64, f64)> = if nc < PAR_MIN {
+        q.iter().map(shape_of).collect()
+    } else {
+        q.par_iter().map(shape_of).collect()
+    };
+    let mut shapes = Vec::with_capacity(nf);
+    let mut gm = Vec::with_capacity(nf);
+    for (shape, g2, m2) in parts {
+        shapes.push(shape);
+        gm.push((g2, m2));
+    }
+    let e2 = p.lin.material_energy2(model, &step.x, &shapes);
+    let lam: Vec<f64> = (0..nf).map(|k| (e2[k] + gm[k].0) / gm[k].1).collect();
+    // ascending (a stable sort: equal eigenvalues keep the order of their Ritz vectors)
+    let mut rank: Vec<usize> = (0..nf).collect();
+    rank.sort_by(|&a, &b| lam[a].total_cmp(&lam[b]));
+    let eigenvalues: Vec<f64> = rank.iter().map(|&k| lam[k]).collect();
+    let ritz: Vec<f64> = rank
+        .iter()
+        .map(|&k| sigma + 1.0 / thetas[order[k]])
+        .collect();
+    // the rigid-body probe refactors at its shift, with K made again: the shapes in x (larger
+    // than the vectors in the coordinates) are made again after it instead of held through it
+    let tau = rigid::probe_shift(sigma, lambda_ref, &eigenvalues, n_finite);
+    if tau.is_some() {
+        shapes = Vec::new();
+    }
+    let below_gap = tau.and_then(|tau| op.count_below_in_place(p, tau));
+    drop(op);
+    // each mode in the order of the eigenvalues from its vector, which is released as soon as
+    // the mode is made: the shape (made again when it was released) and the kinetic energy by
+    // node
+    let mut shapes = shapes.into_iter();
+    // (a mode's vector and its shape when it was kept)
+    type Job = (Vec<f64>, Option<Vec<f64>>);
+    let mut vectors: Vec<Option<Job>> = q.into_iter().map(|u| Some((u, shapes.next()))).collect();
+    let jobs: Vec<Job> = rank
+        .iter()
+        .map(|&k| vectors[k].take().expect("each mode is made once"))
+        .collect();
+    drop(vectors);
+    let group = p.lin.coord_nodes(model);
+    let mode_of = |(u, shape): Job| -> (Vec<f64>, NodeKinetic) {
+        let shape = shape.unwrap_or_else(|| p.lin.to_x(model, &step.x, &u));
+        let mut mu = vec![0.0; nc];
+        p.m_times(&u, &mut mu);
         let mut kinetic = vec![(0.0, 0.0); model.nodes.len()];
         for (m, (&node, (a, b))) in group.iter().zip(u.iter().zip(&mu)).enumerate() {
             if let Some(t) = kinetic.get_mut(node) {
@@ -497,43 +541,14 @@ fn modes_of(
                 }
             }
         }
-        (shape, g2, m2, kinetic)
+        (shape, kinetic)
     };
-    let parts: Vec<(Vec<f64>, f64, f64, NodeKinetic)> = if nc < PAR_MIN {
-        q.into_iter().map(mode_of).collect()
+    let made: Vec<(Vec<f64>, NodeKinetic)> = if nc < PAR_MIN {
+        jobs.into_iter().map(mode_of).collect()
     } else {
-        q.into_par_iter().map(mode_of).collect()
+        jobs.into_par_iter().map(mode_of).collect()
     };
-    let mut shapes = Vec::with_capacity(nf);
-    let mut rest = Vec::with_capacity(nf);
-    for (shape, g2, m2, kinetic) in parts {
-        shapes.push(shape);
-        rest.push((g2, m2, kinetic));
-    }
-    // eigenvalues: Rayleigh quotients, the stiffness through the element deformations
-    let e2 = p.lin.material_energy2(model, &step.x, &shapes);
-    // (Rayleigh quotient, Ritz value, shape, kinetic energy by node)
-    let mut modes: Vec<(f64, f64, Vec<f64>, NodeKinetic)> = shapes
-        .into_iter()
-        .zip(rest)
-        .enumerate()
-        .map(|(k, (shape, (g2, m2, kinetic)))| {
-            let lam = (e2[k] + g2) / m2;
-            (lam, sigma + 1.0 / thetas[order[k]], shape, kinetic)
-        })
-        .collect();
-    modes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut eigenvalues = Vec::with_capacity(nf);
-    let mut ritz = Vec::with_capacity(nf);
-    let mut shapes = Vec::with_capacity(nf);
-    let mut kinetic = Vec::with_capacity(nf);
-    for (l, r, s, t) in modes {
-        eigenvalues.push(l);
-        ritz.push(r);
-        shapes.push(s);
-        kinetic.push(t);
-    }
-    let below_gap = rigid::probe(p, &mut op, sigma, lambda_ref, &eigenvalues, n_finite);
+    let (shapes, kinetic): (Vec<Vec<f64>>, Vec<NodeKinetic>) = made.into_iter().unzip();
     Ok(SparseModes {
         rigid: rigid::count(&eigenvalues, below_gap),
         ritz,

@@ -19,7 +19,7 @@
 //! (no inertia count, too many eigenvalues below τ) no mode is flagged, as on the dense path
 //! when there is no gap.
 
-use super::{modes_of, plain_then_refined, Problem, Shifted, SparseModes};
+use super::{modes_of, plain_then_refined, Problem, SparseModes};
 use crate::dynamics::{rigid_body_count, ModalError, RIGID_BODY_GAP};
 use crate::model::Model;
 use crate::statics::StepResult;
@@ -37,18 +37,15 @@ const ROUND_OFF_MARGIN: f64 = 100.0;
 /// model with coarse elements) skip the probe and its factorisation.
 const PROBE_MAX: f64 = 1e-6;
 
-/// The number of eigenvalues below the probe shift τ (module docs), when the listed
-/// `eigenvalues` (ascending) show no gap of their own and do not exhaust the `n_finite`
-/// finite eigenvalues and may be round-off ([`PROBE_MAX`]); `None` otherwise, or when L D Lᵀ
-/// cannot count at τ. The count is made in `op`'s own factorisation, which is left at τ.
-pub(super) fn probe(
-    p: &Problem,
-    op: &mut Shifted,
+/// The probe shift τ (module docs), when the listed `eigenvalues` (ascending) show no gap of
+/// their own and do not exhaust the `n_finite` finite eigenvalues and may be round-off
+/// ([`PROBE_MAX`]); `None` otherwise (no probe).
+pub(super) fn probe_shift(
     sigma: f64,
     lambda_ref: f64,
     eigenvalues: &[f64],
     n_finite: usize,
-) -> Option<usize> {
+) -> Option<f64> {
     if eigenvalues.is_empty()
         || eigenvalues.len() >= n_finite
         || rigid_body_count(eigenvalues) > 0
@@ -61,7 +58,7 @@ pub(super) fn probe(
         return None;
     }
     let floor = ROUND_OFF_MARGIN * sigma.abs().max(f64::EPSILON * lambda_ref);
-    op.count_below_in_place(p, (top / RIGID_BODY_GAP).max(floor))
+    Some((top / RIGID_BODY_GAP).max(floor))
 }
 
 /// The number of rigid-body modes at the start of a list: the dense path's gap criterion on

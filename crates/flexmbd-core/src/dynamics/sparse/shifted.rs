@@ -58,8 +58,12 @@ pub(super) struct Shifted<'a> {
     /// [`Shifted::count_below`] took it for an inertia count.
     restore: Option<f64>,
     /// When set ([`Shifted::release_k_between`]): the problem's K values are released after
-    /// every factorisation and made again from this model and state before the next one.
+    /// a factorisation (after every one with `always`, else while a Lanczos basis is held) and
+    /// made again from this model and state before the next one.
     source: Option<(&'a Model, &'a StepResult)>,
+    always: bool,
+    /// A Lanczos basis is held ([`Shifted::hold_basis`]).
+    in_basis: bool,
 }
 
 impl<'a> Shifted<'a> {
@@ -89,6 +93,8 @@ impl<'a> Shifted<'a> {
             refine_ws: Default::default(),
             restore: None,
             source: None,
+            always: false,
+            in_basis: false,
         }
     }
 
@@ -100,22 +106,36 @@ impl<'a> Shifted<'a> {
         }
     }
 
-    /// From now on, the problem's K values are held only while a factorisation is made: they
-    /// are released now and after every factorisation, and made again from `model` at `step`
-    /// (the stage of the problem) before the next (the Lanczos phase of a large model, whose
-    /// peak memory they would add to: 8 bytes per entry, 0.46 KB per beam of a strip).
+    /// From now on, the problem's K values are released (8 bytes per entry, 0.46 KB per beam
+    /// of a strip) where they would add to the peak of a large model's modal analysis, and
+    /// made again from `model` at `step` (the stage of the problem) for the next factorisation:
+    /// with `always` after every factorisation (refined solves: their vectors and element
+    /// Jacobians outlast the iteration), else while a Lanczos basis is held
+    /// ([`Shifted::hold_basis`]), so that the inertia counts after an iteration make them
+    /// once.
     pub(super) fn release_k_between(
         &mut self,
         p: &Problem,
         model: &'a Model,
         step: &'a StepResult,
+        always: bool,
     ) {
         self.source = Some((model, step));
+        self.always = always;
         p.release_k();
     }
 
-    /// The problem's K values for a factorisation, and released after it (`f`), when
-    /// [`Shifted::release_k_between`] asked for it.
+    /// A Lanczos basis is held from now on (`held`), or no longer: K is released now and after
+    /// every factorisation while it is ([`Shifted::release_k_between`]).
+    pub(super) fn hold_basis(&mut self, p: &Problem, held: bool) {
+        self.in_basis = held;
+        if held && self.source.is_some() {
+            p.release_k();
+        }
+    }
+
+    /// The problem's K values for a factorisation, and released after it (`f`) as
+    /// [`Shifted::release_k_between`] asked.
     fn with_k<T>(&mut self, p: &Problem, f: impl FnOnce(&mut Self) -> T) -> T {
         if let Some((model, step)) = self.source {
             // (the refined solves' vectors would add to the peak of the factorisation)
@@ -123,7 +143,7 @@ impl<'a> Shifted<'a> {
             p.restore_k(model, step);
         }
         let r = f(self);
-        if self.source.is_some() {
+        if self.source.is_some() && (self.always || self.in_basis) {
             p.release_k();
         }
         r
@@ -264,6 +284,20 @@ impl<'a> Shifted<'a> {
     pub(super) fn release_vectors(&mut self) {
         self.rhs = Vec::new();
         self.refine_ws = Default::default();
+    }
+
+    /// Releases the values of the factorisations (made again by the next [`Shifted::factor`]
+    /// or inertia count): for the phase after the iteration, which solves nothing.
+    pub(super) fn release_factors(&mut self) {
+        self.release_vectors();
+        if let Some(lu) = &mut self.sym {
+            lu.release_values();
+        }
+        self.lu = None;
+        self.use_sym = false;
+        self.sigma = f64::NAN;
+        self.below = None;
+        self.restore = None;
     }
 
     /// Number of eigenvalues below `s` by the inertia of A(s), if L D Lᵀ can factor it. The

@@ -65,6 +65,17 @@ impl SparseLu {
         }
     }
 
+    /// Releases the values of L (8 bytes per entry), keeping the structure and the order:
+    /// no solve until the next [`refactor_symmetric_on`] makes them again. For a phase that
+    /// holds no factorisation between two of them.
+    ///
+    /// [`refactor_symmetric_on`]: SparseLu::refactor_symmetric_on
+    pub fn release_values(&mut self) {
+        self.l_val = Vec::new();
+        self.factored = false;
+        self.symmetric_factors = false;
+    }
+
     /// The structure of L and U for diagonal pivots of a structurally symmetric matrix: that
     /// of its Cholesky factor, from the elimination tree (row subtrees, as CSparse's
     /// `cs_schol`/`cs_ereach`), in time proportional to the nonzeros of L.
