@@ -88,26 +88,27 @@ pub(super) fn describe_all(
             })
             .collect()
     });
-    let one = |(k, shape): (usize, Vec<f64>)| {
-        let mut strain: Vec<(usize, usize, f64)> = Vec::with_capacity(6 * per_element.len());
-        for (el, u) in per_element.iter().enumerate() {
-            let ne = u.len() / nm;
-            strain.extend(
-                u[k * ne..(k + 1) * ne]
-                    .iter()
-                    .enumerate()
-                    .map(|(a, &v)| (el, a, v)),
-            );
-        }
-        let mut mode = describe(model, step, eigenvalues[k], shape, &kinetic[k], strain);
+    // each mode with its kinetic energies by node, released as soon as it is described
+    type Job = (usize, (Vec<f64>, Vec<(f64, f64)>));
+    let one = |(k, (shape, kinetic)): Job| {
+        let ne_of = |u: &Vec<f64>| u.len() / nm;
+        let strain = per_element.iter().enumerate().flat_map(|(el, u)| {
+            let ne = ne_of(u);
+            u[k * ne..(k + 1) * ne]
+                .iter()
+                .enumerate()
+                .map(move |(a, &v)| (el, a, v))
+        });
+        let mut mode = describe(model, step, eigenvalues[k], shape, &kinetic, strain);
         mode.fractions = fractions[k];
         mode.class = ModeClass::of(&mode.fractions, false);
         mode
     };
+    let jobs = shapes.into_iter().zip(kinetic).enumerate();
     if small || nm < 2 {
-        shapes.into_iter().enumerate().map(one).collect()
+        jobs.map(one).collect()
     } else {
-        shapes.into_par_iter().enumerate().map(one).collect()
+        jobs.collect::<Vec<_>>().into_par_iter().map(one).collect()
     }
 }
 
@@ -120,7 +121,7 @@ fn describe(
     eigenvalue: f64,
     shape: Vec<f64>,
     kinetic: &[(f64, f64)],
-    strain: Vec<(usize, usize, f64)>,
+    strain: impl Iterator<Item = (usize, usize, f64)> + Clone,
 ) -> Mode {
     let frequency = if eigenvalue >= 0.0 {
         eigenvalue.sqrt() / (2.0 * std::f64::consts::PI)
@@ -146,17 +147,17 @@ fn describe(
             (u, w)
         })
         .collect();
-    let total_u: f64 = strain.iter().map(|s| s.2).sum();
+    let total_u: f64 = strain.clone().map(|s| s.2).sum();
     let total_t: f64 = kinetic.iter().map(|(tr, rt)| tr + rt).sum();
     let kinetic = kinetic.iter().enumerate().map(|(i, &(tr, rt))| (i, tr, rt));
     let norm_u = if total_u.abs() > 0.0 { total_u } else { 1.0 };
     let norm_t = if total_t.abs() > 0.0 { total_t } else { 1.0 };
+    // (the entries of every element's deformations are read twice, not listed)
     let mut strain: Vec<(usize, usize, f64)> = strain
-        .into_iter()
         .map(|(e, m, u)| (e, m, u / norm_u))
         .filter(|s| s.2.abs() >= 1e-4)
         .collect();
-    // (collected in place: the list of every element's entries would keep its size)
+    // (held with the mode: no room beyond its entries)
     strain.shrink_to_fit();
     // stable, largest first (insertion for the short lists of small models)
     let larger = |a: &(usize, usize, f64), b: &(usize, usize, f64)| {
