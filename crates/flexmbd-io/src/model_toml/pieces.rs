@@ -22,7 +22,7 @@ use toml::Spanned;
 use toml_parser::lexer::TokenKind;
 
 /// Target size of a piece [bytes]: a piece ends at the first place it may after this many.
-const PIECE: usize = 1 << 20;
+const PIECE: usize = 1 << 18;
 
 /// Where a piece starts, and the header of the entry table it continues (written before it).
 struct Cut {
