@@ -94,7 +94,7 @@ impl SparseTangent {
 }
 
 /// [`SparseTangent::element_blocks`] of the stage `lin` (made at `step`), M only `with_mass`
-/// (else `m` is all zeros): K alone made again from the model, when a factorisation needs the
+/// (else `m` is empty): K alone made again from the model, when a factorisation needs the
 /// values it released (`dynamics::sparse`).
 pub(crate) fn element_blocks(
     lin: &ReducedLinear,
@@ -114,7 +114,9 @@ pub(crate) fn element_blocks(
         k.clear();
         k.resize(hi - lo, 0.0);
         m.clear();
-        m.resize(hi - lo, 0.0);
+        if with_mass {
+            m.resize(hi - lo, 0.0);
+        }
         lin.element_values(model, step, els.clone(), &mut k);
         // element mass blocks (and the softening), each element into its own piece
         let mut pieces: Vec<(usize, &mut [f64], &mut [f64])> = Vec::with_capacity(els.len());
@@ -122,7 +124,7 @@ pub(crate) fn element_blocks(
         for el in els.clone() {
             let len = lin.element_entries(el).len();
             let (pk, tk) = rest_k.split_at_mut(len);
-            let (pm, tm) = rest_m.split_at_mut(len);
+            let (pm, tm) = rest_m.split_at_mut(if with_mass { len } else { 0 });
             pieces.push((el, pk, pm));
             (rest_k, rest_m) = (tk, tm);
         }
