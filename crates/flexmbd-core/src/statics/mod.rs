@@ -386,7 +386,7 @@ mod path;
 
 /// The sparse Newton matrix of statics (`newton.rs`), also for other analyses of the crate.
 pub(crate) use newton::KktSolver;
-use newton::{newton, newton_or_exact, Newton};
+use newton::{exact_equilibrium, newton, Newton};
 
 pub use path::{solve, solve_path, StaticAnalysis, Stopped};
 

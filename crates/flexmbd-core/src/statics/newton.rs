@@ -717,29 +717,6 @@ pub(super) fn exact_equilibrium(
     }
 }
 
-/// [`newton`] from an exact equilibrium without the tangent when the start is one
-/// ([`exact_equilibrium`]).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn newton_or_exact(
-    model: &Model,
-    su: &Setup,
-    opts: &StaticOptions,
-    x: &mut [f64],
-    mu: &mut [f64],
-    t: f64,
-    kkt: &mut Option<KktSolver>,
-    prev: Option<Box<Assembled>>,
-) -> Newton {
-    match exact_equilibrium(model, su, x, mu, t, prev) {
-        Ok(state) => Newton::Converged {
-            iterations: 0,
-            residual: 0.0,
-            state,
-        },
-        Err(prev) => newton(model, su, opts, x, mu, t, kkt, prev),
-    }
-}
-
 /// Why a Newton step has no direction.
 pub(super) const SINGULAR: &str =
     "the tangent matrix is singular (a mechanism, or a buckled state)";

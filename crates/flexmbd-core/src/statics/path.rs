@@ -8,9 +8,9 @@
 
 use super::eigen::tangent_eigenvalues;
 use super::{
-    apply_prescribed, assemble, inverted_element, linear, newton_or_exact, non_finite_parts, setup,
-    Assembled, Newton, PathMethod, SolveError, StaticOptions, StaticSolution, StepResult,
-    MAX_ITERATIONS, MAX_STEPS,
+    apply_prescribed, assemble, exact_equilibrium, inverted_element, linear, newton,
+    non_finite_parts, setup, Assembled, Newton, PathMethod, SolveError, StaticOptions,
+    StaticSolution, StepResult, MAX_ITERATIONS, MAX_STEPS,
 };
 use crate::model::{CoordKind, Model};
 
@@ -197,7 +197,19 @@ fn follow(
     // prescribed coordinates leave x unchanged
     let reuse = su.x_targets.is_empty();
     apply_prescribed(model, &su, &mut x, 0.0);
-    let mut last = match newton_or_exact(model, &su, opts, &mut x, &mut mu, 0.0, &mut kkt, None) {
+    // Newton, from an exact equilibrium without the tangent when the start is one
+    let newton_from =
+        |x: &mut [f64], mu: &mut [f64], t: f64, kkt: &mut _, prev| match exact_equilibrium(
+            model, &su, x, mu, t, prev,
+        ) {
+            Ok(state) => Newton::Converged {
+                iterations: 0,
+                residual: 0.0,
+                state,
+            },
+            Err(prev) => newton(model, &su, opts, x, mu, t, kkt, prev),
+        };
+    let mut last = match newton_from(&mut x, &mut mu, 0.0, &mut kkt, None) {
         Newton::Converged {
             iterations,
             residual,
@@ -257,8 +269,7 @@ fn follow(
             }
             apply_prescribed(model, &su, &mut x, t_try);
             let prev = if reuse { last.take() } else { None };
-            let mut result =
-                newton_or_exact(model, &su, opts, &mut x, &mut mu, t_try, &mut kkt, prev);
+            let mut result = newton_from(&mut x, &mut mu, t_try, &mut kkt, prev);
             let mut inverted: Option<String> = None;
             if matches!(result, Newton::Converged { .. }) {
                 if let Some(name) = inverted_element(model, &x, &x_save) {
