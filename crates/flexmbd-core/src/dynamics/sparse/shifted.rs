@@ -61,6 +61,7 @@ pub(super) struct Shifted<'a> {
     /// a factorisation (after every one with `always`, else while a Lanczos basis is held) and
     /// made again from this model and state before the next one.
     source: Option<(&'a Model, &'a StepResult)>,
+    /// With `source`: K released after every factorisation, not only while a basis is held.
     always: bool,
     /// A Lanczos basis is held ([`Shifted::hold_basis`]).
     in_basis: bool,
