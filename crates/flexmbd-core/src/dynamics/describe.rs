@@ -91,9 +91,8 @@ pub(super) fn describe_all(
     // each mode with its kinetic energies by node, released as soon as it is described
     type Job = (usize, (Vec<f64>, Vec<(f64, f64)>));
     let one = |(k, (shape, kinetic)): Job| {
-        let ne_of = |u: &Vec<f64>| u.len() / nm;
         let strain = per_element.iter().enumerate().flat_map(|(el, u)| {
-            let ne = ne_of(u);
+            let ne = u.len() / nm;
             u[k * ne..(k + 1) * ne]
                 .iter()
                 .enumerate()

@@ -686,11 +686,14 @@ pub(super) fn exact_equilibrium(
     t: f64,
     prev: Option<Box<Assembled>>,
 ) -> Result<Box<Assembled>, Option<Box<Assembled>>> {
+    if prev.as_ref().is_some_and(|p| p.tangent) {
+        // Newton's to reuse (before any copy of x and μ)
+        return Err(prev);
+    }
     // (Newton's first steps on copies of x and μ)
     let mut xn = x.to_vec();
     normalise_lambda(su, &mut xn);
     let mut a = match prev {
-        Some(p) if p.tangent => return Err(Some(p)),
         Some(mut p) if p.reduced => {
             apply_loads(model, su, &xn, mu, t, Part::Residual, &mut p);
             p

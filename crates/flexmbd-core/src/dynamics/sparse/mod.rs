@@ -424,7 +424,9 @@ fn modes_of(
         }
     }
     drop(found);
-    op.release_vectors();
+    // the operator is not applied again: its vectors and the factorisation's values are
+    // released (the rigid-body probe below refactors at its own shift if it counts)
+    op.release_factors();
     // M-orthonormal: the Ritz vectors are (full reorthogonalisation); purified ones are made so
     // again (Löwdin: Y (YᵀMY)^-½, the nearest M-orthonormal set)
     let q: Cols = if massless > 0 {
@@ -457,9 +459,6 @@ fn modes_of(
     } else {
         y
     };
-    // the factorisation is not needed again unless the probe below counts at its shift: its
-    // values are released while the shapes are made
-    op.release_factors();
     // eigenvalues: Rayleigh quotients of the shapes in x, the stiffness through the element
     // deformations, the geometric and point-mass stiffness uᵀ K_g u and the mass uᵀ M u in the
     // coordinates
@@ -529,6 +528,7 @@ fn modes_of(
     let group = p.lin.coord_nodes(model);
     let mode_of = |(u, shape): Job| -> (Vec<f64>, NodeKinetic) {
         let shape = shape.unwrap_or_else(|| p.lin.to_x(model, &step.x, &u));
+        // (M u formed again: holding it from the eigenvalues on would add a vector per mode)
         let mut mu = vec![0.0; nc];
         p.m_times(&u, &mut mu);
         let mut kinetic = vec![(0.0, 0.0); model.nodes.len()];

@@ -46,7 +46,7 @@ pub(super) struct Shifted<'a> {
     /// Number of eigenvalues below σ (from the inertia), when L D Lᵀ holds A(σ).
     pub(super) below: Option<usize>,
     /// The right-hand side and solution of an application (empty until one is made, and after
-    /// [`Shifted::release_vectors`]).
+    /// [`Shifted::release_factors`]).
     pub(super) rhs: Vec<f64>,
     /// When set, the operator's solves are refined (`refined` module) with products through
     /// the element deformations of this model and state.
@@ -278,19 +278,14 @@ impl<'a> Shifted<'a> {
         self.rhs = rhs;
     }
 
-    /// Releases the vectors the operator's applications keep from one to the next (its
-    /// right-hand side, the refined solves' Krylov vectors; made again by the next
-    /// application): for the phase after the iteration, whose mode shapes and inertia count
+    /// Releases what the operator's applications keep from one to the next (its right-hand
+    /// side, the refined solves' Krylov vectors) and the values of the factorisations (made
+    /// again by the next [`Shifted::factor`] or inertia count): for the phase after the
+    /// iteration, which applies the operator no more, and whose mode shapes and inertia count
     /// they would add to.
-    pub(super) fn release_vectors(&mut self) {
+    pub(super) fn release_factors(&mut self) {
         self.rhs = Vec::new();
         self.refine_ws = Default::default();
-    }
-
-    /// Releases the values of the factorisations (made again by the next [`Shifted::factor`]
-    /// or inertia count): for the phase after the iteration, which solves nothing.
-    pub(super) fn release_factors(&mut self) {
-        self.release_vectors();
         if let Some(lu) = &mut self.sym {
             lu.release_values();
         }
